@@ -1,0 +1,194 @@
+//! The controller of a digital loop: it owns `τ`, `τ̇` and the flywheel speed.
+
+use crate::augmented::{AugmentedState, AugmentedVector};
+use crate::coupling::{CouplingOutput, FrictionCompensation, NominalSpeed, PvfcLaw};
+use crate::error::{Error, ErrorKind, Result};
+use crate::field::VelocityField;
+use crate::lie::{LieGroup, Tangent};
+use crate::mechanics::MechanicalSystem;
+use crate::Real;
+
+/// The controller's internal states (section III-B): `τ`, `τ̇` and the flywheel speed `q̇_F`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InternalState<T: Real> {
+    /// Contour parameter `τ`.
+    pub tau: T,
+    /// Its rate `τ̇`.
+    pub tau_dot: T,
+    /// Flywheel speed `q̇_F`.
+    pub flywheel_speed: T,
+}
+
+/// What one control step returns.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepOutput<T: Real, G, const D: usize> {
+    /// The motor torques to apply: coupling + nominal speed + friction compensation.
+    pub torque: Tangent<T, D>,
+    /// The whole augmented torque (robot, `τ`, flywheel) that was applied.
+    pub augmented_torque: AugmentedVector<T, D>,
+    /// The internal states the torque was computed at (before the update).
+    pub state: InternalState<T>,
+    /// The coupling output (field, `β`, energy, `U`, `λ₁`, `λ₂`, ...).
+    pub coupling: CouplingOutput<T, G, D>,
+}
+
+/// PVFC for a sampled-data loop: a [`PvfcLaw`] plus the optional add-ons of section V and
+/// the internal states.
+///
+/// [`step`](Self::step)`(q, q̇, dt)` evaluates the law at the measured `(q, q̇)` and the current
+/// internal states, then advances the internal states over `dt` with the **semi-implicit
+/// (symplectic) Euler** scheme, treating the torques as held over the sample:
+/// `τ̇ ← τ̇ + dt·T_τ`, `τ ← τ + dt·τ̇(new)`, `q̇_F ← q̇_F + dt·T_F/M_F`.
+/// On any error the internal states are left as they were.
+///
+/// [`evaluate`](Self::evaluate) is the same law as a pure function of a full
+/// [`AugmentedState`], for simulations that integrate the internal states themselves.
+///
+/// ```
+/// use pvfc_core::prelude::*;
+/// use nalgebra::Vector2;
+/// let field = SuspendedField::new(
+///     Lissajous::<f64, 2>::paper(),
+///     TorusNavigation::paper(Vector2::new(1.0, 1.0)).unwrap(),
+///     ExponentialPacing::new(100.0).unwrap(),
+/// );
+/// let flywheel = Flywheel::new(1.0, 50.0).unwrap();
+/// let law = PvfcLaw::new(Scara::pelican(), field, flywheel, 0.05).unwrap();
+/// let mut ctl = Controller::new(law).starting_at_rest(0.0);
+/// let out = ctl.step(&Torus::new(Vector2::new(0.0, 0.0)), &Vector2::zeros(), 1e-3).unwrap();
+/// assert!(out.torque.iter().all(|t| t.is_finite()));
+/// // NaN in, an error out, nothing lost:
+/// let before = *ctl.state();
+/// assert!(ctl.step(&Torus::new(Vector2::new(f64::NAN, 0.0)), &Vector2::zeros(), 1e-3).is_err());
+/// assert_eq!(*ctl.state(), before);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Controller<T: Real, G, Sys, F, const D: usize> {
+    law: PvfcLaw<T, G, Sys, F, D>,
+    nominal: Option<NominalSpeed<T>>,
+    friction: Option<FrictionCompensation<T, D>>,
+    state: InternalState<T>,
+}
+
+impl<T, G, Sys, F, const D: usize> Controller<T, G, Sys, F, D>
+where
+    T: Real,
+    G: LieGroup<T, D>,
+    Sys: MechanicalSystem<T, G, D>,
+    F: VelocityField<T, G, D>,
+{
+    /// A controller with `τ = τ̇ = 0` and the flywheel at rest. With the robot at rest too,
+    /// nothing would ever move: use [`starting_at_rest`](Self::starting_at_rest) or
+    /// [`with_state`](Self::with_state).
+    pub fn new(law: PvfcLaw<T, G, Sys, F, D>) -> Self {
+        Controller {
+            law,
+            nominal: None,
+            friction: None,
+            state: InternalState {
+                tau: T::zero(),
+                tau_dot: T::zero(),
+                flywheel_speed: T::zero(),
+            },
+        }
+    }
+
+    /// Starts at `τ₀` with `τ̇ = 0` and all the energy `Ē` in the flywheel,
+    /// `q̇_F = √(2Ē/M_F)`: with the robot at rest, `β = 1`.
+    pub fn starting_at_rest(mut self, tau0: T) -> Self {
+        self.state = InternalState {
+            tau: tau0,
+            tau_dot: T::zero(),
+            flywheel_speed: self.law.flywheel().speed_for_unit_beta(),
+        };
+        self
+    }
+
+    /// Sets the internal states.
+    pub fn with_state(mut self, state: InternalState<T>) -> Self {
+        self.state = state;
+        self
+    }
+
+    /// Adds nominal-speed control (eq. 36).
+    pub fn with_nominal_speed(mut self, nominal: NominalSpeed<T>) -> Self {
+        self.nominal = Some(nominal);
+        self
+    }
+
+    /// Adds friction compensation (eq. 35).
+    pub fn with_friction_compensation(mut self, friction: FrictionCompensation<T, D>) -> Self {
+        self.friction = Some(friction);
+        self
+    }
+
+    /// The law.
+    pub fn law(&self) -> &PvfcLaw<T, G, Sys, F, D> {
+        &self.law
+    }
+
+    /// The internal states.
+    pub fn state(&self) -> &InternalState<T> {
+        &self.state
+    }
+
+    /// The nominal-speed add-on, to schedule `r` on line.
+    pub fn nominal_speed_mut(&mut self) -> Option<&mut NominalSpeed<T>> {
+        self.nominal.as_mut()
+    }
+
+    /// The full augmented torque at a full augmented state (coupling + add-ons), and the
+    /// coupling output: a pure function.
+    pub fn evaluate(
+        &self,
+        s: &AugmentedState<T, G, D>,
+    ) -> Result<(AugmentedVector<T, D>, CouplingOutput<T, G, D>)> {
+        let out = self.law.evaluate(s)?;
+        let mut total = out.torque;
+        if let Some(n) = &self.nominal {
+            total = total + n.torque(&out, &s.velocity());
+        }
+        if let Some(f) = &self.friction {
+            total.robot += f.torque(&s.v);
+        }
+        Ok((total, out))
+    }
+
+    /// One control step at the measured `(q, q̇)`; see the type's documentation.
+    pub fn step(&mut self, q: &G, v: &Tangent<T, D>, dt: T) -> Result<StepOutput<T, G, D>> {
+        if !(dt.is_finite() && dt > T::zero()) {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "Controller::step: dt must be finite and > 0",
+            ));
+        }
+        let s = AugmentedState {
+            q: *q,
+            v: *v,
+            tau: self.state.tau,
+            tau_dot: self.state.tau_dot,
+            flywheel_speed: self.state.flywheel_speed,
+        };
+        let (total, coupling) = self.evaluate(&s)?;
+        if !total.is_finite() {
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                "Controller::step: torque overflowed",
+            ));
+        }
+        let before = self.state;
+        let tau_dot = before.tau_dot + total.tau * dt;
+        self.state = InternalState {
+            tau: before.tau + tau_dot * dt,
+            tau_dot,
+            flywheel_speed: before.flywheel_speed
+                + total.flywheel * dt / self.law.flywheel().inertia(),
+        };
+        Ok(StepOutput {
+            torque: total.robot,
+            augmented_torque: total,
+            state: before,
+            coupling,
+        })
+    }
+}

@@ -1,0 +1,336 @@
+//! The fictitious flywheel (eqs. 4–6), the passive coupling control (eq. 7), and the
+//! add-ons of section V: nominal speed (eq. 36) and friction compensation (eq. 35).
+
+use crate::augmented::{AugmentedState, AugmentedVector};
+use crate::error::{Error, ErrorKind, Result};
+use crate::field::{FieldSample, VelocityField};
+use crate::lie::{LieGroup, Tangent};
+use crate::mechanics::MechanicalSystem;
+use crate::scalar::cast;
+use crate::Real;
+use core::marker::PhantomData;
+use nalgebra::{SMatrix, SVector};
+
+/// The fictitious flywheel that augments the suspended system (eqs. 4–6): inertia `M_F` and
+/// the energy level `Ē` of the augmented field, `½ V_aᵀ M_a V_a = Ē`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Flywheel<T: Real> {
+    inertia: T,
+    energy: T,
+}
+
+impl<T: Real> Flywheel<T> {
+    /// A flywheel of inertia `M_F > 0` for the energy level `Ē > 0`.
+    pub fn new(inertia: T, energy: T) -> Result<Self> {
+        for (x, what) in [
+            (inertia, "Flywheel: inertia M_F must be finite and > 0"),
+            (energy, "Flywheel: energy level Ē must be finite and > 0"),
+        ] {
+            if !x.is_finite() {
+                return Err(Error::new(ErrorKind::NonFinite, what));
+            }
+            if x <= T::zero() {
+                return Err(Error::new(ErrorKind::InvalidParameter, what));
+            }
+        }
+        Ok(Flywheel { inertia, energy })
+    }
+
+    /// `M_F`.
+    pub fn inertia(&self) -> T {
+        self.inertia
+    }
+
+    /// `Ē`.
+    pub fn energy(&self) -> T {
+        self.energy
+    }
+
+    /// The flywheel speed that gives the robot at rest `β = 1`: `√(2Ē/M_F)`
+    /// (control-law.md §5: with everything at rest nothing ever moves).
+    pub fn speed_for_unit_beta(&self) -> T {
+        (self.energy * cast::<T>(2.0) / self.inertia).sqrt()
+    }
+
+    /// Eq. (6): `V_F = +√((2/M_F)(Ē − κ̄))` for the kinetic energy `κ̄ = ½ V̄ᵀM̄V̄` of the
+    /// suspended field. `EnergyTooLow` when `κ̄ ≥ Ē` (never a NaN).
+    #[inline]
+    pub fn field_speed(&self, field_energy: T) -> Result<T> {
+        let margin = self.energy - field_energy;
+        if margin > T::zero() {
+            Ok((margin * cast::<T>(2.0) / self.inertia).sqrt())
+        } else {
+            Err(Error::new(
+                ErrorKind::EnergyTooLow,
+                "flywheel (eq. 6): Ē ≤ ½ V̄ᵀM̄V̄ at this state; raise Ē or bound the field",
+            )
+            .with_value(nalgebra::try_convert::<T, f64>(-margin).unwrap_or(f64::NAN)))
+        }
+    }
+}
+
+/// Everything computed by one evaluation of the coupling control.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CouplingOutput<T: Real, G, const D: usize> {
+    /// `T_a = G q̇_a + γ R q̇_a` (eq. 7): robot torques, `T_τ = τ̈`, and `T_F = M_F q̈_F`.
+    pub torque: AugmentedVector<T, D>,
+    /// The augmented field `V_a = (V_G, V_I, V_F)`.
+    pub field_velocity: AugmentedVector<T, D>,
+    /// Desired momentum `P = M_a V_a`.
+    pub desired_momentum: AugmentedVector<T, D>,
+    /// Actual momentum `p = M_a q̇_a`.
+    pub momentum: AugmentedVector<T, D>,
+    /// `w = M_a V̇_a + C_a V_a`.
+    pub w: AugmentedVector<T, D>,
+    /// The augmented kinetic energy `κ_a = ½ q̇_aᵀ M_a q̇_a` (eq. 5).
+    pub kinetic_energy: T,
+    /// `β = √(κ_a / Ē)` (eq. 10, `γ > 0`).
+    pub beta: T,
+    /// The energy level `Ē`.
+    pub energy_level: T,
+    /// The field sample (error, `U`, `λ₁`, `λ₂`, ...).
+    pub field: FieldSample<T, G, D>,
+}
+
+impl<T: Real, G, const D: usize> CouplingOutput<T, G, D> {
+    /// The skew-symmetric matrices `G = (w Pᵀ − P wᵀ)/(2Ē)` and `R = P pᵀ − p Pᵀ` of eq. (7)
+    /// as `A × A` matrices, `A = D + 2` (`DimensionMismatch` otherwise). The control step never
+    /// forms them: it applies them as rank-two updates.
+    pub fn coupling_matrices<const A: usize>(&self) -> Result<(SMatrix<T, A, A>, SMatrix<T, A, A>)> {
+        let mismatch = || Error::new(ErrorKind::DimensionMismatch, "coupling_matrices: A ≠ D + 2");
+        let wp = self.w.outer::<A>(&self.desired_momentum).ok_or_else(mismatch)?;
+        let pp = self.desired_momentum.outer::<A>(&self.momentum).ok_or_else(mismatch)?;
+        let g = (wp - wp.transpose()) / (self.energy_level * cast::<T>(2.0));
+        Ok((g, pp - pp.transpose()))
+    }
+}
+
+/// Passive velocity field control (eq. 7) of a mechanical system along a velocity field:
+/// the flywheel augmentation and the coupling `T_a = G q̇_a + γ R q̇_a`, with
+///
+/// * `P = M_a V_a` (desired momentum), `p = M_a q̇_a` (actual momentum),
+/// * `w = M_a V̇_a + C_a V_a`, with the flywheel entry `w_F = −V̄ᵀ(M̄ V̄̇ + C̄ V̄)/V_F`,
+/// * `G = (w Pᵀ − P wᵀ)/(2Ē)`, `R = P pᵀ − p Pᵀ`, both skew-symmetric, so that
+///   `q̇_aᵀ T_a = 0`: the control neither creates nor dissipates energy.
+///
+/// The suspended coordinate `τ` has unit inertia and no Coriolis terms (eq. 14).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PvfcLaw<T: Real, G, Sys, F, const D: usize> {
+    system: Sys,
+    field: F,
+    flywheel: Flywheel<T>,
+    gamma: T,
+    _g: PhantomData<G>,
+}
+
+impl<T, G, Sys, F, const D: usize> PvfcLaw<T, G, Sys, F, D>
+where
+    T: Real,
+    G: LieGroup<T, D>,
+    Sys: MechanicalSystem<T, G, D>,
+    F: VelocityField<T, G, D>,
+{
+    /// The law for a plant model, a field, a flywheel and a feedback gain `γ ≥ 0`.
+    pub fn new(system: Sys, field: F, flywheel: Flywheel<T>, gamma: T) -> Result<Self> {
+        if !gamma.is_finite() {
+            return Err(Error::new(ErrorKind::NonFinite, "PvfcLaw: γ"));
+        }
+        if gamma < T::zero() {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "PvfcLaw: γ must be ≥ 0 (Theorem 1 needs γβ > 0)",
+            ));
+        }
+        Ok(PvfcLaw {
+            system,
+            field,
+            flywheel,
+            gamma,
+            _g: PhantomData,
+        })
+    }
+
+    /// The plant model.
+    pub fn system(&self) -> &Sys {
+        &self.system
+    }
+
+    /// The velocity field.
+    pub fn field(&self) -> &F {
+        &self.field
+    }
+
+    /// The flywheel.
+    pub fn flywheel(&self) -> &Flywheel<T> {
+        &self.flywheel
+    }
+
+    /// The feedback gain `γ`.
+    pub fn gamma(&self) -> T {
+        self.gamma
+    }
+
+    /// The augmented kinetic energy `κ_a` of a state (eq. 5).
+    pub fn kinetic_energy(&self, s: &AugmentedState<T, G, D>) -> T {
+        self.system.kinetic_energy(&s.q, &s.v)
+            + (s.tau_dot * s.tau_dot + self.flywheel.inertia * s.flywheel_speed * s.flywheel_speed)
+                * cast::<T>(0.5)
+    }
+
+    /// Evaluates the coupling control at a full augmented state: a pure function, no
+    /// allocation. Errors: `NonFinite` for a NaN/∞ state, `EnergyTooLow` (eq. 6).
+    pub fn evaluate(&self, s: &AugmentedState<T, G, D>) -> Result<CouplingOutput<T, G, D>> {
+        if !s.is_finite() {
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                "PvfcLaw::evaluate: state has NaN or infinite entries",
+            ));
+        }
+        let two = cast::<T>(2.0);
+        let half = cast::<T>(0.5);
+        let fs = self.field.sample(&s.q, &s.v, s.tau, s.tau_dot);
+        let m = self.system.inertia(&s.q);
+        let c = self.system.coriolis(&s.q, &s.v);
+        let mv = m * fs.velocity;
+        let field_energy = (mv.dot(&fs.velocity) + fs.velocity_tau * fs.velocity_tau) * half;
+        let vf = self.flywheel.field_speed(field_energy)?;
+        let mf = self.flywheel.inertia;
+        let e_bar = self.flywheel.energy;
+
+        let w_robot = m * fs.rate + c * fs.velocity;
+        let w_tau = fs.rate_tau;
+        let w_f = -(fs.velocity.dot(&w_robot) + fs.velocity_tau * w_tau) / vf;
+        let w = AugmentedVector::new(w_robot, w_tau, w_f);
+        let big_p = AugmentedVector::new(mv, fs.velocity_tau, mf * vf);
+        let qa = s.velocity();
+        let p = AugmentedVector::new(m * s.v, s.tau_dot, mf * s.flywheel_speed);
+
+        let p_dot_q = big_p.dot(&qa);
+        // G q̇_a = (w (Pᵀq̇_a) − P (wᵀq̇_a)) / 2Ē;  R q̇_a = P (pᵀq̇_a) − p (Pᵀq̇_a).
+        let g_term = (w * p_dot_q - big_p * w.dot(&qa)) * (T::one() / (two * e_bar));
+        let kappa2 = p.dot(&qa); // 2 κ_a
+        let r_term = big_p * kappa2 - p * p_dot_q;
+        let torque = g_term + r_term * self.gamma;
+        let kinetic_energy = kappa2 * half;
+        Ok(CouplingOutput {
+            torque,
+            field_velocity: AugmentedVector::new(fs.velocity, fs.velocity_tau, vf),
+            desired_momentum: big_p,
+            momentum: p,
+            w,
+            kinetic_energy,
+            beta: (kinetic_energy / e_bar).sqrt(),
+            energy_level: e_bar,
+            field: fs,
+        })
+    }
+}
+
+/// Nominal-speed control (eq. 36): `T_forced = c · P · (r − Pᵀq̇_a/(2Ē))`, `c > 0`.
+///
+/// It drives `β → r` by injecting or removing energy along the desired momentum; it is **not**
+/// passive (power `c (Pᵀq̇_a)(r − Pᵀq̇_a/(2Ē))`). `r` may be scheduled on line (e.g. on a
+/// measured tool force, section V-A) with [`set_speed`](Self::set_speed).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NominalSpeed<T: Real> {
+    c: T,
+    r: T,
+}
+
+impl<T: Real> NominalSpeed<T> {
+    /// Gain `c > 0` and nominal speed `r ≥ 0`. The paper uses `c = 0.01`, `r ∈ {1, 2, 3}`.
+    pub fn new(c: T, r: T) -> Result<Self> {
+        if !(c.is_finite() && r.is_finite()) {
+            return Err(Error::new(ErrorKind::NonFinite, "NominalSpeed: c and r"));
+        }
+        if c <= T::zero() || r < T::zero() {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "NominalSpeed: need c > 0 and r ≥ 0",
+            ));
+        }
+        Ok(NominalSpeed { c, r })
+    }
+
+    /// Changes the nominal speed `r ≥ 0`.
+    pub fn set_speed(&mut self, r: T) -> Result<()> {
+        *self = Self::new(self.c, r)?;
+        Ok(())
+    }
+
+    /// The nominal speed `r`.
+    pub fn speed(&self) -> T {
+        self.r
+    }
+
+    /// The term of eq. (36) at the state whose coupling output is `out`.
+    #[inline]
+    pub fn torque<G, const D: usize>(
+        &self,
+        out: &CouplingOutput<T, G, D>,
+        qa: &AugmentedVector<T, D>,
+    ) -> AugmentedVector<T, D> {
+        let p = &out.desired_momentum;
+        let speed = p.dot(qa) / (out.energy_level * cast::<T>(2.0));
+        *p * (self.c * (self.r - speed))
+    }
+}
+
+/// Friction compensation (eq. 35): `T_i += fric_i · sign(q̇_i)` on the robot's joints, with an
+/// optional linear band `|q̇_i| < ε` in which `sign` is replaced by `q̇_i/ε` (to avoid chatter).
+/// The paper uses `fric = (2.0, 3.0)` N·m and a pure sign.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionCompensation<T: Real, const D: usize> {
+    fric: SVector<T, D>,
+    band: T,
+}
+
+impl<T: Real, const D: usize> FrictionCompensation<T, D> {
+    /// Compensation levels `fric_i ≥ 0` with a pure sign.
+    pub fn new(fric: SVector<T, D>) -> Result<Self> {
+        if !fric.iter().all(|x| x.is_finite()) {
+            return Err(Error::new(ErrorKind::NonFinite, "FrictionCompensation: fric"));
+        }
+        if fric.iter().any(|x| *x < T::zero()) {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "FrictionCompensation: every fric_i must be ≥ 0",
+            ));
+        }
+        Ok(FrictionCompensation {
+            fric,
+            band: T::zero(),
+        })
+    }
+
+    /// Replaces `sign(q̇)` by `q̇/ε` for `|q̇| < ε` (`ε ≥ 0`; 0 is the pure sign).
+    pub fn with_band(mut self, band: T) -> Result<Self> {
+        if !band.is_finite() || band < T::zero() {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "FrictionCompensation: band must be finite and ≥ 0",
+            ));
+        }
+        self.band = band;
+        Ok(self)
+    }
+
+    /// The robot torque of eq. (35) at the joint velocity `v`.
+    #[inline]
+    pub fn torque(&self, v: &Tangent<T, D>) -> Tangent<T, D> {
+        let mut t = SVector::zeros();
+        for i in 0..D {
+            let s = if self.band > T::zero() && v[i].abs() < self.band {
+                v[i] / self.band
+            } else if v[i] > T::zero() {
+                T::one()
+            } else if v[i] < T::zero() {
+                -T::one()
+            } else {
+                T::zero()
+            };
+            t[i] = self.fric[i] * s;
+        }
+        t
+    }
+}

@@ -1,0 +1,242 @@
+//! The suspended velocity field on `G × I` (eqs. 18 and 30), its rate, and the group error.
+
+use crate::contour::{Contour, ContourSample};
+use crate::lie::{LieGroup, Tangent};
+use crate::navigation::NavigationFunction;
+use crate::pacing::SelfPacing;
+use crate::Real;
+use core::marker::PhantomData;
+
+/// Which group error the field is built on (section IV-B).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ErrorConvention {
+    /// Eq. (24), the paper's choice: `E(q, τ) = q·x_d(τ)⁻¹`.
+    #[default]
+    Right,
+    /// The left variant `E(q, τ) = x_d(τ)⁻¹·q`, which the paper mentions with "the formulae
+    /// properly adjusted": `V_G = λ₁ Ad_{E⁻¹} ξ_d − λ₂ grad U(E)` in body coordinates.
+    Left,
+}
+
+/// The group error `E(q, τ)` from `q` and `x_d(τ)` in the given convention.
+#[inline]
+pub fn group_error<T: Real, G: LieGroup<T, D>, const D: usize>(
+    convention: ErrorConvention,
+    q: &G,
+    x_d: &G,
+) -> G {
+    match convention {
+        ErrorConvention::Right => q.compose(&x_d.inverse()),
+        ErrorConvention::Left => x_d.inverse().compose(q),
+    }
+}
+
+/// Everything the coupling control needs of the field at one state of the suspended system.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FieldSample<T: Real, G, const D: usize> {
+    /// The contour at `τ`.
+    pub contour: ContourSample<T, G, D>,
+    /// The group error `E(q, τ)`.
+    pub error: G,
+    /// `U(E)`.
+    pub potential: T,
+    /// `grad U(E)` in body coordinates at `E`.
+    pub gradient: Tangent<T, D>,
+    /// Self-pacing gain `λ₁`.
+    pub lambda1: T,
+    /// Self-pacing gain `λ₂`.
+    pub lambda2: T,
+    /// `V_G(q̄)` in body coordinates at `q`.
+    pub velocity: Tangent<T, D>,
+    /// `V_I(q̄) = λ₁`, the desired rate of `τ`.
+    pub velocity_tau: T,
+    /// `V̇_G = (∂V_G/∂q̄)·q̄̇` along the actual motion (analytic).
+    pub rate: Tangent<T, D>,
+    /// `V̇_I`.
+    pub rate_tau: T,
+    /// `ε`: the body velocity of the error, `Ė = E·ε̂`, along the actual motion.
+    pub error_velocity: Tangent<T, D>,
+}
+
+/// The suspended velocity field of eq. (30) (eq. 18 on the torus) for a contour `x_d`,
+/// a navigation function `U` and a self-pacing strategy `(λ₁, λ₂)`:
+///
+/// `V_G = λ₁ (L_E)_* (x_d)_* 1_τ − λ₂ (R_{x_d})_* grad U(E)`, `V_I = λ₁`.
+///
+/// In body coordinates (right error, eq. 24) this is
+/// `V_G = λ₁ ξ_d(τ) − λ₂ Ad_{x_d⁻¹} grad U(E)`; on the torus, eq. (18):
+/// `V_i = λ₁ x_d,i'(τ) − λ₂ h_i sin E_i`.
+///
+/// Its rate along a motion `q̄̇ = (v, τ̇)` is computed analytically
+/// ([`evaluate`](Self::evaluate)), with `ε = Ad_{x_d}(v − τ̇ ξ_d)`, `λ̇ = λ'(U) dU·ε`,
+/// `d/dt Ad_{x_d⁻¹} g = −τ̇ [ξ_d, Ad_{x_d⁻¹} g] + Ad_{x_d⁻¹} ġ`.
+///
+/// ```
+/// use pvfc_core::prelude::*;
+/// use nalgebra::Vector2;
+/// let field = SuspendedField::new(
+///     Lissajous::<f64, 2>::paper(),
+///     TorusNavigation::paper(Vector2::new(1.0, 1.0)).unwrap(),
+///     ExponentialPacing::new(100.0).unwrap(),
+/// );
+/// let q = Torus::new(Vector2::new(0.0, 1.5)); // on the contour at τ = 0
+/// let s = field.evaluate(&q, &Vector2::zeros(), 0.0, 0.0);
+/// assert!(s.potential.abs() < 1e-15 && (s.lambda1 - 1.0).abs() < 1e-15);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SuspendedField<T, G, X, N, S, const D: usize> {
+    contour: X,
+    navigation: N,
+    pacing: S,
+    convention: ErrorConvention,
+    _g: PhantomData<(T, G)>,
+}
+
+impl<T, G, X, N, S, const D: usize> SuspendedField<T, G, X, N, S, D>
+where
+    T: Real,
+    G: LieGroup<T, D>,
+    X: Contour<T, G, D>,
+    N: NavigationFunction<T, G, D>,
+    S: SelfPacing<T>,
+{
+    /// The field for the right error `E = q·x_d⁻¹` of eq. (24).
+    pub fn new(contour: X, navigation: N, pacing: S) -> Self {
+        SuspendedField {
+            contour,
+            navigation,
+            pacing,
+            convention: ErrorConvention::Right,
+            _g: PhantomData,
+        }
+    }
+
+    /// The same field on the other error convention.
+    pub fn with_convention(mut self, convention: ErrorConvention) -> Self {
+        self.convention = convention;
+        self
+    }
+
+    /// The contour.
+    pub fn contour(&self) -> &X {
+        &self.contour
+    }
+
+    /// The navigation function.
+    pub fn navigation(&self) -> &N {
+        &self.navigation
+    }
+
+    /// The self-pacing strategy.
+    pub fn pacing(&self) -> &S {
+        &self.pacing
+    }
+
+    /// The error convention.
+    pub fn convention(&self) -> ErrorConvention {
+        self.convention
+    }
+
+    /// The group error `E(q, τ)`.
+    #[inline]
+    pub fn error(&self, q: &G, tau: T) -> G {
+        group_error(self.convention, q, &self.contour.point(tau))
+    }
+
+    /// `E_* W` for a tangent vector `W = (W_G, W_I)` at `(q, τ)`, in body coordinates at `E`
+    /// (Lemma 1, eq. 29): right error `Ad_{x_d}(W_G − W_I ξ_d)`; left `W_G − W_I Ad_{E⁻¹} ξ_d`.
+    pub fn error_pushforward(&self, q: &G, tau: T, w: &Tangent<T, D>, w_tau: T) -> Tangent<T, D> {
+        let c = self.contour.sample(tau);
+        match self.convention {
+            ErrorConvention::Right => c.point.adjoint_apply(&(w - c.velocity * w_tau)),
+            ErrorConvention::Left => {
+                let e = group_error(self.convention, q, &c.point);
+                w - e.adjoint_inverse_apply(&c.velocity) * w_tau
+            }
+        }
+    }
+
+    /// The field `V̄(q, τ)` and its rate `V̄̇` along the motion `q̄̇ = (v, τ̇)`.
+    #[inline]
+    pub fn evaluate(&self, q: &G, v: &Tangent<T, D>, tau: T, tau_dot: T) -> FieldSample<T, G, D> {
+        let c = self.contour.sample(tau);
+        match self.convention {
+            ErrorConvention::Right => {
+                let e = q.compose(&c.point.inverse());
+                let eps = c.point.adjoint_apply(&(v - c.velocity * tau_dot));
+                let nav = self.navigation.evaluate(&e, &eps);
+                let g = self.pacing.gains(nav.value);
+                let l1_dot = g.dlambda1 * nav.value_rate;
+                let l2_dot = g.dlambda2 * nav.value_rate;
+                // (R_{x_d})_* grad U and its rate.
+                let a = c.point.adjoint_inverse_apply(&nav.gradient);
+                let a_dot = c.point.adjoint_inverse_apply(&nav.gradient_rate)
+                    - G::lie_bracket(&c.velocity, &a) * tau_dot;
+                FieldSample {
+                    velocity: c.velocity * g.lambda1 - a * g.lambda2,
+                    rate: c.velocity * l1_dot + c.acceleration * (g.lambda1 * tau_dot)
+                        - a * l2_dot
+                        - a_dot * g.lambda2,
+                    velocity_tau: g.lambda1,
+                    rate_tau: l1_dot,
+                    contour: c,
+                    error: e,
+                    potential: nav.value,
+                    gradient: nav.gradient,
+                    lambda1: g.lambda1,
+                    lambda2: g.lambda2,
+                    error_velocity: eps,
+                }
+            }
+            ErrorConvention::Left => {
+                let e = c.point.inverse().compose(q);
+                // (L_E)_* (x_d)_* 1_τ written at q: Ad_{E⁻¹} ξ_d.
+                let b = e.adjoint_inverse_apply(&c.velocity);
+                let eps = v - b * tau_dot;
+                let nav = self.navigation.evaluate(&e, &eps);
+                let g = self.pacing.gains(nav.value);
+                let l1_dot = g.dlambda1 * nav.value_rate;
+                let l2_dot = g.dlambda2 * nav.value_rate;
+                let b_dot = e.adjoint_inverse_apply(&c.acceleration) * tau_dot
+                    - G::lie_bracket(&eps, &b);
+                FieldSample {
+                    velocity: b * g.lambda1 - nav.gradient * g.lambda2,
+                    rate: b * l1_dot + b_dot * g.lambda1
+                        - nav.gradient * l2_dot
+                        - nav.gradient_rate * g.lambda2,
+                    velocity_tau: g.lambda1,
+                    rate_tau: l1_dot,
+                    contour: c,
+                    error: e,
+                    potential: nav.value,
+                    gradient: nav.gradient,
+                    lambda1: g.lambda1,
+                    lambda2: g.lambda2,
+                    error_velocity: eps,
+                }
+            }
+        }
+    }
+}
+
+/// A velocity field on the suspended space `G × I`, with its rate: what the coupling control
+/// of [`crate::coupling::PvfcLaw`] tracks. [`SuspendedField`] is the paper's; implement this
+/// trait to plug in another design (it must give the exact rate, not a finite difference).
+pub trait VelocityField<T: Real, G: LieGroup<T, D>, const D: usize> {
+    /// `V̄(q, τ)` and `V̄̇` along `q̄̇ = (v, τ̇)`.
+    fn sample(&self, q: &G, v: &Tangent<T, D>, tau: T, tau_dot: T) -> FieldSample<T, G, D>;
+}
+
+impl<T, G, X, N, S, const D: usize> VelocityField<T, G, D> for SuspendedField<T, G, X, N, S, D>
+where
+    T: Real,
+    G: LieGroup<T, D>,
+    X: Contour<T, G, D>,
+    N: NavigationFunction<T, G, D>,
+    S: SelfPacing<T>,
+{
+    #[inline]
+    fn sample(&self, q: &G, v: &Tangent<T, D>, tau: T, tau_dot: T) -> FieldSample<T, G, D> {
+        self.evaluate(q, v, tau, tau_dot)
+    }
+}

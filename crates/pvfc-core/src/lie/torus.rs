@@ -1,0 +1,110 @@
+//! The n-torus `Tⁿ = S¹ × … × S¹`: the configuration space of an arm with `N` revolute joints.
+
+use super::{LieGroup, Tangent};
+use crate::Real;
+use nalgebra::{SMatrix, SVector};
+
+/// Wraps an angle into `(−π, π]`.
+///
+/// ```
+/// let w = pvfc_core::lie::wrap_angle(3.0 * std::f64::consts::PI);
+/// assert!((w - std::f64::consts::PI).abs() < 1e-12);
+/// ```
+#[inline]
+pub fn wrap_angle<T: Real>(x: T) -> T {
+    let two_pi = T::two_pi();
+    let mut w = x - two_pi * (x / two_pi).round();
+    if w <= -T::pi() {
+        w += two_pi;
+    } else if w > T::pi() {
+        w -= two_pi;
+    }
+    w
+}
+
+/// An element of the n-torus `Tⁿ`, stored as `N` joint angles (radians).
+///
+/// The paper (eq. 27) identifies it with `(e^{jq¹}, …, e^{jqⁿ})`; angles are kept unwrapped
+/// (any real number) so that a trajectory stays continuous, and two elements are the same
+/// group element when their angles differ by multiples of 2π ([`LieGroup::distance`] is 0).
+/// The group is abelian: `Ad = I` and the bracket vanishes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Torus<T: Real, const N: usize> {
+    angles: SVector<T, N>,
+}
+
+/// The 2-torus of a two-link arm.
+pub type Torus2<T> = Torus<T, 2>;
+
+impl<T: Real, const N: usize> Torus<T, N> {
+    /// The element with the given joint angles.
+    #[inline]
+    pub fn new(angles: SVector<T, N>) -> Self {
+        Torus { angles }
+    }
+
+    /// The joint angles, unwrapped.
+    #[inline]
+    pub fn angles(&self) -> &SVector<T, N> {
+        &self.angles
+    }
+
+    /// The joint angles wrapped into `(−π, π]` (the same group element).
+    #[inline]
+    pub fn wrapped(&self) -> SVector<T, N> {
+        self.angles.map(wrap_angle)
+    }
+}
+
+impl<T: Real, const N: usize> From<SVector<T, N>> for Torus<T, N> {
+    fn from(angles: SVector<T, N>) -> Self {
+        Torus::new(angles)
+    }
+}
+
+impl<T: Real, const N: usize> LieGroup<T, N> for Torus<T, N> {
+    #[inline]
+    fn identity() -> Self {
+        Torus::new(SVector::zeros())
+    }
+    #[inline]
+    fn compose(&self, other: &Self) -> Self {
+        Torus::new(self.angles + other.angles)
+    }
+    #[inline]
+    fn inverse(&self) -> Self {
+        Torus::new(-self.angles)
+    }
+    #[inline]
+    fn exp(v: &Tangent<T, N>) -> Self {
+        Torus::new(*v)
+    }
+    #[inline]
+    fn log(&self) -> Tangent<T, N> {
+        self.wrapped()
+    }
+    #[inline]
+    fn adjoint(&self) -> SMatrix<T, N, N> {
+        SMatrix::identity()
+    }
+    #[inline]
+    fn adjoint_apply(&self, v: &Tangent<T, N>) -> Tangent<T, N> {
+        *v
+    }
+    #[inline]
+    fn adjoint_inverse_apply(&self, v: &Tangent<T, N>) -> Tangent<T, N> {
+        *v
+    }
+    #[inline]
+    fn lie_bracket(_a: &Tangent<T, N>, _b: &Tangent<T, N>) -> Tangent<T, N> {
+        SVector::zeros()
+    }
+    #[inline]
+    fn is_finite(&self) -> bool {
+        self.angles.iter().all(|x| x.is_finite())
+    }
+    #[inline]
+    fn retract(&self, v: &Tangent<T, N>, dt: T) -> Self {
+        Torus::new(self.angles + v * dt)
+    }
+}

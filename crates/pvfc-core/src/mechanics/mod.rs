@@ -1,0 +1,68 @@
+//! Mechanical systems `M(q) q̈ + C(q, q̇) q̇ = T + F_e` (eq. 3), in body coordinates.
+
+mod rigid_body;
+mod scara;
+mod stage;
+
+pub use rigid_body::RigidBody;
+pub use scara::{Scara, ScaraParameters};
+pub use stage::LinearStage;
+
+use crate::error::{Error, ErrorKind, Result};
+use crate::lie::{LieGroup, Tangent};
+use crate::scalar::cast;
+use crate::Real;
+use nalgebra::SMatrix;
+
+/// A fully actuated mechanical system on the group `G`: its inertia matrix `M(q)` and a
+/// Coriolis matrix `C(q, v)` such that `Ṁ − 2C` is skew-symmetric (the Christoffel form),
+/// both in the body coordinates of [`crate::lie`].
+pub trait MechanicalSystem<T: Real, G: LieGroup<T, D>, const D: usize> {
+    /// `M(q)`, symmetric positive definite.
+    fn inertia(&self, q: &G) -> SMatrix<T, D, D>;
+
+    /// `C(q, v)` with `Ṁ − 2C` skew-symmetric.
+    fn coriolis(&self, q: &G, v: &Tangent<T, D>) -> SMatrix<T, D, D>;
+
+    /// `Ṁ(q, v) = d/dt M(q(t))` along `q̇ = v`. The default uses `Ṁ = C + Cᵀ`, which holds
+    /// for every Christoffel-form `C`.
+    fn inertia_rate(&self, q: &G, v: &Tangent<T, D>) -> SMatrix<T, D, D> {
+        let c = self.coriolis(q, v);
+        c + c.transpose()
+    }
+
+    /// `½ vᵀ M(q) v`.
+    #[inline]
+    fn kinetic_energy(&self, q: &G, v: &Tangent<T, D>) -> T {
+        (self.inertia(q) * v).dot(v) * cast::<T>(0.5)
+    }
+
+    /// The forward dynamics `q̈ = M⁻¹ (T + F_e − C v)` (Cholesky; no allocation).
+    fn acceleration(
+        &self,
+        q: &G,
+        v: &Tangent<T, D>,
+        force: &Tangent<T, D>,
+    ) -> Result<Tangent<T, D>> {
+        let m = self.inertia(q);
+        let rhs = force - self.coriolis(q, v) * v;
+        match m.cholesky() {
+            Some(ch) => Ok(ch.solve(&rhs)),
+            None => Err(Error::new(
+                ErrorKind::SingularInertia,
+                "MechanicalSystem::acceleration: M(q) not positive definite",
+            )),
+        }
+    }
+}
+
+/// Checks a physical parameter: finite and strictly positive.
+pub(crate) fn positive<T: Real>(x: T, context: &'static str) -> Result<T> {
+    if !x.is_finite() {
+        return Err(Error::new(ErrorKind::NonFinite, context));
+    }
+    if x <= T::zero() {
+        return Err(Error::new(ErrorKind::InvalidParameter, context));
+    }
+    Ok(x)
+}

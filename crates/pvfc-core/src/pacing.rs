@@ -1,0 +1,119 @@
+//! Self-pacing (section III-C): gains `λ₁, λ₂` of the velocity field as functions of `U(E)`.
+//!
+//! `λ₁` scales the feed-forward term (how fast `τ` progresses), `λ₂` the gradient term (how
+//! hard the error is corrected). When the error is large, self-pacing slows `τ` down.
+
+use crate::error::{Error, ErrorKind, Result};
+use crate::Real;
+
+/// The gains and their derivatives with respect to `U` (needed for the rate `V̇` of the field).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PacingGains<T: Real> {
+    /// `λ₁(U)`.
+    pub lambda1: T,
+    /// `λ₂(U)`.
+    pub lambda2: T,
+    /// `dλ₁/dU`.
+    pub dlambda1: T,
+    /// `dλ₂/dU`.
+    pub dlambda2: T,
+}
+
+/// A self-pacing strategy: positive bounded gains `λ₁(U), λ₂(U)` (eq. 30's requirements
+/// `λ̄₁ ≥ λ₁ > 0`, `λ̄₂ ≥ λ₂ ≥ ε > 0`).
+pub trait SelfPacing<T: Real> {
+    /// The gains at the navigation-function value `U`.
+    fn gains(&self, u: T) -> PacingGains<T>;
+}
+
+/// Eq. (21): `λ₁ = exp(−R U)`, `λ₂ = 2 − exp(−R U)`. `R = 0` turns self-pacing off
+/// (`λ₁ = λ₂ = 1`).
+///
+/// ```
+/// use pvfc_core::pacing::{ExponentialPacing, SelfPacing};
+/// let g = ExponentialPacing::new(100.0_f64).unwrap().gains(0.01);
+/// assert!((g.lambda1 - (-1.0_f64).exp()).abs() < 1e-15);
+/// assert!((g.lambda1 + g.lambda2 - 2.0).abs() < 1e-15);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExponentialPacing<T: Real> {
+    r: T,
+}
+
+impl<T: Real> ExponentialPacing<T> {
+    /// Self-pacing with parameter `R ≥ 0`.
+    pub fn new(r: T) -> Result<Self> {
+        if !r.is_finite() {
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                "ExponentialPacing: R must be finite",
+            ));
+        }
+        if r < T::zero() {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "ExponentialPacing: R must be ≥ 0",
+            ));
+        }
+        Ok(ExponentialPacing { r })
+    }
+
+    /// No self-pacing: `R = 0`.
+    pub fn off() -> Self {
+        ExponentialPacing { r: T::zero() }
+    }
+
+    /// The self-pacing parameter `R`.
+    pub fn r(&self) -> T {
+        self.r
+    }
+}
+
+impl<T: Real> SelfPacing<T> for ExponentialPacing<T> {
+    #[inline]
+    fn gains(&self, u: T) -> PacingGains<T> {
+        let l1 = (-self.r * u).exp();
+        let d1 = -self.r * l1;
+        PacingGains {
+            lambda1: l1,
+            lambda2: T::one() + T::one() - l1,
+            dlambda1: d1,
+            dlambda2: -d1,
+        }
+    }
+}
+
+/// Constant gains: no self-pacing, with a chosen balance of progression and correction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConstantGains<T: Real> {
+    lambda1: T,
+    lambda2: T,
+}
+
+impl<T: Real> ConstantGains<T> {
+    /// Gains `λ₁ > 0`, `λ₂ > 0`.
+    pub fn new(lambda1: T, lambda2: T) -> Result<Self> {
+        if !(lambda1.is_finite() && lambda2.is_finite()) {
+            return Err(Error::new(ErrorKind::NonFinite, "ConstantGains"));
+        }
+        if lambda1 <= T::zero() || lambda2 <= T::zero() {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "ConstantGains: λ₁ and λ₂ must be > 0",
+            ));
+        }
+        Ok(ConstantGains { lambda1, lambda2 })
+    }
+}
+
+impl<T: Real> SelfPacing<T> for ConstantGains<T> {
+    #[inline]
+    fn gains(&self, _u: T) -> PacingGains<T> {
+        PacingGains {
+            lambda1: self.lambda1,
+            lambda2: self.lambda2,
+            dlambda1: T::zero(),
+            dlambda2: T::zero(),
+        }
+    }
+}
