@@ -73,7 +73,9 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
     /// The spline through the waypoints `W_k` at `τ = k·spacing`: the control points are found
     /// by the fixed-point iteration `C_k ← C_k·exp(log(x_d(k h)⁻¹ W_k))` (for abelian groups a
     /// Jacobi iteration with contraction factor ≤ 2/3). A `NoConvergence` error is returned if
-    /// the waypoints are too far apart for it (e.g. rotations of nearly π between neighbours).
+    /// the waypoints are too coarse: the interpolating control points overshoot the waypoints
+    /// (up to 3× on an alternating pattern), and must stay less than π apart on SO(3) and the
+    /// torus, where the logarithm is discontinuous beyond.
     pub fn through(waypoints: [G; K], spacing: T) -> Result<Self> {
         let mut spline = Self::from_control_points(waypoints, spacing)?;
         let tolerance = T::default_epsilon() * cast(64.0);
@@ -88,6 +90,17 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
             }
             if !worst.is_finite() {
                 break;
+            }
+            // Neighbouring control points more than ~π apart make the logarithm jump: the
+            // waypoints are too coarse for an interpolating spline on this group.
+            let spread = (0..K)
+                .map(|k| next[k].inverse().compose(&next[(k + 1) % K]).log().norm())
+                .fold(T::zero(), |a, b| a.max(b));
+            if spread > cast::<T>(0.9 * core::f64::consts::PI) {
+                return Err(Error::new(
+                    ErrorKind::NoConvergence,
+                    "PeriodicBSpline::through: waypoints too far apart (control points would be ≥ 0.9π apart); add waypoints",
+                ));
             }
             if worst <= tolerance {
                 return Ok(spline);
