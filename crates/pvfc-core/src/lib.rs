@@ -71,7 +71,7 @@ pub mod prelude {
     pub use crate::coupling::{
         CouplingOutput, Flywheel, FrictionCompensation, NominalSpeed, PvfcLaw,
     };
-    pub use crate::error::{Error, ErrorKind, Result};
+    pub use crate::error::{Error, ErrorKind};
     pub use crate::field::{ErrorConvention, FieldSample, SuspendedField, VelocityField};
     pub use crate::lie::{LieGroup, Rn, So3, Tangent, Torus};
     pub use crate::mechanics::{LinearStage, MechanicalSystem, RigidBody, Scara, ScaraParameters};

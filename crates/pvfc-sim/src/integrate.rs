@@ -1,0 +1,146 @@
+//! The closed loop `plant + controller` and its fixed-step integration.
+
+use pvfc_core::augmented::{AugmentedState, AugmentedVector};
+use pvfc_core::controller::Controller;
+use pvfc_core::coupling::CouplingOutput;
+use pvfc_core::field::VelocityField;
+use pvfc_core::lie::{LieGroup, Tangent};
+use pvfc_core::mechanics::MechanicalSystem;
+use pvfc_core::{Real, Result};
+
+/// The time derivative of an [`AugmentedState`]: body velocity of `q`, and the rates of the
+/// vector-valued states.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Derivative<T: Real, const D: usize> {
+    /// Body velocity of `q` (`q̇ = q·v̂`).
+    pub q: Tangent<T, D>,
+    /// `v̇ = M⁻¹(T + F_e − C v)`.
+    pub v: Tangent<T, D>,
+    /// `τ̇`.
+    pub tau: T,
+    /// `τ̈ = T_τ`.
+    pub tau_dot: T,
+    /// `q̈_F = T_F / M_F`.
+    pub flywheel_speed: T,
+}
+
+/// A plant in closed loop with a PVFC controller. The plant model may differ from the model
+/// inside the controller (to study model mismatch); [`ClosedLoop::matched`] uses the same.
+#[derive(Clone, Debug)]
+pub struct ClosedLoop<T: Real, G, P, Sys, F, const D: usize> {
+    /// The simulated mechanical system.
+    pub plant: P,
+    /// The controller (its internal states are part of the simulated state, not of this).
+    pub controller: Controller<T, G, Sys, F, D>,
+}
+
+impl<T, G, Sys, F, const D: usize> ClosedLoop<T, G, Sys, Sys, F, D>
+where
+    T: Real,
+    G: LieGroup<T, D>,
+    Sys: MechanicalSystem<T, G, D> + Clone,
+    F: VelocityField<T, G, D>,
+{
+    /// The plant is the controller's own model.
+    pub fn matched(controller: Controller<T, G, Sys, F, D>) -> Self {
+        ClosedLoop {
+            plant: controller.law().system().clone(),
+            controller,
+        }
+    }
+}
+
+impl<T, G, P, Sys, F, const D: usize> ClosedLoop<T, G, P, Sys, F, D>
+where
+    T: Real,
+    G: LieGroup<T, D>,
+    P: MechanicalSystem<T, G, D>,
+    Sys: MechanicalSystem<T, G, D>,
+    F: VelocityField<T, G, D>,
+{
+    /// The augmented kinetic energy `κ_a` of the *plant* plus the controller's states.
+    pub fn kinetic_energy(&self, s: &AugmentedState<T, G, D>) -> T {
+        let half: T = pvfc_core::scalar::cast(0.5);
+        let mf = self.controller.law().flywheel().inertia();
+        self.plant.kinetic_energy(&s.q, &s.v)
+            + (s.tau_dot * s.tau_dot + mf * s.flywheel_speed * s.flywheel_speed) * half
+    }
+
+    /// The closed-loop vector field at `s` with the environment force `f_e` on the robot.
+    /// Also returns the total augmented torque and the coupling output.
+    pub fn derivative(
+        &self,
+        s: &AugmentedState<T, G, D>,
+        f_e: &Tangent<T, D>,
+    ) -> Result<(Derivative<T, D>, AugmentedVector<T, D>, CouplingOutput<T, G, D>)> {
+        let (torque, out) = self.controller.evaluate(s)?;
+        let acc = self.plant.acceleration(&s.q, &s.v, &(torque.robot + f_e))?;
+        let mf = self.controller.law().flywheel().inertia();
+        Ok((
+            Derivative {
+                q: s.v,
+                v: acc,
+                tau: s.tau_dot,
+                tau_dot: torque.tau,
+                flywheel_speed: torque.flywheel / mf,
+            },
+            torque,
+            out,
+        ))
+    }
+
+    /// One step of RKMK4 (Runge–Kutta–Munthe-Kaas, classical RK4 tableau) of length `dt`,
+    /// with the environment force held constant over the step. On a group, `q` is moved by
+    /// `q₀·exp(θ)` with `θ' = dexp⁻¹_θ(v) ≈ v − ½[θ, v] + 1/12 [θ, [θ, v]]` (4th order), so it
+    /// stays on the group exactly; on abelian groups this is plain RK4.
+    pub fn rk4_step(
+        &self,
+        s: &AugmentedState<T, G, D>,
+        dt: T,
+        f_e: &Tangent<T, D>,
+    ) -> Result<AugmentedState<T, G, D>> {
+        let half: T = pvfc_core::scalar::cast(0.5);
+        let sixth: T = pvfc_core::scalar::cast(1.0 / 6.0);
+        let twelfth: T = pvfc_core::scalar::cast(1.0 / 12.0);
+        let dexpinv = |theta: &Tangent<T, D>, v: &Tangent<T, D>| {
+            let b = G::lie_bracket(theta, v);
+            v - b * half + G::lie_bracket(theta, &b) * twelfth
+        };
+        let at = |theta: &Tangent<T, D>, k: &Derivative<T, D>, c: T| AugmentedState {
+            q: s.q.compose(&G::exp(theta)),
+            v: s.v + k.v * (c * dt),
+            tau: s.tau + k.tau * (c * dt),
+            tau_dot: s.tau_dot + k.tau_dot * (c * dt),
+            flywheel_speed: s.flywheel_speed + k.flywheel_speed * (c * dt),
+        };
+        let k1 = self.derivative(s, f_e)?.0;
+        let t1 = k1.q; // θ = 0
+        let th2 = t1 * (half * dt);
+        let s2 = at(&th2, &k1, half);
+        let k2 = self.derivative(&s2, f_e)?.0;
+        let t2 = dexpinv(&th2, &k2.q);
+        let th3 = t2 * (half * dt);
+        let s3 = at(&th3, &k2, half);
+        let k3 = self.derivative(&s3, f_e)?.0;
+        let t3 = dexpinv(&th3, &k3.q);
+        let th4 = t3 * dt;
+        let s4 = at(&th4, &k3, T::one());
+        let k4 = self.derivative(&s4, f_e)?.0;
+        let t4 = dexpinv(&th4, &k4.q);
+        let w = dt * sixth;
+        let two = T::one() + T::one();
+        let theta = (t1 + t2 * two + t3 * two + t4) * w;
+        Ok(AugmentedState {
+            q: s.q.compose(&G::exp(&theta)),
+            v: s.v + (k1.v + k2.v * two + k3.v * two + k4.v) * w,
+            tau: s.tau + (k1.tau + k2.tau * two + k3.tau * two + k4.tau) * w,
+            tau_dot: s.tau_dot + (k1.tau_dot + k2.tau_dot * two + k3.tau_dot * two + k4.tau_dot) * w,
+            flywheel_speed: s.flywheel_speed
+                + (k1.flywheel_speed
+                    + k2.flywheel_speed * two
+                    + k3.flywheel_speed * two
+                    + k4.flywheel_speed)
+                    * w,
+        })
+    }
+}

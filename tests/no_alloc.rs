@@ -1,0 +1,93 @@
+//! A control step allocates nothing: a counting global allocator, counting only this thread.
+#![allow(unsafe_code)]
+
+use nalgebra::{Matrix3, Vector2, Vector3};
+use pvfc::paper::{controller, PaperSettings};
+use pvfc::prelude::*;
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+struct Counting;
+
+thread_local! {
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+// SAFETY: forwards every call to the system allocator unchanged; only counts.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+        // SAFETY: same contract as the caller's.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: same contract as the caller's.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+        // SAFETY: same contract as the caller's.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations() -> usize {
+    ALLOCATIONS.with(|c| c.get())
+}
+
+#[test]
+fn the_counter_sees_allocations() {
+    let before = allocations();
+    let v = std::hint::black_box(vec![1u8; 64]);
+    assert!(allocations() > before, "the counting allocator works");
+    drop(v);
+}
+
+#[test]
+fn a_control_step_does_not_allocate() {
+    let mut scara = controller(&PaperSettings::default()).unwrap();
+    let mut q = Torus::new(Vector2::new(0.1, -0.2));
+    let v = Vector2::new(0.3, 0.1);
+
+    let field = SuspendedField::new(
+        ConstantRate::new(So3::<f64>::identity(), Vector3::new(0.0, 0.3, 0.6)).unwrap(),
+        So3Navigation::new(Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0))).unwrap(),
+        ExponentialPacing::new(20.0).unwrap(),
+    );
+    let law = PvfcLaw::new(
+        RigidBody::new(Matrix3::from_diagonal(&Vector3::new(0.8, 1.2, 1.5))).unwrap(),
+        field,
+        Flywheel::new(1.0, 20.0).unwrap(),
+        0.1,
+    )
+    .unwrap();
+    let mut body = Controller::new(law).starting_at_rest(0.0);
+    let r = So3::exp(&Vector3::new(0.3, 0.2, 0.1));
+    let w = Vector3::new(0.1, 0.0, -0.2);
+
+    let field32 = SuspendedField::new(
+        Lissajous::<f32, 2>::paper(),
+        TorusNavigation::paper(Vector2::new(1.0f32, 1.0)).unwrap(),
+        ExponentialPacing::new(100.0f32).unwrap(),
+    );
+    let law32 = PvfcLaw::new(Scara::<f32>::pelican(), field32, Flywheel::new(1.0f32, 50.0).unwrap(), 0.05).unwrap();
+    let mut scara32 = Controller::new(law32)
+        .starting_at_rest(0.0)
+        .with_nominal_speed(NominalSpeed::new(0.01f32, 1.0).unwrap())
+        .with_friction_compensation(FrictionCompensation::new(Vector2::new(2.0f32, 3.0)).unwrap());
+
+    let before = allocations();
+    for _ in 0..1000 {
+        let out = scara.step(&q, &v, 1e-3).unwrap();
+        q = q.retract(&v, 1e-3);
+        std::hint::black_box(out);
+        std::hint::black_box(body.step(&r, &w, 1e-3).unwrap());
+        std::hint::black_box(scara32.step(&Torus::new(Vector2::new(0.1f32, 0.2)), &Vector2::new(0.3f32, 0.0), 1e-3).unwrap());
+        // The error path does not allocate either.
+        std::hint::black_box(scara.step(&Torus::new(Vector2::new(f64::NAN, 0.0)), &v, 1e-3).unwrap_err());
+    }
+    assert_eq!(allocations() - before, 0, "control steps allocated");
+}
