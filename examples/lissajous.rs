@@ -8,7 +8,10 @@ use pvfc::prelude::*;
 use pvfc::sim::ClosedLoop;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<f64> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
+    let args: Vec<f64> = std::env::args()
+        .skip(1)
+        .filter_map(|a| a.parse().ok())
+        .collect();
     let mut settings = PaperSettings::default();
     if let Some(r) = args.first() {
         settings.r = *r;
@@ -30,15 +33,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dt = 1e-3;
     let steps = (seconds / dt).round() as usize;
     let e0 = sys.kinetic_energy(&s);
-    println!("PVFC on the paper's Lissajous contour (Pelican SCARA, no friction), R = {}, γ = {}", settings.r, settings.gamma);
-    println!("{:>6} {:>9} {:>10} {:>8} {:>8} {:>8} {:>12}", "t [s]", "τ", "U(E)", "λ₁", "τ̇", "β", "κ_a − κ_a(0)");
+    println!(
+        "PVFC on the paper's Lissajous contour (Pelican SCARA, no friction), R = {}, γ = {}",
+        settings.r, settings.gamma
+    );
+    println!(
+        "{:>6} {:>9} {:>10} {:>8} {:>8} {:>8} {:>12}",
+        "t [s]", "τ", "U(E)", "λ₁", "τ̇", "β", "κ_a − κ_a(0)"
+    );
     let zero = Vector2::zeros();
     for k in 0..=steps {
         if k % (steps / 20).max(1) == 0 {
-            let (_, _, out) = sys.derivative(&s, &zero)?;
+            let out = sys.evaluate(&s, &zero)?.coupling;
             println!(
                 "{:>6.2} {:>9.4} {:>10.3e} {:>8.4} {:>8.4} {:>8.5} {:>12.3e}",
-                k as f64 * dt, s.tau, out.field.potential, out.field.lambda1, s.tau_dot, out.beta,
+                k as f64 * dt,
+                s.tau,
+                out.field.potential,
+                out.field.lambda1,
+                s.tau_dot,
+                out.beta,
                 sys.kinetic_energy(&s) - e0
             );
         }

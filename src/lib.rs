@@ -7,6 +7,8 @@
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
+// Library code never unwraps: bad input is an error value.
+#![warn(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 pub use pvfc_core as core;
 pub use pvfc_core::prelude;

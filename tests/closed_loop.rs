@@ -23,28 +23,43 @@ fn paper_start(ctl: &pvfc::paper::PaperController) -> AugmentedState<f64, Torus<
 #[test]
 fn scara_on_lissajous_conserves_energy_and_converges() {
     for r in [0.0, 100.0] {
-        let ctl = controller(&PaperSettings { r, ..Default::default() }).unwrap();
+        let ctl = controller(&PaperSettings {
+            r,
+            ..Default::default()
+        })
+        .unwrap();
         let sys = ClosedLoop::matched(ctl);
         let mut s = paper_start(&ctl);
         let zero = Vector2::zeros();
         let e0 = sys.kinetic_energy(&s);
-        let u0 = sys.derivative(&s, &zero).unwrap().2.field.potential;
+        let u0 = sys.evaluate(&s, &zero).unwrap().coupling.field.potential;
         let mut worst_drift: f64 = 0.0;
         let mut u_max_late: f64 = 0.0;
         for k in 0..10_000 {
             s = sys.rk4_step(&s, 1e-3, &zero).unwrap();
             worst_drift = worst_drift.max((sys.kinetic_energy(&s) - e0).abs() / e0);
             if k >= 9_000 {
-                u_max_late = u_max_late.max(sys.derivative(&s, &zero).unwrap().2.field.potential);
+                u_max_late =
+                    u_max_late.max(sys.evaluate(&s, &zero).unwrap().coupling.field.potential);
             }
         }
-        let out = sys.derivative(&s, &zero).unwrap().2;
+        let out = sys.evaluate(&s, &zero).unwrap().coupling;
         assert!(worst_drift <= 1e-6, "R = {r}: energy drift {worst_drift:e}");
         assert!(u0 > 0.4, "starts off the contour: U(0) = {u0}");
-        assert!(u_max_late < 1e-4 * u0, "R = {r}: U over the last second up to {u_max_late:e} (U(0) = {u0})");
+        assert!(
+            u_max_late < 1e-4 * u0,
+            "R = {r}: U over the last second up to {u_max_late:e} (U(0) = {u0})"
+        );
         let expected = out.beta * out.field.lambda1;
-        assert!((s.tau_dot - expected).abs() < 1e-3, "R = {r}: τ̇ = {} vs βλ₁ = {expected}", s.tau_dot);
-        assert!((out.beta - 1.0).abs() < 1e-6, "β stays 1 without environment force");
+        assert!(
+            (s.tau_dot - expected).abs() < 1e-3,
+            "R = {r}: τ̇ = {} vs βλ₁ = {expected}",
+            s.tau_dot
+        );
+        assert!(
+            (out.beta - 1.0).abs() < 1e-6,
+            "β stays 1 without environment force"
+        );
         // The robot actually went round the contour (τ advanced by more than one period).
         assert!(s.tau > 6.0, "R = {r}: τ = {}", s.tau);
     }
@@ -55,7 +70,11 @@ fn scara_on_lissajous_conserves_energy_and_converges() {
 fn self_pacing_holds_tau_while_far_from_the_contour() {
     let zero = Vector2::zeros();
     let run = |r: f64| {
-        let ctl = controller(&PaperSettings { r, ..Default::default() }).unwrap();
+        let ctl = controller(&PaperSettings {
+            r,
+            ..Default::default()
+        })
+        .unwrap();
         let sys = ClosedLoop::matched(ctl);
         let mut s = paper_start(&ctl);
         for _ in 0..500 {
@@ -64,7 +83,10 @@ fn self_pacing_holds_tau_while_far_from_the_contour() {
         s.tau
     };
     let (paced, free) = (run(100.0), run(0.0));
-    assert!(paced < 0.01 && free > 0.3, "τ(0.5 s): R = 100 → {paced}, R = 0 → {free}");
+    assert!(
+        paced < 0.01 && free > 0.3,
+        "τ(0.5 s): R = 100 → {paced}, R = 0 → {free}"
+    );
 }
 
 /// Passivity with an environment force (eq. 9): κ_a(t) − κ_a(0) = ∫ F_eᵀ q̇ dt. The force is
@@ -81,7 +103,10 @@ fn energy_balance_with_an_environment_force() {
     for k in 0..5_000 {
         let t = k as f64 * 1e-3;
         // A disturbance that pushes and brakes: 0.3 N·m-scale, changing sign.
-        let f = Vector2::new(0.3 * (3.0 * t).sin(), -0.2 * (5.0 * t).cos() - 0.05 * s.v[1]);
+        let f = Vector2::new(
+            0.3 * (3.0 * t).sin(),
+            -0.2 * (5.0 * t).cos() - 0.05 * s.v[1],
+        );
         let next = sys.rk4_step(&s, 1e-3, &f).unwrap();
         work += f.dot(&(next.q.angles() - s.q.angles()));
         s = next;
@@ -105,7 +130,13 @@ fn rigid_body_on_so3_conserves_energy_and_converges() {
         So3Navigation::new(p).unwrap(),
         ExponentialPacing::new(20.0).unwrap(),
     );
-    let law = PvfcLaw::new(RigidBody::new(j).unwrap(), field, Flywheel::new(1.0, 20.0).unwrap(), 0.1).unwrap();
+    let law = PvfcLaw::new(
+        RigidBody::new(j).unwrap(),
+        field,
+        Flywheel::new(1.0, 20.0).unwrap(),
+        0.1,
+    )
+    .unwrap();
     let ctl = Controller::new(law).starting_at_rest(0.0);
     let sys = ClosedLoop::matched(ctl);
     let mut s = AugmentedState {
@@ -117,16 +148,20 @@ fn rigid_body_on_so3_conserves_energy_and_converges() {
     };
     let zero = Vector3::zeros();
     let e0 = sys.kinetic_energy(&s);
-    let u0 = sys.derivative(&s, &zero).unwrap().2.field.potential;
+    let u0 = sys.evaluate(&s, &zero).unwrap().coupling.field.potential;
     let mut drift: f64 = 0.0;
     for _ in 0..20_000 {
         s = sys.rk4_step(&s, 1e-3, &zero).unwrap();
         drift = drift.max((sys.kinetic_energy(&s) - e0).abs() / e0);
     }
-    let u = sys.derivative(&s, &zero).unwrap().2.field.potential;
+    let u = sys.evaluate(&s, &zero).unwrap().coupling.field.potential;
     assert!(drift < 1e-6, "energy drift {drift:e}");
     assert!(u < 1e-6 * u0, "U: {u0} → {u}");
-    assert!(s.q.orthogonality_error() < 1e-12, "orthogonality {:e}", s.q.orthogonality_error());
+    assert!(
+        s.q.orthogonality_error() < 1e-12,
+        "orthogonality {:e}",
+        s.q.orthogonality_error()
+    );
 }
 
 /// The digital controller (`step`, semi-implicit Euler on its internal states, torque held
@@ -152,9 +187,20 @@ fn sampled_data_controller_follows_the_contour() {
             q = q.retract(&v, 1e-4);
         }
         let st = ctl.state();
-        let e = plant.kinetic_energy(&q, &v) + 0.5 * st.tau_dot.powi(2) + 0.5 * mf * st.flywheel_speed.powi(2);
+        let e = plant.kinetic_energy(&q, &v)
+            + 0.5 * st.tau_dot.powi(2)
+            + 0.5 * mf * st.flywheel_speed.powi(2);
         e_rel = e_rel.max((e - e0).abs() / e0);
     }
     assert!(u_last < 1e-4, "U at 10 s: {u_last:e}");
+    // τ went once round the period-6 contour and was wrapped back into [0, 6).
+    let st = ctl.state();
+    assert!(
+        st.laps >= 1 && (0.0..6.0).contains(&st.tau),
+        "τ = {}, laps = {}",
+        st.tau,
+        st.laps
+    );
+    assert!(st.unwrapped_tau(Some(6.0)) > 6.0);
     assert!(e_rel < 1e-2, "energy error of the sampled loop {e_rel:e}");
 }

@@ -73,7 +73,13 @@ fn a_control_step_does_not_allocate() {
         TorusNavigation::paper(Vector2::new(1.0f32, 1.0)).unwrap(),
         ExponentialPacing::new(100.0f32).unwrap(),
     );
-    let law32 = PvfcLaw::new(Scara::<f32>::pelican(), field32, Flywheel::new(1.0f32, 50.0).unwrap(), 0.05).unwrap();
+    let law32 = PvfcLaw::new(
+        Scara::<f32>::pelican(),
+        field32,
+        Flywheel::new(1.0f32, 50.0).unwrap(),
+        0.05,
+    )
+    .unwrap();
     let mut scara32 = Controller::new(law32)
         .starting_at_rest(0.0)
         .with_nominal_speed(NominalSpeed::new(0.01f32, 1.0).unwrap())
@@ -85,9 +91,21 @@ fn a_control_step_does_not_allocate() {
         q = q.retract(&v, 1e-3);
         std::hint::black_box(out);
         std::hint::black_box(body.step(&r, &w, 1e-3).unwrap());
-        std::hint::black_box(scara32.step(&Torus::new(Vector2::new(0.1f32, 0.2)), &Vector2::new(0.3f32, 0.0), 1e-3).unwrap());
+        std::hint::black_box(
+            scara32
+                .step(
+                    &Torus::new(Vector2::new(0.1f32, 0.2)),
+                    &Vector2::new(0.3f32, 0.0),
+                    1e-3,
+                )
+                .unwrap(),
+        );
         // The error path does not allocate either.
-        std::hint::black_box(scara.step(&Torus::new(Vector2::new(f64::NAN, 0.0)), &v, 1e-3).unwrap_err());
+        std::hint::black_box(
+            scara
+                .step(&Torus::new(Vector2::new(f64::NAN, 0.0)), &v, 1e-3)
+                .unwrap_err(),
+        );
     }
     assert_eq!(allocations() - before, 0, "control steps allocated");
 }

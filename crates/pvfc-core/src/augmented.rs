@@ -50,7 +50,9 @@ impl<T: Real, const D: usize> AugmentedVector<T, D> {
     /// `true` when every entry is finite.
     #[inline]
     pub fn is_finite(&self) -> bool {
-        self.robot.iter().all(|x| x.is_finite()) && self.tau.is_finite() && self.flywheel.is_finite()
+        self.robot.iter().all(|x| x.is_finite())
+            && self.tau.is_finite()
+            && self.flywheel.is_finite()
     }
 
     /// The entries as one column `(robot, τ, flywheel)`; `A` must equal `D + 2`
@@ -78,7 +80,11 @@ impl<T: Real, const D: usize> Add for AugmentedVector<T, D> {
     type Output = Self;
     #[inline]
     fn add(self, o: Self) -> Self {
-        Self::new(self.robot + o.robot, self.tau + o.tau, self.flywheel + o.flywheel)
+        Self::new(
+            self.robot + o.robot,
+            self.tau + o.tau,
+            self.flywheel + o.flywheel,
+        )
     }
 }
 
@@ -86,7 +92,11 @@ impl<T: Real, const D: usize> Sub for AugmentedVector<T, D> {
     type Output = Self;
     #[inline]
     fn sub(self, o: Self) -> Self {
-        Self::new(self.robot - o.robot, self.tau - o.tau, self.flywheel - o.flywheel)
+        Self::new(
+            self.robot - o.robot,
+            self.tau - o.tau,
+            self.flywheel - o.flywheel,
+        )
     }
 }
 

@@ -17,6 +17,19 @@ pub struct InternalState<T: Real> {
     pub tau_dot: T,
     /// Flywheel speed `q̇_F`.
     pub flywheel_speed: T,
+    /// Whole periods of the contour that `τ` has been wrapped by (the unwrapped parameter is
+    /// `τ + laps·period`); stays 0 for contours without a period.
+    pub laps: i64,
+}
+
+impl<T: Real> InternalState<T> {
+    /// The unwrapped contour parameter `τ + laps·period`.
+    pub fn unwrapped_tau(&self, period: Option<T>) -> T {
+        match period {
+            Some(p) => self.tau + p * crate::scalar::cast::<T>(self.laps as f64),
+            None => self.tau,
+        }
+    }
 }
 
 /// What one control step returns.
@@ -39,7 +52,9 @@ pub struct StepOutput<T: Real, G, const D: usize> {
 /// internal states, then advances the internal states over `dt` with the **semi-implicit
 /// (symplectic) Euler** scheme, treating the torques as held over the sample:
 /// `τ̇ ← τ̇ + dt·T_τ`, `τ ← τ + dt·τ̇(new)`, `q̇_F ← q̇_F + dt·T_F/M_F`.
-/// On any error the internal states are left as they were.
+/// For a periodic contour `τ` is then wrapped into `[0, period)` (counting
+/// [`laps`](InternalState::laps)), so that an `f32` controller keeps its resolution in `τ`
+/// over arbitrarily long runs. On any error the internal states are left as they were.
 ///
 /// [`evaluate`](Self::evaluate) is the same law as a pure function of a full
 /// [`AugmentedState`], for simulations that integrate the internal states themselves.
@@ -89,6 +104,7 @@ where
                 tau: T::zero(),
                 tau_dot: T::zero(),
                 flywheel_speed: T::zero(),
+                laps: 0,
             },
         }
     }
@@ -100,6 +116,7 @@ where
             tau: tau0,
             tau_dot: T::zero(),
             flywheel_speed: self.law.flywheel().speed_for_unit_beta(),
+            laps: 0,
         };
         self
     }
@@ -178,11 +195,24 @@ where
         }
         let before = self.state;
         let tau_dot = before.tau_dot + total.tau * dt;
+        let mut tau = before.tau + tau_dot * dt;
+        let mut laps = before.laps;
+        if let Some(period) = self.law.field().period() {
+            while tau >= period {
+                tau -= period;
+                laps += 1;
+            }
+            while tau < T::zero() {
+                tau += period;
+                laps -= 1;
+            }
+        }
         self.state = InternalState {
-            tau: before.tau + tau_dot * dt,
+            tau,
             tau_dot,
             flywheel_speed: before.flywheel_speed
                 + total.flywheel * dt / self.law.flywheel().inertia(),
+            laps,
         };
         Ok(StepOutput {
             torque: total.robot,

@@ -96,10 +96,18 @@ impl<T: Real, G, const D: usize> CouplingOutput<T, G, D> {
     /// The skew-symmetric matrices `G = (w Pᵀ − P wᵀ)/(2Ē)` and `R = P pᵀ − p Pᵀ` of eq. (7)
     /// as `A × A` matrices, `A = D + 2` (`DimensionMismatch` otherwise). The control step never
     /// forms them: it applies them as rank-two updates.
-    pub fn coupling_matrices<const A: usize>(&self) -> Result<(SMatrix<T, A, A>, SMatrix<T, A, A>)> {
+    pub fn coupling_matrices<const A: usize>(
+        &self,
+    ) -> Result<(SMatrix<T, A, A>, SMatrix<T, A, A>)> {
         let mismatch = || Error::new(ErrorKind::DimensionMismatch, "coupling_matrices: A ≠ D + 2");
-        let wp = self.w.outer::<A>(&self.desired_momentum).ok_or_else(mismatch)?;
-        let pp = self.desired_momentum.outer::<A>(&self.momentum).ok_or_else(mismatch)?;
+        let wp = self
+            .w
+            .outer::<A>(&self.desired_momentum)
+            .ok_or_else(mismatch)?;
+        let pp = self
+            .desired_momentum
+            .outer::<A>(&self.momentum)
+            .ok_or_else(mismatch)?;
         let g = (wp - wp.transpose()) / (self.energy_level * cast::<T>(2.0));
         Ok((g, pp - pp.transpose()))
     }
@@ -289,7 +297,10 @@ impl<T: Real, const D: usize> FrictionCompensation<T, D> {
     /// Compensation levels `fric_i ≥ 0` with a pure sign.
     pub fn new(fric: SVector<T, D>) -> Result<Self> {
         if !fric.iter().all(|x| x.is_finite()) {
-            return Err(Error::new(ErrorKind::NonFinite, "FrictionCompensation: fric"));
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                "FrictionCompensation: fric",
+            ));
         }
         if fric.iter().any(|x| *x < T::zero()) {
             return Err(Error::new(

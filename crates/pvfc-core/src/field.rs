@@ -197,8 +197,8 @@ where
                 let g = self.pacing.gains(nav.value);
                 let l1_dot = g.dlambda1 * nav.value_rate;
                 let l2_dot = g.dlambda2 * nav.value_rate;
-                let b_dot = e.adjoint_inverse_apply(&c.acceleration) * tau_dot
-                    - G::lie_bracket(&eps, &b);
+                let b_dot =
+                    e.adjoint_inverse_apply(&c.acceleration) * tau_dot - G::lie_bracket(&eps, &b);
                 FieldSample {
                     velocity: b * g.lambda1 - nav.gradient * g.lambda2,
                     rate: b * l1_dot + b_dot * g.lambda1
@@ -225,6 +225,13 @@ where
 pub trait VelocityField<T: Real, G: LieGroup<T, D>, const D: usize> {
     /// `V̄(q, τ)` and `V̄̇` along `q̄̇ = (v, τ̇)`.
     fn sample(&self, q: &G, v: &Tangent<T, D>, tau: T, tau_dot: T) -> FieldSample<T, G, D>;
+
+    /// The period of the field in `τ`, if it has one (a closed contour). The
+    /// [`Controller`](crate::controller::Controller) wraps its `τ` into `[0, period)` so that
+    /// `τ` keeps its resolution in `f32` however long the machine runs.
+    fn period(&self) -> Option<T> {
+        None
+    }
 }
 
 impl<T, G, X, N, S, const D: usize> VelocityField<T, G, D> for SuspendedField<T, G, X, N, S, D>
@@ -238,5 +245,10 @@ where
     #[inline]
     fn sample(&self, q: &G, v: &Tangent<T, D>, tau: T, tau_dot: T) -> FieldSample<T, G, D> {
         self.evaluate(q, v, tau, tau_dot)
+    }
+
+    #[inline]
+    fn period(&self) -> Option<T> {
+        self.contour.period()
     }
 }

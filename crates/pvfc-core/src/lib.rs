@@ -45,6 +45,8 @@
 #![no_std]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
+// Library code never unwraps: bad input is an error value.
+#![warn(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 pub mod augmented;
 pub mod contour;

@@ -10,8 +10,8 @@ use common::{close, close_vec, f, vec, Tolerance, CASES};
 use nalgebra::{SMatrix, SVector};
 use proptest::prelude::*;
 use pvfc_core::prelude::*;
-use std::result::Result;
 use pvfc_core::scalar::cast;
+use std::result::Result;
 
 /// A random state of the closed loop, as `f64` numbers (converted to each scalar type).
 #[derive(Clone, Copy, Debug)]
@@ -38,13 +38,23 @@ fn inputs<const D: usize>(q_range: f64) -> impl Strategy<Value = Inputs<D>> {
         -2.0..2.0,
     )
         .prop_map(|(q, v, tau, tau_dot, flywheel, beta, w, w_tau)| Inputs {
-            q, v, tau, tau_dot, flywheel, beta, w, w_tau,
+            q,
+            v,
+            tau,
+            tau_dot,
+            flywheel,
+            beta,
+            w,
+            w_tau,
         })
 }
 
 fn params() -> impl Strategy<Value = Params> {
-    (0.0..200.0, 0.0..2.0, proptest::array::uniform(0.3..3.0))
-        .prop_map(|(r, gamma, h)| Params { r, gamma, h })
+    (0.0..200.0, 0.0..2.0, proptest::array::uniform(0.3..3.0)).prop_map(|(r, gamma, h)| Params {
+        r,
+        gamma,
+        h,
+    })
 }
 
 fn state<T: Real, G: LieGroup<T, D>, const D: usize>(i: &Inputs<D>) -> AugmentedState<T, G, D> {
@@ -83,7 +93,11 @@ where
 
     // Skew-symmetry of G and R (eq. 7).
     if skew_error(&g) > tol || skew_error(&r) > tol {
-        return Err(format!("G or R not skew: {:e} {:e}", skew_error(&g), skew_error(&r)));
+        return Err(format!(
+            "G or R not skew: {:e} {:e}",
+            skew_error(&g),
+            skew_error(&r)
+        ));
     }
     // The rank-two evaluation of the control step equals G q̇_a + γ R q̇_a.
     let t_mat = g * qa + r * qa * gamma;
@@ -93,21 +107,68 @@ where
     // Passivity: q̇_aᵀ T_a = 0, relative to the size of the products that cancel in
     // q̇ᵀ(w Pᵀq̇ − P wᵀq̇)/2Ē + γ q̇ᵀ(P pᵀq̇ − p Pᵀq̇).
     let power = f(out.torque.dot(&qa_aug));
-    let (nw, np, nm, nq) = (f(out.w.norm()), f(out.desired_momentum.norm()), f(out.momentum.norm()), f(qa.norm()));
+    let (nw, np, nm, nq) = (
+        f(out.w.norm()),
+        f(out.desired_momentum.norm()),
+        f(out.momentum.norm()),
+        f(qa.norm()),
+    );
     let cancel = nq * nq * (nw * np / (2.0 * f(out.energy_level)) + f(gamma) * np * nm);
     close(power, 0.0, tol, cancel, "q̇_aᵀ T_a")?;
     // wᵀ V_a = 0 and G V_a = w.
-    close(f(w.dot(&va)), 0.0, tol * 10.0, f(w.norm() * va.norm()), "wᵀ V_a")?;
-    close_vec(&(g * va), &w, tol * 10.0, f(w.norm()) + f(g.norm() * va.norm()), "G V_a = w")?;
+    close(
+        f(w.dot(&va)),
+        0.0,
+        tol * 10.0,
+        f(w.norm() * va.norm()),
+        "wᵀ V_a",
+    )?;
+    close_vec(
+        &(g * va),
+        &w,
+        tol * 10.0,
+        f(w.norm()) + f(g.norm() * va.norm()),
+        "G V_a = w",
+    )?;
     // The augmented field has energy Ē (eq. 6): ½ Pᵀ V_a = Ē.
     let e_field = f(out.desired_momentum.dot(&out.field_velocity)) * 0.5;
-    close(e_field, f(out.energy_level), tol, f(out.energy_level), "½ V_aᵀ M_a V_a = Ē")?;
+    close(
+        e_field,
+        f(out.energy_level),
+        tol,
+        f(out.energy_level),
+        "½ V_aᵀ M_a V_a = Ē",
+    )?;
     // κ_a and β.
-    close(f(out.kinetic_energy), f(law.kinetic_energy(s)), tol, f(out.kinetic_energy), "κ_a")?;
-    close(f(out.beta * out.beta * out.energy_level), f(out.kinetic_energy), tol * 10.0, f(out.kinetic_energy), "β² Ē = κ_a")?;
+    close(
+        f(out.kinetic_energy),
+        f(law.kinetic_energy(s)),
+        tol,
+        f(out.kinetic_energy),
+        "κ_a",
+    )?;
+    close(
+        f(out.beta * out.beta * out.energy_level),
+        f(out.kinetic_energy),
+        tol * 10.0,
+        f(out.kinetic_energy),
+        "β² Ē = κ_a",
+    )?;
     // V_I = λ₁ and the self-pacing gains.
-    close(f(out.field_velocity.tau), f(out.field.lambda1), tol, 1.0, "V_I = λ₁")?;
-    close(f(out.field.lambda1 + out.field.lambda2), 2.0, tol, 1.0, "λ₁ + λ₂ = 2")?;
+    close(
+        f(out.field_velocity.tau),
+        f(out.field.lambda1),
+        tol,
+        1.0,
+        "V_I = λ₁",
+    )?;
+    close(
+        f(out.field.lambda1 + out.field.lambda2),
+        2.0,
+        tol,
+        1.0,
+        "λ₁ + λ₂ = 2",
+    )?;
     Ok(())
 }
 
@@ -128,13 +189,28 @@ where
     let fs = field.evaluate(&s.q, &s.v, s.tau, s.tau_dot);
     let ev = field.error_pushforward(&s.q, s.tau, &fs.velocity, fs.velocity_tau);
     let scale = 1.0 + f(fs.velocity.norm()) + f(fs.contour.velocity.norm());
-    close_vec(&ev, &(fs.gradient * -fs.lambda2), T::ROUNDING * 10.0, scale, "E_*V = −λ₂ grad U")?;
+    close_vec(
+        &ev,
+        &(fs.gradient * -fs.lambda2),
+        T::ROUNDING * 10.0,
+        scale,
+        "E_*V = −λ₂ grad U",
+    )?;
     let nav = field.navigation().evaluate(&fs.error, &ev);
     let k = field.navigation().metric_weight();
     // d/dt U(E) along the field = −λ₂ ⟨⟨grad U, grad U⟩⟩_V ≤ 0 (eq. 20).
-    close(f(nav.value_rate), f(-fs.lambda2 * k * fs.gradient.norm_squared()), T::ROUNDING * 10.0, scale * (1.0 + f(nav.differential.norm())), "U̇ = −λ₂‖grad U‖²")?;
+    close(
+        f(nav.value_rate),
+        f(-fs.lambda2 * k * fs.gradient.norm_squared()),
+        T::ROUNDING * 10.0,
+        scale * (1.0 + f(nav.differential.norm())),
+        "U̇ = −λ₂‖grad U‖²",
+    )?;
     if f(nav.value_rate) > T::ROUNDING * scale {
-        return Err(format!("U increases along the field: {:e}", f(nav.value_rate)));
+        return Err(format!(
+            "U increases along the field: {:e}",
+            f(nav.value_rate)
+        ));
     }
     Ok(())
 }
@@ -175,7 +251,13 @@ where
     };
     let fd = derivative(along, h);
     let scale = 1.0 + fd.norm();
-    close_vec(&fd.fixed_rows::<D>(0).into_owned(), &fs.rate, tol, scale, "V̇_G vs finite differences")?;
+    close_vec(
+        &fd.fixed_rows::<D>(0).into_owned(),
+        &fs.rate,
+        tol,
+        scale,
+        "V̇_G vs finite differences",
+    )?;
     close(fd[D], fs.rate_tau, tol, scale, "V̇_I vs finite differences")?;
 
     // E_* against the derivative of E along a random direction W.
@@ -183,21 +265,47 @@ where
     let e0 = fs.error;
     let err_along = |t: f64| {
         let q = s.q.retract(&w, t);
-        e0.inverse().compose(&field.error(&q, s.tau + t * i.w_tau)).log()
+        e0.inverse()
+            .compose(&field.error(&q, s.tau + t * i.w_tau))
+            .log()
     };
     let fd = derivative(err_along, h);
     let an = field.error_pushforward(&s.q, s.tau, &w, i.w_tau);
-    close_vec(&fd, &an, tol, 1.0 + fd.norm(), "E_*W vs finite differences (Lemma 1)")?;
+    close_vec(
+        &fd,
+        &an,
+        tol,
+        1.0 + fd.norm(),
+        "E_*W vs finite differences (Lemma 1)",
+    )?;
 
     // The navigation function: dU and the rate of grad U along the error's motion.
     let nav = field.navigation();
     let eps = fs.error_velocity;
     let ns = nav.evaluate(&e0, &eps);
     let u_along = |t: f64| SVector::<f64, 1>::new(nav.value(&e0.retract(&eps, t)));
-    close(derivative(u_along, h)[0], ns.value_rate, tol, 1.0 + ns.differential.norm() * eps.norm(), "dU·ε vs finite differences")?;
+    close(
+        derivative(u_along, h)[0],
+        ns.value_rate,
+        tol,
+        1.0 + ns.differential.norm() * eps.norm(),
+        "dU·ε vs finite differences",
+    )?;
     let g_along = |t: f64| nav.gradient(&e0.retract(&eps, t));
-    close_vec(&derivative(g_along, h), &ns.gradient_rate, tol, 1.0 + ns.gradient_rate.norm(), "d/dt grad U vs finite differences")?;
-    close_vec(&(ns.differential / nav.metric_weight()), &ns.gradient, 1e-12, 1.0 + ns.gradient.norm(), "grad U = dU / k")?;
+    close_vec(
+        &derivative(g_along, h),
+        &ns.gradient_rate,
+        tol,
+        1.0 + ns.gradient_rate.norm(),
+        "d/dt grad U vs finite differences",
+    )?;
+    close_vec(
+        &(ns.differential / nav.metric_weight()),
+        &ns.gradient,
+        1e-12,
+        1.0 + ns.gradient.norm(),
+        "grad U = dU / k",
+    )?;
 
     // Invariance: at q̇_a = βV_a the coupling torque is exactly the torque that keeps it
     // there, M_a d/dt(βV_a) + C_a βV_a, with d/dt V_a by finite differences and M, C from the
@@ -205,12 +313,25 @@ where
     let out0 = law.evaluate(s).map_err(|e| e.to_string())?;
     let va = out0.field_velocity;
     let beta = i.beta;
-    let on_field = AugmentedState { q: s.q, v: va.robot * beta, tau: s.tau, tau_dot: va.tau * beta, flywheel_speed: va.flywheel * beta };
+    let on_field = AugmentedState {
+        q: s.q,
+        v: va.robot * beta,
+        tau: s.tau,
+        tau_dot: va.tau * beta,
+        flywheel_speed: va.flywheel * beta,
+    };
     let out = law.evaluate(&on_field).map_err(|e| e.to_string())?;
     close(out.beta, beta, 1e-12, beta, "β on the field")?;
     let va_along = |t: f64| {
-        let st = AugmentedState { q: s.q.retract(&va.robot, beta * t), tau: s.tau + va.tau * beta * t, ..on_field };
-        let o = law.evaluate(&st).map(|o| o.field_velocity).unwrap_or(AugmentedVector::zeros());
+        let st = AugmentedState {
+            q: s.q.retract(&va.robot, beta * t),
+            tau: s.tau + va.tau * beta * t,
+            ..on_field
+        };
+        let o = law
+            .evaluate(&st)
+            .map(|o| o.field_velocity)
+            .unwrap_or(AugmentedVector::zeros());
         let mut col = SVector::<f64, 8>::zeros();
         col.fixed_rows_mut::<D>(0).copy_from(&o.robot);
         col[D] = o.tau;
@@ -225,9 +346,27 @@ where
     let required_tau = dva[D] * beta;
     let required_fly = law.flywheel().inertia() * dva[D + 1] * beta;
     let scale = 1.0 + required_robot.norm() + required_tau.abs() + required_fly.abs();
-    close_vec(&out.torque.robot, &required_robot, tol, scale, "invariance: robot torque")?;
-    close(out.torque.tau, required_tau, tol, scale, "invariance: τ torque")?;
-    close(out.torque.flywheel, required_fly, tol, scale, "invariance: flywheel torque")?;
+    close_vec(
+        &out.torque.robot,
+        &required_robot,
+        tol,
+        scale,
+        "invariance: robot torque",
+    )?;
+    close(
+        out.torque.tau,
+        required_tau,
+        tol,
+        scale,
+        "invariance: τ torque",
+    )?;
+    close(
+        out.torque.flywheel,
+        required_fly,
+        tol,
+        scale,
+        "invariance: flywheel torque",
+    )?;
 
     // The plant: Ṁ − 2C is skew, with Ṁ by finite differences.
     let m_along = |t: f64| {
@@ -238,22 +377,61 @@ where
     let m_dot = SMatrix::<f64, D, D>::from_fn(|r, cc| md[r * D + cc]);
     let cc = sys.coriolis(&s.q, &s.v);
     let skew = m_dot - cc * 2.0;
-    close(( skew + skew.transpose()).norm(), 0.0, tol, 1.0 + m_dot.norm() + cc.norm(), "Ṁ − 2C skew")?;
-    close_vec(&(sys.inertia_rate(&s.q, &s.v) * s.v), &(m_dot * s.v), tol, 1.0 + m_dot.norm() * s.v.norm(), "inertia_rate")?;
+    close(
+        (skew + skew.transpose()).norm(),
+        0.0,
+        tol,
+        1.0 + m_dot.norm() + cc.norm(),
+        "Ṁ − 2C skew",
+    )?;
+    close_vec(
+        &(sys.inertia_rate(&s.q, &s.v) * s.v),
+        &(m_dot * s.v),
+        tol,
+        1.0 + m_dot.norm() * s.v.norm(),
+        "inertia_rate",
+    )?;
     Ok(())
 }
 
 /// The f32 implementation agrees with the f64 one at the same inputs.
-fn f32_matches_f64<const D: usize>(a: &CouplingOutput<f32, impl Sized, D>, b: &CouplingOutput<f64, impl Sized, D>) -> Result<(), String> {
+fn f32_matches_f64<const D: usize>(
+    a: &CouplingOutput<f32, impl Sized, D>,
+    b: &CouplingOutput<f64, impl Sized, D>,
+) -> Result<(), String> {
     let tol = 2e-3;
     let ta: SVector<f64, D> = a.torque.robot.map(|x| x as f64);
     let scale = 1.0 + b.torque.norm();
     close_vec(&ta, &b.torque.robot, tol, scale, "f32 vs f64: robot torque")?;
-    close(a.torque.tau as f64, b.torque.tau, tol, scale, "f32 vs f64: τ torque")?;
-    close(a.torque.flywheel as f64, b.torque.flywheel, tol, scale, "f32 vs f64: flywheel torque")?;
+    close(
+        a.torque.tau as f64,
+        b.torque.tau,
+        tol,
+        scale,
+        "f32 vs f64: τ torque",
+    )?;
+    close(
+        a.torque.flywheel as f64,
+        b.torque.flywheel,
+        tol,
+        scale,
+        "f32 vs f64: flywheel torque",
+    )?;
     let ra: SVector<f64, D> = a.field.rate.map(|x| x as f64);
-    close_vec(&ra, &b.field.rate, tol, 1.0 + b.field.rate.norm(), "f32 vs f64: V̇")?;
-    close(a.field.potential as f64, b.field.potential, tol, 1.0, "f32 vs f64: U")?;
+    close_vec(
+        &ra,
+        &b.field.rate,
+        tol,
+        1.0 + b.field.rate.norm(),
+        "f32 vs f64: V̇",
+    )?;
+    close(
+        a.field.potential as f64,
+        b.field.potential,
+        tol,
+        1.0,
+        "f32 vs f64: U",
+    )?;
     Ok(())
 }
 
@@ -306,6 +484,22 @@ macro_rules! law_suite {
 const PI: f64 = std::f64::consts::PI;
 law_suite!(scara_lissajous_right, scara_lissajous, Torus<f64, 2>, Torus<f32, 2>, 2, 4, PI);
 law_suite!(scara_spline_left, scara_spline, Torus<f64, 2>, Torus<f32, 2>, 2, 4, PI);
-law_suite!(rigid_body_spin_right, body_spin, So3<f64>, So3<f32>, 3, 5, 1.8);
-law_suite!(rigid_body_spline_left, body_spline, So3<f64>, So3<f32>, 3, 5, 1.8);
+law_suite!(
+    rigid_body_spin_right,
+    body_spin,
+    So3<f64>,
+    So3<f32>,
+    3,
+    5,
+    1.8
+);
+law_suite!(
+    rigid_body_spline_left,
+    body_spline,
+    So3<f64>,
+    So3<f32>,
+    3,
+    5,
+    1.8
+);
 law_suite!(linear_stage, stage, Rn<f64, 3>, Rn<f32, 3>, 3, 5, 2.0);

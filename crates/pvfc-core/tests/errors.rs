@@ -7,7 +7,14 @@ type Law = PvfcLaw<
     f64,
     Torus<f64, 2>,
     Scara<f64>,
-    SuspendedField<f64, Torus<f64, 2>, Lissajous<f64, 2>, TorusNavigation<f64, 2>, ExponentialPacing<f64>, 2>,
+    SuspendedField<
+        f64,
+        Torus<f64, 2>,
+        Lissajous<f64, 2>,
+        TorusNavigation<f64, 2>,
+        ExponentialPacing<f64>,
+        2,
+    >,
     2,
 >;
 
@@ -17,11 +24,23 @@ fn law(energy: f64) -> Law {
         TorusNavigation::paper(Vector2::new(1.0, 1.0)).unwrap(),
         ExponentialPacing::new(100.0).unwrap(),
     );
-    PvfcLaw::new(Scara::pelican(), field, Flywheel::new(1.0, energy).unwrap(), 0.05).unwrap()
+    PvfcLaw::new(
+        Scara::pelican(),
+        field,
+        Flywheel::new(1.0, energy).unwrap(),
+        0.05,
+    )
+    .unwrap()
 }
 
 fn state(q: [f64; 2], v: [f64; 2]) -> AugmentedState<f64, Torus<f64, 2>, 2> {
-    AugmentedState { q: Torus::new(q.into()), v: v.into(), tau: 0.3, tau_dot: 0.1, flywheel_speed: 5.0 }
+    AugmentedState {
+        q: Torus::new(q.into()),
+        v: v.into(),
+        tau: 0.3,
+        tau_dot: 0.1,
+        flywheel_speed: 5.0,
+    }
 }
 
 #[test]
@@ -31,9 +50,18 @@ fn non_finite_states_are_errors() {
         for s in [
             state([bad, 0.0], [0.0, 0.0]),
             state([0.0, 0.0], [0.0, bad]),
-            AugmentedState { tau: bad, ..state([0.0, 0.0], [0.0, 0.0]) },
-            AugmentedState { tau_dot: bad, ..state([0.0, 0.0], [0.0, 0.0]) },
-            AugmentedState { flywheel_speed: bad, ..state([0.0, 0.0], [0.0, 0.0]) },
+            AugmentedState {
+                tau: bad,
+                ..state([0.0, 0.0], [0.0, 0.0])
+            },
+            AugmentedState {
+                tau_dot: bad,
+                ..state([0.0, 0.0], [0.0, 0.0])
+            },
+            AugmentedState {
+                flywheel_speed: bad,
+                ..state([0.0, 0.0], [0.0, 0.0])
+            },
         ] {
             assert_eq!(law.evaluate(&s).unwrap_err().kind(), ErrorKind::NonFinite);
         }
@@ -51,31 +79,100 @@ fn energy_too_low_is_an_error_with_the_deficit() {
     // The controller keeps its state on that error.
     let mut ctl = Controller::new(law(1e-3)).starting_at_rest(0.0);
     let before = *ctl.state();
-    assert!(ctl.step(&Torus::new(Vector2::zeros()), &Vector2::zeros(), 1e-3).is_err());
+    assert!(ctl
+        .step(&Torus::new(Vector2::zeros()), &Vector2::zeros(), 1e-3)
+        .is_err());
     assert_eq!(*ctl.state(), before);
 }
 
 #[test]
 fn invalid_parameters_are_errors() {
-    assert_eq!(Flywheel::new(0.0, 1.0).unwrap_err().kind(), ErrorKind::InvalidParameter);
-    assert_eq!(Flywheel::new(1.0, -1.0).unwrap_err().kind(), ErrorKind::InvalidParameter);
-    assert_eq!(Flywheel::new(f64::NAN, 1.0).unwrap_err().kind(), ErrorKind::NonFinite);
-    assert_eq!(ExponentialPacing::new(-1.0).unwrap_err().kind(), ErrorKind::InvalidParameter);
-    assert_eq!(TorusNavigation::paper(Vector2::new(1.0, 0.0)).unwrap_err().kind(), ErrorKind::InvalidParameter);
-    assert_eq!(Lissajous::<f64, 2>::new(Vector2::new(1.0, 1.0), Vector2::new(0.0, 1.0), Vector2::zeros(), Vector2::zeros()).unwrap_err().kind(), ErrorKind::InvalidParameter);
-    assert_eq!(NominalSpeed::new(0.0, 1.0).unwrap_err().kind(), ErrorKind::InvalidParameter);
-    assert_eq!(FrictionCompensation::new(Vector2::new(-1.0, 1.0)).unwrap_err().kind(), ErrorKind::InvalidParameter);
+    assert_eq!(
+        Flywheel::new(0.0, 1.0).unwrap_err().kind(),
+        ErrorKind::InvalidParameter
+    );
+    assert_eq!(
+        Flywheel::new(1.0, -1.0).unwrap_err().kind(),
+        ErrorKind::InvalidParameter
+    );
+    assert_eq!(
+        Flywheel::new(f64::NAN, 1.0).unwrap_err().kind(),
+        ErrorKind::NonFinite
+    );
+    assert_eq!(
+        ExponentialPacing::new(-1.0).unwrap_err().kind(),
+        ErrorKind::InvalidParameter
+    );
+    assert_eq!(
+        TorusNavigation::paper(Vector2::new(1.0, 0.0))
+            .unwrap_err()
+            .kind(),
+        ErrorKind::InvalidParameter
+    );
+    assert_eq!(
+        Lissajous::<f64, 2>::new(
+            Vector2::new(1.0, 1.0),
+            Vector2::new(0.0, 1.0),
+            Vector2::zeros(),
+            Vector2::zeros()
+        )
+        .unwrap_err()
+        .kind(),
+        ErrorKind::InvalidParameter
+    );
+    assert_eq!(
+        NominalSpeed::new(0.0, 1.0).unwrap_err().kind(),
+        ErrorKind::InvalidParameter
+    );
+    assert_eq!(
+        FrictionCompensation::new(Vector2::new(-1.0, 1.0))
+            .unwrap_err()
+            .kind(),
+        ErrorKind::InvalidParameter
+    );
     let mut bad = ScaraParameters::<f64>::pelican();
     bad.m2 = -1.0;
-    assert_eq!(Scara::new(bad).unwrap_err().kind(), ErrorKind::InvalidParameter);
+    assert_eq!(
+        Scara::new(bad).unwrap_err().kind(),
+        ErrorKind::InvalidParameter
+    );
     bad.m2 = f64::NAN;
     assert_eq!(Scara::new(bad).unwrap_err().kind(), ErrorKind::NonFinite);
-    assert_eq!(RigidBody::new(Matrix3::from_diagonal(&Vector3::new(1.0, -1.0, 1.0))).unwrap_err().kind(), ErrorKind::InvalidParameter);
-    assert_eq!(So3Navigation::new(Matrix3::new(1.0, 2.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 3.0)).unwrap_err().kind(), ErrorKind::InvalidNavigationMatrix);
+    assert_eq!(
+        RigidBody::new(Matrix3::from_diagonal(&Vector3::new(1.0, -1.0, 1.0)))
+            .unwrap_err()
+            .kind(),
+        ErrorKind::InvalidParameter
+    );
+    assert_eq!(
+        So3Navigation::new(Matrix3::new(1.0, 2.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 3.0))
+            .unwrap_err()
+            .kind(),
+        ErrorKind::InvalidNavigationMatrix
+    );
     // π₁ + π₂ < 0: the identity would not be the minimum.
-    assert_eq!(So3Navigation::new(Matrix3::from_diagonal(&Vector3::new(-3.0, 1.0, 4.0))).unwrap_err().kind(), ErrorKind::InvalidNavigationMatrix);
-    let field = SuspendedField::new(Lissajous::paper(), TorusNavigation::paper(Vector2::new(1.0, 1.0)).unwrap(), ExponentialPacing::off());
-    assert_eq!(PvfcLaw::new(Scara::pelican(), field, Flywheel::new(1.0, 50.0).unwrap(), -0.1).unwrap_err().kind(), ErrorKind::InvalidParameter);
+    assert_eq!(
+        So3Navigation::new(Matrix3::from_diagonal(&Vector3::new(-3.0, 1.0, 4.0)))
+            .unwrap_err()
+            .kind(),
+        ErrorKind::InvalidNavigationMatrix
+    );
+    let field = SuspendedField::new(
+        Lissajous::paper(),
+        TorusNavigation::paper(Vector2::new(1.0, 1.0)).unwrap(),
+        ExponentialPacing::off(),
+    );
+    assert_eq!(
+        PvfcLaw::new(
+            Scara::pelican(),
+            field,
+            Flywheel::new(1.0, 50.0).unwrap(),
+            -0.1
+        )
+        .unwrap_err()
+        .kind(),
+        ErrorKind::InvalidParameter
+    );
 }
 
 #[test]
@@ -83,7 +180,12 @@ fn step_rejects_bad_dt_and_keeps_state() {
     let mut ctl = Controller::new(law(50.0)).starting_at_rest(0.0);
     let before = *ctl.state();
     for dt in [0.0, -1e-3, f64::NAN, f64::INFINITY] {
-        assert_eq!(ctl.step(&Torus::new(Vector2::zeros()), &Vector2::zeros(), dt).unwrap_err().kind(), ErrorKind::InvalidParameter);
+        assert_eq!(
+            ctl.step(&Torus::new(Vector2::zeros()), &Vector2::zeros(), dt)
+                .unwrap_err()
+                .kind(),
+            ErrorKind::InvalidParameter
+        );
     }
     assert_eq!(*ctl.state(), before);
 }
@@ -92,17 +194,27 @@ fn step_rejects_bad_dt_and_keeps_state() {
 fn coupling_matrices_check_the_dimension() {
     let out = law(50.0).evaluate(&state([0.1, 0.2], [0.3, 0.4])).unwrap();
     assert!(out.coupling_matrices::<4>().is_ok());
-    assert_eq!(out.coupling_matrices::<5>().unwrap_err().kind(), ErrorKind::DimensionMismatch);
+    assert_eq!(
+        out.coupling_matrices::<5>().unwrap_err().kind(),
+        ErrorKind::DimensionMismatch
+    );
 }
 
 #[test]
 fn starting_at_rest_gives_unit_beta_and_starts_moving() {
     let mut ctl = Controller::new(law(50.0)).starting_at_rest(0.0);
-    let out = ctl.step(&Torus::new(Vector2::new(0.0, 0.0)), &Vector2::zeros(), 1e-3).unwrap();
+    let out = ctl
+        .step(&Torus::new(Vector2::new(0.0, 0.0)), &Vector2::zeros(), 1e-3)
+        .unwrap();
     assert!((out.coupling.beta - 1.0).abs() < 1e-12);
-    assert!(out.torque.norm() > 0.0, "at rest with a charged flywheel the coupling must push");
+    assert!(
+        out.torque.norm() > 0.0,
+        "at rest with a charged flywheel the coupling must push"
+    );
     // With everything at rest, nothing moves (control-law.md §5).
     let mut still = Controller::new(law(50.0));
-    let out = still.step(&Torus::new(Vector2::new(0.0, 0.0)), &Vector2::zeros(), 1e-3).unwrap();
+    let out = still
+        .step(&Torus::new(Vector2::new(0.0, 0.0)), &Vector2::zeros(), 1e-3)
+        .unwrap();
     assert_eq!(out.torque.norm(), 0.0);
 }

@@ -27,7 +27,10 @@ fn axioms<T: Tolerance, G: LieGroup<T, D>, const D: usize>(
             Err(format!("{what}: distance {d:e}"))
         }
     };
-    check(dist(&x.compose(&y).compose(&z), &x.compose(&y.compose(&z))), "associativity")?;
+    check(
+        dist(&x.compose(&y).compose(&z), &x.compose(&y.compose(&z))),
+        "associativity",
+    )?;
     check(dist(&x.compose(&id), &x), "right identity")?;
     check(dist(&id.compose(&x), &x), "left identity")?;
     check(dist(&x.compose(&x.inverse()), &id), "right inverse")?;
@@ -35,12 +38,33 @@ fn axioms<T: Tolerance, G: LieGroup<T, D>, const D: usize>(
     // exp ∘ log = id (log picks some preimage; exp of it must give the element back).
     check(dist(&G::exp(&x.log()), &x), "exp(log g) = g")?;
     // log ∘ exp = id on the ball where exp is injective (|a| < π by construction).
-    close_vec(&x.log(), &a, tol * 10.0, 1.0 + f(a.norm()), "log(exp v) = v")?;
+    close_vec(
+        &x.log(),
+        &a,
+        tol * 10.0,
+        1.0 + f(a.norm()),
+        "log(exp v) = v",
+    )?;
     // Adjoint: g exp(v) g⁻¹ = exp(Ad_g v).
     let lhs = x.compose(&G::exp(&v)).compose(&x.inverse());
-    check(dist(&lhs, &G::exp(&x.adjoint_apply(&v))), "g exp(v) g⁻¹ = exp(Ad_g v)")?;
-    close_vec(&x.adjoint_inverse_apply(&x.adjoint_apply(&v)), &v, tol, 1.0 + f(v.norm()), "Ad_{g⁻¹} Ad_g = I")?;
-    close_vec(&(x.adjoint() * v), &x.adjoint_apply(&v), tol, 1.0 + f(v.norm()), "adjoint matrix")?;
+    check(
+        dist(&lhs, &G::exp(&x.adjoint_apply(&v))),
+        "g exp(v) g⁻¹ = exp(Ad_g v)",
+    )?;
+    close_vec(
+        &x.adjoint_inverse_apply(&x.adjoint_apply(&v)),
+        &v,
+        tol,
+        1.0 + f(v.norm()),
+        "Ad_{g⁻¹} Ad_g = I",
+    )?;
+    close_vec(
+        &(x.adjoint() * v),
+        &x.adjoint_apply(&v),
+        tol,
+        1.0 + f(v.norm()),
+        "adjoint matrix",
+    )?;
     // Ad is a homomorphism: Ad_{xy} = Ad_x Ad_y.
     close_vec(
         &x.compose(&y).adjoint_apply(&v),
@@ -50,28 +74,73 @@ fn axioms<T: Tolerance, G: LieGroup<T, D>, const D: usize>(
         "Ad_xy = Ad_x Ad_y",
     )?;
     // Bracket: antisymmetric, Jacobi, and the derivative of Ad: d/dt Ad_{exp(ta)} b = [a, b].
-    close_vec(&G::lie_bracket(&a, &b), &(-G::lie_bracket(&b, &a)), tol, 1.0, "[a,b] = −[b,a]")?;
+    close_vec(
+        &G::lie_bracket(&a, &b),
+        &(-G::lie_bracket(&b, &a)),
+        tol,
+        1.0,
+        "[a,b] = −[b,a]",
+    )?;
     let jac = G::lie_bracket(&a, &G::lie_bracket(&b, &c))
         + G::lie_bracket(&b, &G::lie_bracket(&c, &a))
         + G::lie_bracket(&c, &G::lie_bracket(&a, &b));
-    close_vec(&jac, &Tangent::zeros(), tol * 10.0, 1.0 + f(a.norm() * b.norm() * c.norm()), "Jacobi")?;
+    close_vec(
+        &jac,
+        &Tangent::zeros(),
+        tol * 10.0,
+        1.0 + f(a.norm() * b.norm() * c.norm()),
+        "Jacobi",
+    )?;
     let h: T = cast(if T::ROUNDING < 1e-10 { 1e-5 } else { 1e-2 });
     let fd = (G::exp(&(a * h)).adjoint_apply(&b) - G::exp(&(a * -h)).adjoint_apply(&b)) / (h + h);
-    close_vec(&fd, &G::lie_bracket(&a, &b), if T::ROUNDING < 1e-10 { 1e-8 } else { 2e-3 }, 1.0 + f(a.norm() * b.norm()), "d/dt Ad_exp(ta) b = [a,b]")?;
+    close_vec(
+        &fd,
+        &G::lie_bracket(&a, &b),
+        if T::ROUNDING < 1e-10 { 1e-8 } else { 2e-3 },
+        1.0 + f(a.norm() * b.norm()),
+        "d/dt Ad_exp(ta) b = [a,b]",
+    )?;
     // Pushforwards in body coordinates against finite differences of the translations:
     // (L_x)_* at y along v: body velocity of x·y·exp(tv) at x·y is v.
     // (R_x)_* at y along v: body velocity of y·exp(tv)·x at y·x is Ad_{x⁻¹} v.
     let yx = y.compose(&x);
-    let fwd = yx.inverse().compose(&y.compose(&G::exp(&(v * h))).compose(&x)).log();
-    let bwd = yx.inverse().compose(&y.compose(&G::exp(&(v * -h))).compose(&x)).log();
+    let fwd = yx
+        .inverse()
+        .compose(&y.compose(&G::exp(&(v * h))).compose(&x))
+        .log();
+    let bwd = yx
+        .inverse()
+        .compose(&y.compose(&G::exp(&(v * -h))).compose(&x))
+        .log();
     let fd_right = (fwd - bwd) / (h + h);
-    close_vec(&fd_right, &x.right_translation_pushforward(&v), if T::ROUNDING < 1e-10 { 1e-8 } else { 2e-3 }, 1.0 + f(v.norm()), "(R_x)_*")?;
+    close_vec(
+        &fd_right,
+        &x.right_translation_pushforward(&v),
+        if T::ROUNDING < 1e-10 { 1e-8 } else { 2e-3 },
+        1.0 + f(v.norm()),
+        "(R_x)_*",
+    )?;
     let xy = x.compose(&y);
-    let fwd = xy.inverse().compose(&x.compose(&y.compose(&G::exp(&(v * h))))).log();
-    let bwd = xy.inverse().compose(&x.compose(&y.compose(&G::exp(&(v * -h))))).log();
-    close_vec(&((fwd - bwd) / (h + h)), &x.left_translation_pushforward(&v), if T::ROUNDING < 1e-10 { 1e-8 } else { 2e-3 }, 1.0 + f(v.norm()), "(L_x)_*")?;
+    let fwd = xy
+        .inverse()
+        .compose(&x.compose(&y.compose(&G::exp(&(v * h)))))
+        .log();
+    let bwd = xy
+        .inverse()
+        .compose(&x.compose(&y.compose(&G::exp(&(v * -h)))))
+        .log();
+    close_vec(
+        &((fwd - bwd) / (h + h)),
+        &x.left_translation_pushforward(&v),
+        if T::ROUNDING < 1e-10 { 1e-8 } else { 2e-3 },
+        1.0 + f(v.norm()),
+        "(L_x)_*",
+    )?;
     // Retraction moves along the body velocity.
-    check(dist(&x.retract(&v, h), &x.compose(&G::exp(&(v * h)))), "retract")?;
+    check(
+        dist(&x.retract(&v, h), &x.compose(&G::exp(&(v * h)))),
+        "retract",
+    )?;
     if !x.is_finite() {
         return Err("is_finite on a finite element".into());
     }
@@ -123,12 +192,18 @@ suite!(rn3_f32, Rn<f32, 3>, f32, 3, 10.0);
 
 #[test]
 fn so3_log_is_accurate_near_the_half_turn_and_near_identity() {
-    for axis in [nalgebra::Vector3::new(1.0, 0.0, 0.0), nalgebra::Vector3::new(0.3, -0.5, 0.8)] {
+    for axis in [
+        nalgebra::Vector3::new(1.0, 0.0, 0.0),
+        nalgebra::Vector3::new(0.3, -0.5, 0.8),
+    ] {
         let axis = axis.normalize();
         for angle in [1e-12, 1e-7, 1e-3, 1.0, std::f64::consts::PI - 1e-9] {
             let r = So3::<f64>::exp(&(axis * angle));
             let back = r.log();
-            assert!((back - axis * angle).norm() < 1e-12 * (1.0 + angle), "angle {angle}: {back:?}");
+            assert!(
+                (back - axis * angle).norm() < 1e-12 * (1.0 + angle),
+                "angle {angle}: {back:?}"
+            );
             assert!(r.orthogonality_error() < 1e-14);
         }
     }
@@ -138,11 +213,20 @@ fn so3_log_is_accurate_near_the_half_turn_and_near_identity() {
 fn so3_from_matrix_rejects_non_rotations() {
     use pvfc_core::ErrorKind;
     let m = nalgebra::Matrix3::new(1.0, 0.1, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0);
-    assert_eq!(So3::from_matrix(m, 1e-9).unwrap_err().kind(), ErrorKind::InvalidParameter);
+    assert_eq!(
+        So3::from_matrix(m, 1e-9).unwrap_err().kind(),
+        ErrorKind::InvalidParameter
+    );
     let reflect = nalgebra::Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0, 1.0, -1.0));
-    assert_eq!(So3::from_matrix(reflect, 1e-9).unwrap_err().kind(), ErrorKind::InvalidParameter);
+    assert_eq!(
+        So3::from_matrix(reflect, 1e-9).unwrap_err().kind(),
+        ErrorKind::InvalidParameter
+    );
     let nan = nalgebra::Matrix3::from_element(f64::NAN);
-    assert_eq!(So3::from_matrix(nan, 1e-9).unwrap_err().kind(), ErrorKind::NonFinite);
+    assert_eq!(
+        So3::from_matrix(nan, 1e-9).unwrap_err().kind(),
+        ErrorKind::NonFinite
+    );
     // A slightly drifted rotation is accepted and cleaned up.
     let drifted = So3::<f64>::exp(&nalgebra::Vector3::new(0.3, 0.2, 0.1)).matrix() * 1.000_000_1;
     let r = So3::from_matrix(drifted, 1e-5).unwrap();

@@ -30,13 +30,22 @@ fn positive_definite<T: Real, const D: usize>(h: &SMatrix<T, D, D>) -> bool {
 
 /// All critical points of the torus function: gradient 0 at every E_i ∈ {0, π}; Hessian
 /// positive definite only at the identity; U = 0 only there.
-fn torus_critical_points<T: Tolerance>(h: [f64; 3], convention: TorusConvention) -> Result<(), String> {
+fn torus_critical_points<T: Tolerance>(
+    h: [f64; 3],
+    convention: TorusConvention,
+) -> Result<(), String> {
     let nav = TorusNavigation::new(vec::<T, 3>(h), convention).map_err(|e| e.to_string())?;
     for mask in 0..8u32 {
         let angles: [f64; 3] = core::array::from_fn(|i| if mask >> i & 1 == 1 { PI } else { 0.0 });
         let e = Torus::<T, 3>::new(vec(angles));
         let s = nav.evaluate(&e, &SVector::zeros());
-        close_vec(&s.gradient, &SVector::zeros(), T::ROUNDING * 10.0, 1.0, "gradient at a critical point")?;
+        close_vec(
+            &s.gradient,
+            &SVector::zeros(),
+            T::ROUNDING * 10.0,
+            1.0,
+            "gradient at a critical point",
+        )?;
         let pd = positive_definite(&hessian(&nav, &e));
         if pd != (mask == 0) {
             return Err(format!("Hessian PD = {pd} at critical point {angles:?}"));
@@ -65,7 +74,13 @@ fn so3_critical_points<T: Tolerance>(h: [f64; 3]) -> Result<(), String> {
         let axis: Vector3<f64> = eig.eigenvectors.column(k).into_owned();
         let e = So3::<T>::from_axis_angle(&axis.map(cast), T::pi());
         let g = nav.gradient(&e);
-        close_vec(&g, &Vector3::zeros(), T::LOOSE * 10.0, 1.0, "gradient at a half-turn")?;
+        close_vec(
+            &g,
+            &Vector3::zeros(),
+            T::LOOSE * 10.0,
+            1.0,
+            "gradient at a half-turn",
+        )?;
         if positive_definite(&hessian(&nav, &e)) {
             return Err(format!("Hessian PD at the half-turn about eigenvector {k}"));
         }
@@ -93,9 +108,21 @@ fn contour_derivatives<G: LieGroup<f64, D>, X: Contour<f64, G, D>, const D: usiz
     let xi = |t: f64| s.point.inverse().compose(&c.point(tau + t)).log();
     let d = |g: &dyn Fn(f64) -> SVector<f64, D>, h: f64| (g(h) - g(-h)) / (2.0 * h);
     let rich = |g: &dyn Fn(f64) -> SVector<f64, D>| (d(g, h / 2.0) * 4.0 - d(g, h)) / 3.0;
-    close_vec(&rich(&xi), &s.velocity, 1e-8, 1.0 + s.velocity.norm(), "ξ_d vs finite differences")?;
+    close_vec(
+        &rich(&xi),
+        &s.velocity,
+        1e-8,
+        1.0 + s.velocity.norm(),
+        "ξ_d vs finite differences",
+    )?;
     let vel = |t: f64| c.sample(tau + t).velocity;
-    close_vec(&rich(&vel), &s.acceleration, 1e-7, 1.0 + s.acceleration.norm(), "dξ_d/dτ vs finite differences")?;
+    close_vec(
+        &rich(&vel),
+        &s.acceleration,
+        1e-7,
+        1.0 + s.acceleration.norm(),
+        "dξ_d/dτ vs finite differences",
+    )?;
     if let Some(p) = c.period() {
         let d = s.point.distance(&c.point(tau + p));
         if d > 1e-9 {
@@ -173,7 +200,10 @@ fn paper_lissajous_is_the_published_curve() {
     for k in 0..600 {
         let tau = k as f64 * 0.01;
         let p: Torus<f64, 2> = c.point(tau);
-        let expected = Vector2::new((2.0 * PI * tau / 3.0).sin(), 1.5 * (2.0 * PI * tau / 6.0).cos());
+        let expected = Vector2::new(
+            (2.0 * PI * tau / 3.0).sin(),
+            1.5 * (2.0 * PI * tau / 6.0).cos(),
+        );
         assert!((p.angles() - expected).norm() < 1e-14);
     }
     // It crosses itself at the centre: x_d(τ) = 0 at τ = 1.5 and τ = 4.5 with different
@@ -186,8 +216,14 @@ fn paper_lissajous_is_the_published_curve() {
 
 #[test]
 fn interpolating_spline_passes_through_waypoints() {
-    let pts = [(0.0, 0.0), (0.8, 0.3), (0.5, 1.2), (-0.4, 0.9), (-0.6, -0.2)]
-        .map(|(a, b)| Torus::<f32, 2>::new(Vector2::new(a, b)));
+    let pts = [
+        (0.0, 0.0),
+        (0.8, 0.3),
+        (0.5, 1.2),
+        (-0.4, 0.9),
+        (-0.6, -0.2),
+    ]
+    .map(|(a, b)| Torus::<f32, 2>::new(Vector2::new(a, b)));
     let spline = PeriodicBSpline::through(pts, 1.3).unwrap();
     for (k, p) in pts.iter().enumerate() {
         assert!(spline.point(1.3 * k as f32).distance(p) < 1e-5);
@@ -198,9 +234,17 @@ fn interpolating_spline_passes_through_waypoints() {
         assert!(spline.point(2.0 * k as f64).distance(p) < 1e-12);
     }
     // Key orientations too coarse for an interpolating spline are a typed error.
-    let coarse = [[0.0, 0.0, 0.0], [0.9, 0.1, 0.0], [0.4, 1.0, -0.5], [-0.3, 0.5, 1.1]]
-        .map(|a| So3::<f64>::exp(&Vector3::from(a)));
-    assert_eq!(PeriodicBSpline::through(coarse, 1.0).unwrap_err().kind(), ErrorKind::NoConvergence);
+    let coarse = [
+        [0.0, 0.0, 0.0],
+        [0.9, 0.1, 0.0],
+        [0.4, 1.0, -0.5],
+        [-0.3, 0.5, 1.1],
+    ]
+    .map(|a| So3::<f64>::exp(&Vector3::from(a)));
+    assert_eq!(
+        PeriodicBSpline::through(coarse, 1.0).unwrap_err().kind(),
+        ErrorKind::NoConvergence
+    );
 }
 
 #[test]
@@ -211,6 +255,9 @@ fn bspline_is_c2_at_the_knots() {
         let (a, b) = (spline.sample(knot - 1e-9), spline.sample(knot + 1e-9));
         assert!(a.point.distance(&b.point) < 1e-8, "C0 at knot {k}");
         assert!((a.velocity - b.velocity).norm() < 1e-7, "C1 at knot {k}");
-        assert!((a.acceleration - b.acceleration).norm() < 1e-7, "C2 at knot {k}");
+        assert!(
+            (a.acceleration - b.acceleration).norm() < 1e-7,
+            "C2 at knot {k}"
+        );
     }
 }

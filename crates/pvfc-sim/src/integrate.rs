@@ -24,6 +24,18 @@ pub struct Derivative<T: Real, const D: usize> {
     pub flywheel_speed: T,
 }
 
+/// One evaluation of the closed loop: the state's rate, the torque applied, and the
+/// coupling's internals.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Evaluation<T: Real, G, const D: usize> {
+    /// The rate of the augmented state.
+    pub derivative: Derivative<T, D>,
+    /// The total augmented torque (coupling + add-ons).
+    pub torque: AugmentedVector<T, D>,
+    /// The coupling output (field sample, `β`, energy, ...).
+    pub coupling: CouplingOutput<T, G, D>,
+}
+
 /// A plant in closed loop with a PVFC controller. The plant model may differ from the model
 /// inside the controller (to study model mismatch); [`ClosedLoop::matched`] uses the same.
 #[derive(Clone, Debug)]
@@ -66,18 +78,18 @@ where
             + (s.tau_dot * s.tau_dot + mf * s.flywheel_speed * s.flywheel_speed) * half
     }
 
-    /// The closed-loop vector field at `s` with the environment force `f_e` on the robot.
-    /// Also returns the total augmented torque and the coupling output.
-    pub fn derivative(
+    /// The closed-loop vector field at `s` with the environment force `f_e` on the robot,
+    /// with the torque and the coupling's internals.
+    pub fn evaluate(
         &self,
         s: &AugmentedState<T, G, D>,
         f_e: &Tangent<T, D>,
-    ) -> Result<(Derivative<T, D>, AugmentedVector<T, D>, CouplingOutput<T, G, D>)> {
-        let (torque, out) = self.controller.evaluate(s)?;
+    ) -> Result<Evaluation<T, G, D>> {
+        let (torque, coupling) = self.controller.evaluate(s)?;
         let acc = self.plant.acceleration(&s.q, &s.v, &(torque.robot + f_e))?;
         let mf = self.controller.law().flywheel().inertia();
-        Ok((
-            Derivative {
+        Ok(Evaluation {
+            derivative: Derivative {
                 q: s.v,
                 v: acc,
                 tau: s.tau_dot,
@@ -85,8 +97,17 @@ where
                 flywheel_speed: torque.flywheel / mf,
             },
             torque,
-            out,
-        ))
+            coupling,
+        })
+    }
+
+    /// The closed-loop vector field at `s` with the environment force `f_e` on the robot.
+    pub fn derivative(
+        &self,
+        s: &AugmentedState<T, G, D>,
+        f_e: &Tangent<T, D>,
+    ) -> Result<Derivative<T, D>> {
+        Ok(self.evaluate(s, f_e)?.derivative)
     }
 
     /// One step of RKMK4 (Runge–Kutta–Munthe-Kaas, classical RK4 tableau) of length `dt`,
@@ -113,19 +134,19 @@ where
             tau_dot: s.tau_dot + k.tau_dot * (c * dt),
             flywheel_speed: s.flywheel_speed + k.flywheel_speed * (c * dt),
         };
-        let k1 = self.derivative(s, f_e)?.0;
+        let k1 = self.derivative(s, f_e)?;
         let t1 = k1.q; // θ = 0
         let th2 = t1 * (half * dt);
         let s2 = at(&th2, &k1, half);
-        let k2 = self.derivative(&s2, f_e)?.0;
+        let k2 = self.derivative(&s2, f_e)?;
         let t2 = dexpinv(&th2, &k2.q);
         let th3 = t2 * (half * dt);
         let s3 = at(&th3, &k2, half);
-        let k3 = self.derivative(&s3, f_e)?.0;
+        let k3 = self.derivative(&s3, f_e)?;
         let t3 = dexpinv(&th3, &k3.q);
         let th4 = t3 * dt;
         let s4 = at(&th4, &k3, T::one());
-        let k4 = self.derivative(&s4, f_e)?.0;
+        let k4 = self.derivative(&s4, f_e)?;
         let t4 = dexpinv(&th4, &k4.q);
         let w = dt * sixth;
         let two = T::one() + T::one();
@@ -134,7 +155,8 @@ where
             q: s.q.compose(&G::exp(&theta)),
             v: s.v + (k1.v + k2.v * two + k3.v * two + k4.v) * w,
             tau: s.tau + (k1.tau + k2.tau * two + k3.tau * two + k4.tau) * w,
-            tau_dot: s.tau_dot + (k1.tau_dot + k2.tau_dot * two + k3.tau_dot * two + k4.tau_dot) * w,
+            tau_dot: s.tau_dot
+                + (k1.tau_dot + k2.tau_dot * two + k3.tau_dot * two + k4.tau_dot) * w,
             flywheel_speed: s.flywheel_speed
                 + (k1.flywheel_speed
                     + k2.flywheel_speed * two

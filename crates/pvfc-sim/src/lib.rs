@@ -7,7 +7,9 @@
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
+// Library code never unwraps: bad input is an error value.
+#![warn(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 pub mod integrate;
 
-pub use integrate::{ClosedLoop, Derivative};
+pub use integrate::{ClosedLoop, Derivative, Evaluation};

@@ -57,7 +57,7 @@ impl<T: Real, const N: usize> Ellipse<T, N> {
                 "Ellipse::circle needs at least two coordinates",
             ));
         }
-        if !(radius > T::zero()) {
+        if !radius.is_finite() || radius <= T::zero() {
             return Err(Error::new(
                 ErrorKind::InvalidParameter,
                 "Ellipse::circle: radius must be > 0",

@@ -86,7 +86,10 @@ pub(crate) fn check_period<T: Real>(period: T, context: &'static str) -> crate::
         return Err(crate::Error::new(crate::ErrorKind::NonFinite, context));
     }
     if period <= T::zero() {
-        return Err(crate::Error::new(crate::ErrorKind::InvalidParameter, context));
+        return Err(crate::Error::new(
+            crate::ErrorKind::InvalidParameter,
+            context,
+        ));
     }
     Ok(())
 }

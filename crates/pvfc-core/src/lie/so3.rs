@@ -45,7 +45,10 @@ impl<T: Real> So3<T> {
     /// `det R > 0`) and re-orthonormalises it; otherwise an `InvalidParameter` error.
     pub fn from_matrix(m: Matrix3<T>, tolerance: T) -> Result<Self> {
         if !m.iter().all(|x| x.is_finite()) {
-            return Err(Error::new(ErrorKind::NonFinite, "So3::from_matrix: entries"));
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                "So3::from_matrix: entries",
+            ));
         }
         let err = (m.transpose() * m - Matrix3::identity()).norm();
         if err > tolerance || m.determinant() <= T::zero() {
@@ -155,7 +158,9 @@ impl<T: Real> LieGroup<T, 3> for So3<T> {
     }
     #[inline]
     fn compose(&self, other: &Self) -> Self {
-        So3 { m: self.m * other.m }
+        So3 {
+            m: self.m * other.m,
+        }
     }
     #[inline]
     fn inverse(&self) -> Self {

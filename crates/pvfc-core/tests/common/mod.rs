@@ -63,6 +63,9 @@ pub fn close_vec<T: Real, const N: usize>(
     if d <= tol * scale && d.is_finite() {
         Ok(())
     } else {
-        Err(format!("{what}: {a:?} vs {b:?} (diff {d:e}, allowed {:e})", tol * scale))
+        Err(format!(
+            "{what}: {a:?} vs {b:?} (diff {d:e}, allowed {:e})",
+            tol * scale
+        ))
     }
 }

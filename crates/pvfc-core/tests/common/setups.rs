@@ -29,35 +29,61 @@ pub fn scara_lissajous<T: Real>(p: Params) -> ScaraLissajous<T> {
         TorusNavigation::paper(vec([p.h[0], p.h[1]])).unwrap(),
         ExponentialPacing::new(cast(p.r)).unwrap(),
     );
-    PvfcLaw::new(Scara::pelican(), field, Flywheel::new(T::one(), cast(50.0)).unwrap(), cast(p.gamma)).unwrap()
+    PvfcLaw::new(
+        Scara::pelican(),
+        field,
+        Flywheel::new(T::one(), cast(50.0)).unwrap(),
+        cast(p.gamma),
+    )
+    .unwrap()
 }
 
 pub type ScaraSpline<T> = PvfcLaw<
     T,
     Torus<T, 2>,
     Scara<T>,
-    SuspendedField<T, Torus<T, 2>, PeriodicBSpline<T, Torus<T, 2>, 2, 5>, TorusNavigation<T, 2>, ExponentialPacing<T>, 2>,
+    SuspendedField<
+        T,
+        Torus<T, 2>,
+        PeriodicBSpline<T, Torus<T, 2>, 2, 5>,
+        TorusNavigation<T, 2>,
+        ExponentialPacing<T>,
+        2,
+    >,
     2,
 >;
 
 /// SCARA on a waypoint spline, with the *left* error and eq. (28)'s convention.
 pub fn scara_spline<T: Real>(p: Params) -> ScaraSpline<T> {
-    let pts = [(0.0, 0.0), (0.8, 0.3), (0.5, 1.2), (-0.4, 0.9), (-0.6, -0.2)]
-        .map(|(a, b)| Torus::new(Vector2::new(cast(a), cast(b))));
+    let pts = [
+        (0.0, 0.0),
+        (0.8, 0.3),
+        (0.5, 1.2),
+        (-0.4, 0.9),
+        (-0.6, -0.2),
+    ]
+    .map(|(a, b)| Torus::new(Vector2::new(cast(a), cast(b))));
     let field = SuspendedField::new(
         PeriodicBSpline::through(pts, cast(1.3)).unwrap(),
         TorusNavigation::new(vec([p.h[0], p.h[1]]), TorusConvention::Sum).unwrap(),
         ExponentialPacing::new(cast(p.r)).unwrap(),
     )
     .with_convention(ErrorConvention::Left);
-    PvfcLaw::new(Scara::pelican(), field, Flywheel::new(cast(0.5), cast(80.0)).unwrap(), cast(p.gamma)).unwrap()
+    PvfcLaw::new(
+        Scara::pelican(),
+        field,
+        Flywheel::new(cast(0.5), cast(80.0)).unwrap(),
+        cast(p.gamma),
+    )
+    .unwrap()
 }
 
 /// A navigation matrix P with eigenvalues built from the h's (always valid: π₁ + π₂ > 0).
 pub fn so3_p<T: Real>(h: [f64; 3]) -> Matrix3<T> {
     let (a, b, c) = (h[0], h[0] + h[1], h[0] + h[1] + h[2]);
     let rot = So3::<f64>::exp(&Vector3::new(0.3, -0.7, 0.2));
-    let p = rot.matrix() * Matrix3::from_diagonal(&Vector3::new(a, b, c)) * rot.matrix().transpose();
+    let p =
+        rot.matrix() * Matrix3::from_diagonal(&Vector3::new(a, b, c)) * rot.matrix().transpose();
     p.map(cast)
 }
 
@@ -65,7 +91,14 @@ pub type BodySpin<T> = PvfcLaw<
     T,
     So3<T>,
     RigidBody<T>,
-    SuspendedField<T, So3<T>, ConstantRate<T, So3<T>, 3>, So3Navigation<T>, ExponentialPacing<T>, 3>,
+    SuspendedField<
+        T,
+        So3<T>,
+        ConstantRate<T, So3<T>, 3>,
+        So3Navigation<T>,
+        ExponentialPacing<T>,
+        3,
+    >,
     3,
 >;
 
@@ -77,14 +110,27 @@ pub fn body_spin<T: Real>(p: Params) -> BodySpin<T> {
         So3Navigation::new(so3_p(p.h)).unwrap(),
         ExponentialPacing::new(cast(p.r)).unwrap(),
     );
-    PvfcLaw::new(RigidBody::new(j).unwrap(), field, Flywheel::new(T::one(), cast(50.0)).unwrap(), cast(p.gamma)).unwrap()
+    PvfcLaw::new(
+        RigidBody::new(j).unwrap(),
+        field,
+        Flywheel::new(T::one(), cast(50.0)).unwrap(),
+        cast(p.gamma),
+    )
+    .unwrap()
 }
 
 pub type BodySpline<T> = PvfcLaw<
     T,
     So3<T>,
     RigidBody<T>,
-    SuspendedField<T, So3<T>, PeriodicBSpline<T, So3<T>, 3, 6>, So3Navigation<T>, ExponentialPacing<T>, 3>,
+    SuspendedField<
+        T,
+        So3<T>,
+        PeriodicBSpline<T, So3<T>, 3, 6>,
+        So3Navigation<T>,
+        ExponentialPacing<T>,
+        3,
+    >,
     3,
 >;
 
@@ -105,7 +151,13 @@ pub fn body_spline<T: Real>(p: Params) -> BodySpline<T> {
         ExponentialPacing::new(cast(p.r)).unwrap(),
     )
     .with_convention(ErrorConvention::Left);
-    PvfcLaw::new(RigidBody::new(j).unwrap(), field, Flywheel::new(cast(2.0), cast(40.0)).unwrap(), cast(p.gamma)).unwrap()
+    PvfcLaw::new(
+        RigidBody::new(j).unwrap(),
+        field,
+        Flywheel::new(cast(2.0), cast(40.0)).unwrap(),
+        cast(p.gamma),
+    )
+    .unwrap()
 }
 
 pub type Stage<T> = PvfcLaw<
@@ -119,9 +171,21 @@ pub type Stage<T> = PvfcLaw<
 /// A three-axis linear stage on a tilted ellipse in ℝ³.
 pub fn stage<T: Real>(p: Params) -> Stage<T> {
     let field = SuspendedField::new(
-        Ellipse::new(vec([0.1, -0.2, 0.3]), vec([1.0, 0.0, 0.2]), vec([0.0, 0.7, -0.1]), cast(5.0)).unwrap(),
+        Ellipse::new(
+            vec([0.1, -0.2, 0.3]),
+            vec([1.0, 0.0, 0.2]),
+            vec([0.0, 0.7, -0.1]),
+            cast(5.0),
+        )
+        .unwrap(),
         QuadraticNavigation::new(vec(p.h)).unwrap(),
         ExponentialPacing::new(cast(p.r / 10.0)).unwrap(),
     );
-    PvfcLaw::new(LinearStage::new(vec([1.0, 2.0, 3.0])).unwrap(), field, Flywheel::new(T::one(), cast(5000.0)).unwrap(), cast(p.gamma / 100.0)).unwrap()
+    PvfcLaw::new(
+        LinearStage::new(vec([1.0, 2.0, 3.0])).unwrap(),
+        field,
+        Flywheel::new(T::one(), cast(5000.0)).unwrap(),
+        cast(p.gamma / 100.0),
+    )
+    .unwrap()
 }
