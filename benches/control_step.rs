@@ -1,24 +1,63 @@
-//! One control step: SCARA + Lissajous + self-pacing (f64, f32), the SO(3) rigid body, and
-//! one RK4 step of the closed loop.
-//!
-//! Every iteration starts from the same controller state (a copy, ~100 bytes): stepping one
-//! controller millions of times at a fixed (q, q̇) would drive its internal τ to values no
-//! real loop reaches.
+//! The control step as it runs in a 1 kHz loop: a fresh controller steps through 1000
+//! measured states recorded from a closed-loop run (1 s, from q = (0, 0) onto the contour),
+//! so states, branches and τ are those of a real run. Criterion reports the time of the
+//! 1000 steps; divide by 1000 for one step (the throughput line gives steps per second).
+//! Also: the same for f32, for a rigid body on SO(3), and one RK4 step of the closed loop.
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use nalgebra::{Matrix3, Vector2, Vector3};
 use pvfc::paper::{controller, PaperSettings};
 use pvfc::prelude::*;
 use pvfc::sim::ClosedLoop;
 use std::hint::black_box;
 
+const STEPS: usize = 1000;
+const DT: f64 = 1e-3;
+
+/// Records (q, q̇) along a closed-loop run of `sys` from `s`.
+fn record<G, Sys, F, const D: usize>(
+    sys: &ClosedLoop<f64, G, Sys, Sys, F, D>,
+    mut s: AugmentedState<f64, G, D>,
+) -> Vec<(G, Tangent<f64, D>)>
+where
+    G: LieGroup<f64, D>,
+    Sys: MechanicalSystem<f64, G, D>,
+    F: VelocityField<f64, G, D>,
+{
+    let zero = Tangent::<f64, D>::zeros();
+    (0..STEPS)
+        .map(|_| {
+            let sample = (s.q, s.v);
+            s = sys
+                .rk4_step(&s, DT, &zero)
+                .expect("the recorded run is valid");
+            sample
+        })
+        .collect()
+}
+
 fn control_step(c: &mut Criterion) {
-    let mut g = c.benchmark_group("control_step");
+    let mut g = c.benchmark_group("control_step_x1000");
+    g.throughput(Throughput::Elements(STEPS as u64));
 
     let scara = controller(&PaperSettings::default()).expect("paper settings are valid");
-    let (q, v) = (Torus::new(Vector2::new(0.1, -0.2)), Vector2::new(0.3, 0.1));
+    let sys = ClosedLoop::matched(scara);
+    let i = *scara.state();
+    let start = AugmentedState {
+        q: Torus::new(Vector2::new(0.0, 0.0)),
+        v: Vector2::zeros(),
+        tau: i.tau,
+        tau_dot: i.tau_dot,
+        flywheel_speed: i.flywheel_speed,
+    };
+    let samples = record(&sys, start);
     g.bench_function("scara_lissajous_f64", |b| {
-        b.iter(|| black_box(scara).step(black_box(&q), black_box(&v), 1e-3))
+        b.iter(|| {
+            let mut ctl = scara;
+            for (q, v) in &samples {
+                black_box(ctl.step(black_box(q), black_box(v), DT).expect("valid"));
+            }
+        })
     });
 
     let field32 = SuspendedField::new(
@@ -34,12 +73,22 @@ fn control_step(c: &mut Criterion) {
     )
     .expect("valid");
     let scara32 = Controller::new(law32).starting_at_rest(0.0);
-    let (q32, v32) = (
-        Torus::new(Vector2::new(0.1f32, -0.2)),
-        Vector2::new(0.3f32, 0.1),
-    );
+    let samples32: Vec<_> = samples
+        .iter()
+        .map(|(q, v)| {
+            (
+                Torus::new(q.angles().map(|x| x as f32)),
+                v.map(|x| x as f32),
+            )
+        })
+        .collect();
     g.bench_function("scara_lissajous_f32", |b| {
-        b.iter(|| black_box(scara32).step(black_box(&q32), black_box(&v32), 1e-3))
+        b.iter(|| {
+            let mut ctl = scara32;
+            for (q, v) in &samples32 {
+                black_box(ctl.step(black_box(q), black_box(v), 1e-3).expect("valid"));
+            }
+        })
     });
 
     let field = SuspendedField::new(
@@ -55,26 +104,34 @@ fn control_step(c: &mut Criterion) {
     )
     .expect("valid");
     let body = Controller::new(law).starting_at_rest(0.0);
-    let (r, w) = (
-        So3::exp(&Vector3::new(0.3, 0.2, 0.1)),
-        Vector3::new(0.1, 0.0, -0.2),
-    );
+    let body_sys = ClosedLoop::matched(body);
+    let body_start = AugmentedState {
+        q: So3::exp(&Vector3::new(1.2, -0.8, 0.5)),
+        v: Vector3::zeros(),
+        tau: 0.0,
+        tau_dot: 0.0,
+        flywheel_speed: body.state().flywheel_speed,
+    };
+    let body_samples = record(&body_sys, body_start);
     g.bench_function("rigid_body_so3_f64", |b| {
-        b.iter(|| black_box(body).step(black_box(&r), black_box(&w), 1e-3))
+        b.iter(|| {
+            let mut ctl = body;
+            for (q, v) in &body_samples {
+                black_box(ctl.step(black_box(q), black_box(v), DT).expect("valid"));
+            }
+        })
     });
     g.finish();
 
-    let ctl = controller(&PaperSettings::default()).expect("valid");
-    let sys = ClosedLoop::matched(ctl);
     let s = AugmentedState {
-        q,
-        v,
+        q: Torus::new(Vector2::new(0.1, -0.2)),
+        v: Vector2::new(0.3, 0.1),
         tau: 0.3,
         tau_dot: 0.5,
         flywheel_speed: 9.0,
     };
     c.bench_function("closed_loop_rk4_step_scara_f64", |b| {
-        b.iter(|| sys.rk4_step(black_box(&s), 1e-3, &Vector2::zeros()))
+        b.iter(|| sys.rk4_step(black_box(&s), DT, &Vector2::zeros()))
     });
 }
 

@@ -179,7 +179,7 @@ fn sampled_data_controller_follows_the_contour() {
     let e0 = 0.5 * mf * ctl.state().flywheel_speed.powi(2);
     for _ in 0..10_000 {
         let out = ctl.step(&q, &v, 1e-3).unwrap();
-        u_last = out.coupling.field.potential;
+        u_last = out.diagnostics.potential;
         for _ in 0..sub {
             // semi-implicit Euler for the plant at 0.1 ms
             let a = plant.acceleration(&q, &v, &out.torque).unwrap();

@@ -32,17 +32,48 @@ impl<T: Real> InternalState<T> {
     }
 }
 
-/// What one control step returns.
+/// The quantities a user logs or monitors at every step (section V's figures plot them).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct StepOutput<T: Real, G, const D: usize> {
+pub struct Diagnostics<T: Real> {
+    /// The contour error `U(E)`.
+    pub potential: T,
+    /// Self-pacing gain `λ₁` (the desired `τ̇` is `βλ₁`).
+    pub lambda1: T,
+    /// Self-pacing gain `λ₂`.
+    pub lambda2: T,
+    /// `β = √(κ_a/Ē)`: the speed along the field.
+    pub beta: T,
+    /// The augmented kinetic energy `κ_a` (eq. 5).
+    pub kinetic_energy: T,
+    /// The flywheel entry `V_F` of the augmented field (eq. 6).
+    pub flywheel_field_speed: T,
+}
+
+impl<T: Real, G, const D: usize> From<&CouplingOutput<T, G, D>> for Diagnostics<T> {
+    fn from(o: &CouplingOutput<T, G, D>) -> Self {
+        Diagnostics {
+            potential: o.field.potential,
+            lambda1: o.field.lambda1,
+            lambda2: o.field.lambda2,
+            beta: o.beta,
+            kinetic_energy: o.kinetic_energy,
+            flywheel_field_speed: o.field_velocity.flywheel,
+        }
+    }
+}
+
+/// What one control step returns (kept small: a microcontroller copies it every sample; the
+/// full [`CouplingOutput`] is what [`Controller::evaluate`] returns).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepOutput<T: Real, const D: usize> {
     /// The motor torques to apply: coupling + nominal speed + friction compensation.
     pub torque: Tangent<T, D>,
     /// The whole augmented torque (robot, `τ`, flywheel) that was applied.
     pub augmented_torque: AugmentedVector<T, D>,
     /// The internal states the torque was computed at (before the update).
     pub state: InternalState<T>,
-    /// The coupling output (field, `β`, energy, `U`, `λ₁`, `λ₂`, ...).
-    pub coupling: CouplingOutput<T, G, D>,
+    /// `U`, `λ₁`, `λ₂`, `β`, `κ_a`, `V_F` at the state the torque was computed at.
+    pub diagnostics: Diagnostics<T>,
 }
 
 /// PVFC for a sampled-data loop: a [`PvfcLaw`] plus the optional add-ons of section V and
@@ -172,7 +203,7 @@ where
     }
 
     /// One control step at the measured `(q, q̇)`; see the type's documentation.
-    pub fn step(&mut self, q: &G, v: &Tangent<T, D>, dt: T) -> Result<StepOutput<T, G, D>> {
+    pub fn step(&mut self, q: &G, v: &Tangent<T, D>, dt: T) -> Result<StepOutput<T, D>> {
         if !(dt.is_finite() && dt > T::zero()) {
             return Err(Error::new(
                 ErrorKind::InvalidParameter,
@@ -211,14 +242,14 @@ where
             tau,
             tau_dot,
             flywheel_speed: before.flywheel_speed
-                + total.flywheel * dt / self.law.flywheel().inertia(),
+                + total.flywheel * dt * self.law.flywheel().inverse_inertia(),
             laps,
         };
         Ok(StepOutput {
             torque: total.robot,
             augmented_torque: total,
             state: before,
-            coupling,
+            diagnostics: Diagnostics::from(&coupling),
         })
     }
 }

@@ -17,6 +17,10 @@ use nalgebra::{SMatrix, SVector};
 pub struct Flywheel<T: Real> {
     inertia: T,
     energy: T,
+    // Reciprocals precomputed for the control step: 2/M_F, 1/M_F, 1/(2Ē).
+    two_over_inertia: T,
+    inv_inertia: T,
+    inv_two_energy: T,
 }
 
 impl<T: Real> Flywheel<T> {
@@ -33,7 +37,14 @@ impl<T: Real> Flywheel<T> {
                 return Err(Error::new(ErrorKind::InvalidParameter, what));
             }
         }
-        Ok(Flywheel { inertia, energy })
+        let two = cast::<T>(2.0);
+        Ok(Flywheel {
+            inertia,
+            energy,
+            two_over_inertia: two / inertia,
+            inv_inertia: T::one() / inertia,
+            inv_two_energy: T::one() / (two * energy),
+        })
     }
 
     /// `M_F`.
@@ -44,6 +55,12 @@ impl<T: Real> Flywheel<T> {
     /// `Ē`.
     pub fn energy(&self) -> T {
         self.energy
+    }
+
+    /// `1/M_F`.
+    #[inline]
+    pub fn inverse_inertia(&self) -> T {
+        self.inv_inertia
     }
 
     /// The flywheel speed that gives the robot at rest `β = 1`: `√(2Ē/M_F)`
@@ -58,7 +75,7 @@ impl<T: Real> Flywheel<T> {
     pub fn field_speed(&self, field_energy: T) -> Result<T> {
         let margin = self.energy - field_energy;
         if margin > T::zero() {
-            Ok((margin * cast::<T>(2.0) / self.inertia).sqrt())
+            Ok((margin * self.two_over_inertia).sqrt())
         } else {
             Err(Error::new(
                 ErrorKind::EnergyTooLow,
@@ -187,6 +204,7 @@ where
 
     /// Evaluates the coupling control at a full augmented state: a pure function, no
     /// allocation. Errors: `NonFinite` for a NaN/∞ state, `EnergyTooLow` (eq. 6).
+    #[inline]
     pub fn evaluate(&self, s: &AugmentedState<T, G, D>) -> Result<CouplingOutput<T, G, D>> {
         if !s.is_finite() {
             return Err(Error::new(
@@ -194,11 +212,9 @@ where
                 "PvfcLaw::evaluate: state has NaN or infinite entries",
             ));
         }
-        let two = cast::<T>(2.0);
         let half = cast::<T>(0.5);
         let fs = self.field.sample(&s.q, &s.v, s.tau, s.tau_dot);
-        let m = self.system.inertia(&s.q);
-        let c = self.system.coriolis(&s.q, &s.v);
+        let (m, c) = self.system.inertia_and_coriolis(&s.q, &s.v);
         let mv = m * fs.velocity;
         let field_energy = (mv.dot(&fs.velocity) + fs.velocity_tau * fs.velocity_tau) * half;
         let vf = self.flywheel.field_speed(field_energy)?;
@@ -215,7 +231,7 @@ where
 
         let p_dot_q = big_p.dot(&qa);
         // G q̇_a = (w (Pᵀq̇_a) − P (wᵀq̇_a)) / 2Ē;  R q̇_a = P (pᵀq̇_a) − p (Pᵀq̇_a).
-        let g_term = (w * p_dot_q - big_p * w.dot(&qa)) * (T::one() / (two * e_bar));
+        let g_term = (w * p_dot_q - big_p * w.dot(&qa)) * self.flywheel.inv_two_energy;
         let kappa2 = p.dot(&qa); // 2 κ_a
         let r_term = big_p * kappa2 - p * p_dot_q;
         let torque = g_term + r_term * self.gamma;
@@ -227,7 +243,7 @@ where
             momentum: p,
             w,
             kinetic_energy,
-            beta: (kinetic_energy / e_bar).sqrt(),
+            beta: (kappa2 * self.flywheel.inv_two_energy).sqrt(),
             energy_level: e_bar,
             field: fs,
         })

@@ -69,7 +69,7 @@ pub mod prelude {
     pub use crate::contour::{
         ConstantRate, Contour, ContourSample, Ellipse, Lissajous, PeriodicBSpline, VectorGroup,
     };
-    pub use crate::controller::{Controller, InternalState, StepOutput};
+    pub use crate::controller::{Controller, Diagnostics, InternalState, StepOutput};
     pub use crate::coupling::{
         CouplingOutput, Flywheel, FrictionCompensation, NominalSpeed, PvfcLaw,
     };

@@ -206,7 +206,7 @@ fn starting_at_rest_gives_unit_beta_and_starts_moving() {
     let out = ctl
         .step(&Torus::new(Vector2::new(0.0, 0.0)), &Vector2::zeros(), 1e-3)
         .unwrap();
-    assert!((out.coupling.beta - 1.0).abs() < 1e-12);
+    assert!((out.diagnostics.beta - 1.0).abs() < 1e-12);
     assert!(
         out.torque.norm() > 0.0,
         "at rest with a charged flywheel the coupling must push"

@@ -74,7 +74,7 @@ impl<T: Real, const N: usize> Ellipse<T, N> {
 impl<T: Real, G: VectorGroup<T, N>, const N: usize> Contour<T, G, N> for Ellipse<T, N> {
     #[inline]
     fn sample(&self, tau: T) -> ContourSample<T, G, N> {
-        let (s, c) = (self.omega * tau).sin_cos();
+        let (s, c) = (self.omega * tau).sin_cos_fast();
         let om = self.omega;
         ContourSample {
             point: G::from_coordinates(self.center + self.u * c + self.w * s),

@@ -68,7 +68,7 @@ impl<T: Real, const N: usize> Lissajous<T, N> {
         let mut dx = SVector::zeros();
         let mut ddx = SVector::zeros();
         for i in 0..N {
-            let (s, c) = (self.omega[i] * tau + self.phase[i]).sin_cos();
+            let (s, c) = (self.omega[i] * tau + self.phase[i]).sin_cos_fast();
             let a = self.amplitude[i];
             let w = self.omega[i];
             x[i] += a * s;

@@ -179,7 +179,7 @@ impl<T: Real> LieGroup<T, 3> for So3<T> {
                 cast::<T>(0.5) - theta2 / cast(24.0) + theta2 * theta2 / cast(720.0),
             )
         } else {
-            let (s, c) = theta.sin_cos();
+            let (s, c) = theta.sin_cos_fast();
             (s / theta, (T::one() - c) / theta2)
         };
         let w = hat(v);

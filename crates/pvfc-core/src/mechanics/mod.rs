@@ -24,6 +24,16 @@ pub trait MechanicalSystem<T: Real, G: LieGroup<T, D>, const D: usize> {
     /// `C(q, v)` with `Ṁ − 2C` skew-symmetric.
     fn coriolis(&self, q: &G, v: &Tangent<T, D>) -> SMatrix<T, D, D>;
 
+    /// `M(q)` and `C(q, v)` together (a model may share work between them).
+    #[inline]
+    fn inertia_and_coriolis(
+        &self,
+        q: &G,
+        v: &Tangent<T, D>,
+    ) -> (SMatrix<T, D, D>, SMatrix<T, D, D>) {
+        (self.inertia(q), self.coriolis(q, v))
+    }
+
     /// `Ṁ(q, v) = d/dt M(q(t))` along `q̇ = v`. The default uses `Ṁ = C + Cᵀ`, which holds
     /// for every Christoffel-form `C`.
     fn inertia_rate(&self, q: &G, v: &Tangent<T, D>) -> SMatrix<T, D, D> {

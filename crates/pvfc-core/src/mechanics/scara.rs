@@ -150,4 +150,15 @@ impl<T: Real> MechanicalSystem<T, Torus<T, 2>, 2> for Scara<T> {
         let h = self.a3 * q.angles()[1].sin();
         Matrix2::new(-h * v[1], -h * (v[0] + v[1]), h * v[0], T::zero())
     }
+
+    #[inline]
+    fn inertia_and_coriolis(&self, q: &Torus<T, 2>, v: &Tangent<T, 2>) -> (Matrix2<T>, Matrix2<T>) {
+        let (s2, c2) = q.angles()[1].sin_cos_fast();
+        let m12 = self.a2 + self.a3 * c2;
+        let h = self.a3 * s2;
+        (
+            Matrix2::new(self.a1 + (self.a3 + self.a3) * c2, m12, m12, self.a2),
+            Matrix2::new(-h * v[1], -h * (v[0] + v[1]), h * v[0], T::zero()),
+        )
+    }
 }

@@ -84,7 +84,7 @@ impl<T: Real, const N: usize> NavigationFunction<T, Torus<T, N>, N> for TorusNav
         let mut gradient: SVector<T, N> = SVector::zeros();
         let mut gradient_rate = SVector::zeros();
         for i in 0..N {
-            let (s, c) = e.angles()[i].sin_cos();
+            let (s, c) = e.angles()[i].sin_cos_fast();
             let h = self.h[i];
             value += h * (T::one() - c);
             gradient[i] = h * s;
