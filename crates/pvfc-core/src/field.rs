@@ -160,61 +160,51 @@ where
     #[inline]
     pub fn evaluate(&self, q: &G, v: &Tangent<T, D>, tau: T, tau_dot: T) -> FieldSample<T, G, D> {
         let c = self.contour.sample(tau);
-        match self.convention {
+        // The error, its body velocity ε, and the feed-forward direction (L_E)_*(x_d)_* 1_τ
+        // written at q, which depend on the convention.
+        let (e, eps, ff) = match self.convention {
+            ErrorConvention::Right => (
+                q.compose(&c.point.inverse()),
+                c.point.adjoint_apply(&(v - c.velocity * tau_dot)),
+                c.velocity,
+            ),
+            ErrorConvention::Left => {
+                let e = c.point.inverse().compose(q);
+                let ff = e.adjoint_inverse_apply(&c.velocity);
+                (e, v - ff * tau_dot, ff)
+            }
+        };
+        let nav = self.navigation.evaluate(&e, &eps);
+        let g = self.pacing.gains(nav.value);
+        let l1_dot = g.dlambda1 * nav.value_rate;
+        let l2_dot = g.dlambda2 * nav.value_rate;
+        // The rate of the feed-forward term, and the gradient term (R_{x_d})_* grad U (right)
+        // or grad U itself (left), with its rate.
+        let (ff_dot, a, a_dot) = match self.convention {
             ErrorConvention::Right => {
-                let e = q.compose(&c.point.inverse());
-                let eps = c.point.adjoint_apply(&(v - c.velocity * tau_dot));
-                let nav = self.navigation.evaluate(&e, &eps);
-                let g = self.pacing.gains(nav.value);
-                let l1_dot = g.dlambda1 * nav.value_rate;
-                let l2_dot = g.dlambda2 * nav.value_rate;
-                // (R_{x_d})_* grad U and its rate.
                 let a = c.point.adjoint_inverse_apply(&nav.gradient);
                 let a_dot = c.point.adjoint_inverse_apply(&nav.gradient_rate)
                     - G::lie_bracket(&c.velocity, &a) * tau_dot;
-                FieldSample {
-                    velocity: c.velocity * g.lambda1 - a * g.lambda2,
-                    rate: c.velocity * l1_dot + c.acceleration * (g.lambda1 * tau_dot)
-                        - a * l2_dot
-                        - a_dot * g.lambda2,
-                    velocity_tau: g.lambda1,
-                    rate_tau: l1_dot,
-                    contour: c,
-                    error: e,
-                    potential: nav.value,
-                    gradient: nav.gradient,
-                    lambda1: g.lambda1,
-                    lambda2: g.lambda2,
-                    error_velocity: eps,
-                }
+                (c.acceleration * tau_dot, a, a_dot)
             }
             ErrorConvention::Left => {
-                let e = c.point.inverse().compose(q);
-                // (L_E)_* (x_d)_* 1_τ written at q: Ad_{E⁻¹} ξ_d.
-                let b = e.adjoint_inverse_apply(&c.velocity);
-                let eps = v - b * tau_dot;
-                let nav = self.navigation.evaluate(&e, &eps);
-                let g = self.pacing.gains(nav.value);
-                let l1_dot = g.dlambda1 * nav.value_rate;
-                let l2_dot = g.dlambda2 * nav.value_rate;
-                let b_dot =
-                    e.adjoint_inverse_apply(&c.acceleration) * tau_dot - G::lie_bracket(&eps, &b);
-                FieldSample {
-                    velocity: b * g.lambda1 - nav.gradient * g.lambda2,
-                    rate: b * l1_dot + b_dot * g.lambda1
-                        - nav.gradient * l2_dot
-                        - nav.gradient_rate * g.lambda2,
-                    velocity_tau: g.lambda1,
-                    rate_tau: l1_dot,
-                    contour: c,
-                    error: e,
-                    potential: nav.value,
-                    gradient: nav.gradient,
-                    lambda1: g.lambda1,
-                    lambda2: g.lambda2,
-                    error_velocity: eps,
-                }
+                let ff_dot =
+                    e.adjoint_inverse_apply(&c.acceleration) * tau_dot - G::lie_bracket(&eps, &ff);
+                (ff_dot, nav.gradient, nav.gradient_rate)
             }
+        };
+        FieldSample {
+            velocity: ff * g.lambda1 - a * g.lambda2,
+            rate: ff * l1_dot + ff_dot * g.lambda1 - a * l2_dot - a_dot * g.lambda2,
+            velocity_tau: g.lambda1,
+            rate_tau: l1_dot,
+            contour: c,
+            error: e,
+            potential: nav.value,
+            gradient: nav.gradient,
+            lambda1: g.lambda1,
+            lambda2: g.lambda2,
+            error_velocity: eps,
         }
     }
 }
