@@ -120,6 +120,17 @@ where
         dt: T,
         f_e: &Tangent<T, D>,
     ) -> Result<AugmentedState<T, G, D>> {
+        self.rk4_step_with(s, dt, |_| *f_e)
+    }
+
+    /// One RKMK4 step with an environment force that depends on the state (friction,
+    /// contact), evaluated at every stage.
+    pub fn rk4_step_with(
+        &self,
+        s: &AugmentedState<T, G, D>,
+        dt: T,
+        force: impl Fn(&AugmentedState<T, G, D>) -> Tangent<T, D>,
+    ) -> Result<AugmentedState<T, G, D>> {
         let half: T = pvfc_core::scalar::cast(0.5);
         let sixth: T = pvfc_core::scalar::cast(1.0 / 6.0);
         let twelfth: T = pvfc_core::scalar::cast(1.0 / 12.0);
@@ -134,19 +145,19 @@ where
             tau_dot: s.tau_dot + k.tau_dot * (c * dt),
             flywheel_speed: s.flywheel_speed + k.flywheel_speed * (c * dt),
         };
-        let k1 = self.derivative(s, f_e)?;
+        let k1 = self.derivative(s, &force(s))?;
         let t1 = k1.q; // θ = 0
         let th2 = t1 * (half * dt);
         let s2 = at(&th2, &k1, half);
-        let k2 = self.derivative(&s2, f_e)?;
+        let k2 = self.derivative(&s2, &force(&s2))?;
         let t2 = dexpinv(&th2, &k2.q);
         let th3 = t2 * (half * dt);
         let s3 = at(&th3, &k2, half);
-        let k3 = self.derivative(&s3, f_e)?;
+        let k3 = self.derivative(&s3, &force(&s3))?;
         let t3 = dexpinv(&th3, &k3.q);
         let th4 = t3 * dt;
         let s4 = at(&th4, &k3, T::one());
-        let k4 = self.derivative(&s4, f_e)?;
+        let k4 = self.derivative(&s4, &force(&s4))?;
         let t4 = dexpinv(&th4, &k4.q);
         let w = dt * sixth;
         let two = T::one() + T::one();

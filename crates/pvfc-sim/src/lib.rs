@@ -1,15 +1,29 @@
 //! # pvfc-sim
 //!
-//! Closed-loop simulation of Passive Velocity Field Control: a plant (a
-//! [`MechanicalSystem`](pvfc_core::mechanics::MechanicalSystem)) driven by a
-//! [`Controller`](pvfc_core::controller::Controller), with an environment force, integrated
-//! with a fixed-step Runge–Kutta–Munthe-Kaas scheme that keeps the configuration on its group.
+//! Closed-loop simulation of Passive Velocity Field Control and the paper's experiments:
+//! plants with friction ([`friction`]), arms from URDF ([`urdf`]), the closed loop and its
+//! integrators ([`integrate`]), scenarios as data ([`scenario`], [`presets`]), runs
+//! ([`simulate`]), MCAP logs ([`log`]), the numbers behind the paper's claims ([`report`]) and
+//! the figures ([`plot`]). The `pvfc` command line drives it all.
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 // Library code never unwraps: bad input is an error value.
 #![warn(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+pub mod error;
+pub mod friction;
 pub mod integrate;
+pub mod log;
+pub mod metrics;
+pub mod paper;
+pub mod plot;
+pub mod presets;
+pub mod report;
+pub mod reproduce;
+pub mod scenario;
+pub mod simulate;
+pub mod urdf;
 
+pub use error::{Result, SimError};
 pub use integrate::{ClosedLoop, Derivative, Evaluation};

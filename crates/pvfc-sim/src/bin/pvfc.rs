@@ -1,0 +1,154 @@
+//! `pvfc`: reproduce the paper's section V, or run one scenario.
+
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use pvfc_sim::reproduce::{run_all, write_logs, write_summary};
+use pvfc_sim::scenario::Scenario;
+use pvfc_sim::{plot, presets, SimError};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "pvfc",
+    version,
+    about = "Passive Velocity Field Control: the paper's experiments in simulation"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run every scenario of section V; write figures, MCAP logs and the summary table.
+    Reproduce {
+        /// Output directory.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+        /// Skip the MCAP logs.
+        #[arg(long)]
+        no_logs: bool,
+    },
+    /// Run one scenario file; write its MCAP log(s).
+    Run {
+        /// The scenario (TOML).
+        scenario: PathBuf,
+        /// Output directory.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+    },
+    /// Write the built-in scenarios as TOML files.
+    Presets {
+        /// Output directory.
+        #[arg(long, default_value = "scenarios")]
+        out: PathBuf,
+    },
+}
+
+fn bar(name: &str) -> Box<dyn FnMut(f64)> {
+    let pb = ProgressBar::new(1000);
+    let style = ProgressStyle::with_template("{prefix:>28} [{bar:40}] {percent:>3}% {elapsed}")
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> ");
+    pb.set_style(style);
+    pb.set_prefix(name.to_string());
+    Box::new(move |f: f64| {
+        pb.set_position((f * 1000.0) as u64);
+        if f >= 1.0 {
+            pb.finish();
+        }
+    })
+}
+
+fn mkdir(p: &Path) -> Result<(), SimError> {
+    std::fs::create_dir_all(p).map_err(|e| SimError::Io {
+        path: p.to_path_buf(),
+        source: e,
+    })
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Reproduce { out, no_logs } => reproduce(&out, !no_logs),
+        Command::Run { scenario, out } => run(&scenario, &out),
+        Command::Presets { out } => write_presets(&out),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn reproduce(out: &Path, logs: bool) -> Result<(), SimError> {
+    mkdir(out)?;
+    let runs = run_all(&presets::all(), bar)?;
+    if logs {
+        let files = write_logs(&runs, out)?;
+        println!(
+            "wrote {} MCAP logs to {}",
+            files.len(),
+            out.join("logs").display()
+        );
+    }
+    let figs = plot::all_figures(&runs, out)?;
+    for f in &figs {
+        println!("wrote {}", f.display());
+    }
+    let claims = write_summary(&runs, out)?;
+    println!(
+        "wrote {} and summary.csv\n",
+        out.join("summary.md").display()
+    );
+    for c in &claims {
+        println!(
+            "[{}] {:<20} {}",
+            if c.holds { " ok " } else { "FAIL" },
+            c.id,
+            c.measured
+        );
+    }
+    Ok(())
+}
+
+fn run(path: &Path, out: &Path) -> Result<(), SimError> {
+    let s = Scenario::from_file(path)?;
+    mkdir(out)?;
+    let runs = run_all(std::slice::from_ref(&s), bar)?;
+    for f in write_logs(&runs, out)? {
+        println!("wrote {}", f.display());
+    }
+    for (name, (s, t)) in &runs.runs {
+        let n = t.len() - 1;
+        println!(
+            "{name}: t = {:.1} s, τ = {:.3}, U = {:.3e}, β = {:.4}, κ_a = {:.3} J, mean U over the last pass = {}",
+            t.t[n],
+            t.tau[n],
+            t.potential[n],
+            t.beta[n],
+            t.energy[n],
+            pvfc_sim::metrics::mean_potential_over_pass(t, s.contour.period)
+                .map(|u| format!("{u:.3e}"))
+                .unwrap_or_else(|| "(no complete pass)".into())
+        );
+    }
+    Ok(())
+}
+
+fn write_presets(out: &Path) -> Result<(), SimError> {
+    mkdir(out)?;
+    for s in presets::all() {
+        let p = out.join(format!("{}.toml", s.name));
+        let text = format!("# {}\n{}", s.description, s.to_toml()?);
+        std::fs::write(&p, text).map_err(|e| SimError::Io {
+            path: p.clone(),
+            source: e,
+        })?;
+        println!("wrote {}", p.display());
+    }
+    Ok(())
+}

@@ -1,0 +1,116 @@
+//! Numbers computed from traces: the measures behind the paper's claims.
+
+use crate::simulate::Trace;
+use nalgebra::Vector2;
+use pvfc_core::contour::Lissajous;
+
+/// The last complete pass of the contour in a trace: the sample range with
+/// `τ ∈ [kP, (k+1)P)` for the largest `k` whose pass the trace covers.
+pub fn last_pass(trace: &Trace, period: f64) -> Option<std::ops::Range<usize>> {
+    let end = *trace.tau.last()?;
+    let k = (end / period).floor() - 1.0;
+    if k < 0.0 {
+        return None;
+    }
+    let (lo, hi) = (k * period, (k + 1.0) * period);
+    let start = trace.tau.iter().position(|&t| t >= lo)?;
+    let stop = trace.tau.iter().position(|&t| t >= hi)?;
+    Some(start..stop + 1)
+}
+
+/// The mean of `U(E)` over one pass, `∫U dτ / P` over the last complete pass (the paper
+/// plots `U` against `τ` over one pass). `None` if the trace does not cover a pass.
+pub fn mean_potential_over_pass(trace: &Trace, period: f64) -> Option<f64> {
+    let r = last_pass(trace, period)?;
+    let (tau, u) = (&trace.tau[r.clone()], &trace.potential[r]);
+    let integral: f64 = tau
+        .windows(2)
+        .zip(u.windows(2))
+        .map(|(t, u)| (t[1] - t[0]) * 0.5 * (u[0] + u[1]))
+        .sum();
+    let span = tau.last()? - tau.first()?;
+    (span > 0.0).then(|| integral / span)
+}
+
+/// Time to go once round the last complete pass (s).
+pub fn pass_duration(trace: &Trace, period: f64) -> Option<f64> {
+    let r = last_pass(trace, period)?;
+    Some(trace.t[r.end - 1] - trace.t[r.start])
+}
+
+/// Distance (joint space, rad) from `q` to the nearest point of the contour: a grid search
+/// over one period refined by Newton's method on `d/dτ ‖q − x_d(τ)‖² = 0`.
+pub fn contour_distance(contour: &Lissajous<f64, 2>, period: f64, q: &Vector2<f64>) -> f64 {
+    const GRID: usize = 720;
+    let d2 = |tau: f64| (q - contour.coordinates(tau)[0]).norm_squared();
+    let mut best = (0.0, f64::INFINITY);
+    for k in 0..GRID {
+        let tau = period * k as f64 / GRID as f64;
+        let d = d2(tau);
+        if d < best.1 {
+            best = (tau, d);
+        }
+    }
+    let mut tau = best.0;
+    for _ in 0..6 {
+        let [x, dx, ddx] = contour.coordinates(tau);
+        let r = x - q;
+        let g = r.dot(&dx);
+        let hss = dx.dot(&dx) + r.dot(&ddx);
+        if hss <= 0.0 {
+            break;
+        }
+        tau -= g / hss;
+    }
+    d2(tau).min(best.1).sqrt()
+}
+
+/// Mean and maximum distance to the contour over the samples in `range`.
+pub fn contour_error(
+    trace: &Trace,
+    contour: &Lissajous<f64, 2>,
+    period: f64,
+    range: std::ops::Range<usize>,
+) -> (f64, f64) {
+    let d: Vec<f64> = trace.q[range]
+        .iter()
+        .map(|q| contour_distance(contour, period, &Vector2::from(*q)))
+        .collect();
+    let mean = d.iter().sum::<f64>() / d.len().max(1) as f64;
+    (mean, d.iter().cloned().fold(0.0, f64::max))
+}
+
+/// Straightness of the approach to the contour: the straight distance from the start to the
+/// first point within `reach` of `x_d(τ)` (U below `reach_u`), divided by the length of the
+/// path travelled until then. 1 is a straight line.
+pub fn approach_straightness(trace: &Trace, reach_u: f64) -> Option<(f64, usize)> {
+    let end = trace.potential.iter().position(|&u| u < reach_u)?;
+    let q = |i: usize| Vector2::from(trace.q[i]);
+    let length: f64 = (1..=end).map(|i| (q(i) - q(i - 1)).norm()).sum();
+    let chord = (q(end) - q(0)).norm();
+    (length > 0.0).then(|| (chord / length, end))
+}
+
+/// The energy audit of a run with friction only: the largest `|κ_a(t) − κ_a(0) − ∫F_fᵀq̇ dt|`
+/// relative to `κ_a(0)` (trapezoidal work integral at the trace's sampling).
+pub fn energy_audit(trace: &Trace) -> f64 {
+    let e0 = trace.energy[0];
+    let mut work = 0.0;
+    let mut worst: f64 = 0.0;
+    for i in 1..trace.len() {
+        let dt = trace.t[i] - trace.t[i - 1];
+        work += 0.5 * dt * (trace.friction_power[i] + trace.friction_power[i - 1]);
+        worst = worst.max((trace.energy[i] - e0 - work).abs());
+    }
+    worst / e0
+}
+
+/// The largest relative deviation of `κ_a` from its initial value.
+pub fn energy_drift(trace: &Trace) -> f64 {
+    let e0 = trace.energy[0];
+    trace
+        .energy
+        .iter()
+        .map(|e| (e - e0).abs() / e0)
+        .fold(0.0, f64::max)
+}

@@ -1,0 +1,452 @@
+//! PNG figures laid out like the paper's Figs. 1 and 6–10 (plotters, bundled DejaVu font).
+
+use crate::error::{Result, SimError};
+use crate::metrics::last_pass;
+use crate::report::Runs;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+static FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
+static REGISTER: Once = Once::new();
+
+fn register_font() {
+    REGISTER.call_once(|| {
+        // The bytes are a valid TTF shipped with the crate; if registering ever failed, text
+        // would be missing from the figures, which the figure tests would show.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+}
+
+const COLORS: [RGBColor; 5] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+];
+
+/// One curve of a panel.
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// The points.
+    pub points: Vec<(f64, f64)>,
+    /// Drawn dashed-grey as a reference (the desired contour).
+    pub reference: bool,
+}
+
+fn bounds(series: &[Series], log_y: bool) -> ((f64, f64), (f64, f64)) {
+    let pts = series.iter().flat_map(|s| s.points.iter());
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for &(x, y) in pts {
+        if !(x.is_finite() && y.is_finite()) || (log_y && y <= 0.0) {
+            continue;
+        }
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if !x0.is_finite() {
+        return ((0.0, 1.0), (if log_y { 1e-9 } else { 0.0 }, 1.0));
+    }
+    let pad = |a: f64, b: f64| {
+        let d = (b - a).abs().max(1e-9) * 0.05;
+        (a - d, b + d)
+    };
+    let y = if log_y {
+        (y0 * 0.7, y1 * 1.4)
+    } else {
+        pad(y0, y1)
+    };
+    (pad(x0, x1), y)
+}
+
+type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+
+fn err(path: &Path, e: impl std::fmt::Display) -> SimError {
+    SimError::Plot {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    }
+}
+
+/// Draws one panel.
+pub fn panel(
+    area: &Area<'_>,
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    log_y: bool,
+) -> Result<()> {
+    let ((x0, x1), (y0, y1)) = bounds(series, log_y);
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .caption(title, ("sans-serif", 18))
+        .margin(8)
+        .x_label_area_size(38)
+        .y_label_area_size(70);
+    let mut k = 0;
+    macro_rules! draw {
+        ($chart:expr) => {{
+            let mut chart = $chart;
+            let log_fmt = |y: &f64| format!("{y:.0e}");
+            let lin_fmt = |y: &f64| {
+                format!("{y:.3}")
+                    .trim_end_matches('0')
+                    .trim_end_matches('.')
+                    .to_string()
+            };
+            chart
+                .configure_mesh()
+                .x_desc(x_label)
+                .y_desc(y_label)
+                .y_label_formatter(if log_y { &log_fmt } else { &lin_fmt })
+                .label_style(("sans-serif", 13))
+                .draw()
+                .map_err(|e| err(path, e))?;
+            for s in series {
+                let pts = s
+                    .points
+                    .iter()
+                    .cloned()
+                    .filter(|(x, y)| x.is_finite() && y.is_finite() && (!log_y || *y > 0.0));
+                if s.reference {
+                    let style = ShapeStyle::from(&RGBColor(120, 120, 120)).stroke_width(1);
+                    chart
+                        .draw_series(DashedLineSeries::new(pts, 6, 4, style))
+                        .map_err(|e| err(path, e))?
+                        .label(s.label.clone())
+                        .legend(|(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 18, y)], RGBColor(120, 120, 120))
+                        });
+                } else {
+                    let c = COLORS[k % COLORS.len()];
+                    k += 1;
+                    chart
+                        .draw_series(LineSeries::new(pts, c.stroke_width(2)))
+                        .map_err(|e| err(path, e))?
+                        .label(s.label.clone())
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
+                        });
+                }
+            }
+            if series.len() > 1 {
+                chart
+                    .configure_series_labels()
+                    .label_font(("sans-serif", 13))
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(BLACK)
+                    .position(SeriesLabelPosition::UpperRight)
+                    .draw()
+                    .map_err(|e| err(path, e))?;
+            }
+        }};
+    }
+    if log_y {
+        draw!(builder
+            .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+            .map_err(|e| err(path, e))?);
+    } else {
+        draw!(builder
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|e| err(path, e))?);
+    }
+    Ok(())
+}
+
+/// A figure of `rows` panels stacked vertically, drawn by `draw(panel_index, area)`.
+pub fn figure(
+    path: &Path,
+    rows: usize,
+    draw: impl Fn(usize, &Area<'_>) -> Result<()>,
+) -> Result<()> {
+    register_font();
+    let root = BitMapBackend::new(path, (900, 330 * rows as u32)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(path, e))?;
+    for (i, a) in root.split_evenly((rows, 1)).iter().enumerate() {
+        draw(i, a)?;
+    }
+    root.present().map_err(|e| err(path, e))?;
+    Ok(())
+}
+
+fn desired(runs: &Runs, name: &str) -> Result<Series> {
+    let (s, _) = runs
+        .runs
+        .get(name)
+        .ok_or_else(|| SimError::Setting(format!("run `{name}` is missing")))?;
+    let c = s.contour()?;
+    let period = s.contour.period;
+    Ok(Series {
+        label: "desired contour".into(),
+        points: (0..=600)
+            .map(|k| {
+                let x = c.coordinates(period * k as f64 / 600.0)[0];
+                (x[0], x[1])
+            })
+            .collect(),
+        reference: true,
+    })
+}
+
+fn path_of(t: &crate::simulate::Trace, range: std::ops::Range<usize>) -> Vec<(f64, f64)> {
+    t.q[range].iter().map(|q| (q[0], q[1])).collect()
+}
+
+/// Figs. 8–10: contour traced, U against τ and τ̇ against τ over the last complete pass.
+fn pass_figure(runs: &Runs, path: &Path, title: &str, names: &[(String, String)]) -> Result<()> {
+    let reference = desired(runs, &names[0].0)?;
+    let mut traced = vec![reference];
+    let (mut u, mut tdot) = (Vec::new(), Vec::new());
+    for (name, label) in names {
+        let (s, t) = runs
+            .runs
+            .get(name)
+            .ok_or_else(|| SimError::Setting(format!("run `{name}` is missing")))?;
+        let period = s.contour.period;
+        let r = last_pass(t, period)
+            .ok_or_else(|| SimError::Setting(format!("run `{name}` does not cover a pass")))?;
+        let tau0 = (t.tau[r.start] / period).floor() * period;
+        traced.push(Series {
+            label: label.clone(),
+            points: path_of(t, r.clone()),
+            reference: false,
+        });
+        u.push(Series {
+            label: label.clone(),
+            points: r
+                .clone()
+                .map(|i| (t.tau[i] - tau0, t.potential[i].max(1e-12)))
+                .collect(),
+            reference: false,
+        });
+        tdot.push(Series {
+            label: label.clone(),
+            points: r.map(|i| (t.tau[i] - tau0, t.tau_dot[i])).collect(),
+            reference: false,
+        });
+    }
+    figure(path, 3, |i, a| match i {
+        0 => panel(
+            a,
+            path,
+            &format!("{title}: contour traced (one pass)"),
+            "q1 [rad]",
+            "q2 [rad]",
+            &traced,
+            false,
+        ),
+        1 => panel(
+            a,
+            path,
+            "potential U(E) during one pass",
+            "τ",
+            "U(E)",
+            &u,
+            true,
+        ),
+        _ => panel(
+            a,
+            path,
+            "rate of trajectory progression during one pass",
+            "τ",
+            "dτ/dt",
+            &tdot,
+            false,
+        ),
+    })
+}
+
+/// Writes every figure of a reproduction into `dir`; returns the files written.
+pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let get = |n: &str| runs.trace(n);
+
+    let p = dir.join("fig6_unforced.png");
+    let f6 = get("fig6_unforced")?;
+    let traced = vec![
+        desired(runs, "fig6_unforced")?,
+        Series {
+            label: "traced".into(),
+            points: path_of(f6, 0..f6.len()),
+            reference: false,
+        },
+    ];
+    figure(&p, 3, |i, a| match i {
+        0 => panel(
+            a,
+            &p,
+            "Fig. 6: unforced response, contour traced",
+            "q1 [rad]",
+            "q2 [rad]",
+            &traced,
+            false,
+        ),
+        1 => panel(
+            a,
+            &p,
+            "potential U(E(t))",
+            "t [s]",
+            "U(E)",
+            &[Series {
+                label: "U".into(),
+                points: f6
+                    .t
+                    .iter()
+                    .zip(&f6.potential)
+                    .map(|(t, u)| (*t, u.max(1e-12)))
+                    .collect(),
+                reference: false,
+            }],
+            true,
+        ),
+        _ => panel(
+            a,
+            &p,
+            "kinetic energy κ_a",
+            "t [s]",
+            "κ_a [J]",
+            &[Series {
+                label: "κ_a".into(),
+                points: f6
+                    .t
+                    .iter()
+                    .cloned()
+                    .zip(f6.energy.iter().cloned())
+                    .collect(),
+                reference: false,
+            }],
+            false,
+        ),
+    })?;
+    files.push(p);
+
+    let p = dir.join("fig7_self_pacing.png");
+    let mut traced = vec![desired(runs, "fig7_R0")?];
+    for (n, l) in [("fig7_R0", "R = 0"), ("fig7_R100", "R = 100")] {
+        let t = get(n)?;
+        let end = t.t.iter().position(|&x| x >= 4.0).unwrap_or(t.len());
+        traced.push(Series {
+            label: l.into(),
+            points: path_of(t, 0..end),
+            reference: false,
+        });
+    }
+    figure(&p, 1, |_, a| {
+        panel(
+            a,
+            &p,
+            "Fig. 7: approach from (0, 0), first 4 s",
+            "q1 [rad]",
+            "q2 [rad]",
+            &traced,
+            false,
+        )
+    })?;
+    files.push(p);
+
+    let p = dir.join("fig8_pacing_compensated.png");
+    let names: Vec<_> = [0.0, 100.0, 200.0]
+        .iter()
+        .map(|r| (format!("fig8_R{r}"), format!("R = {r}")))
+        .collect();
+    pass_figure(runs, &p, "Fig. 8 (friction compensation)", &names)?;
+    files.push(p);
+    let p = dir.join("fig9_pacing_uncompensated.png");
+    let names: Vec<_> = [0.0, 50.0, 100.0, 200.0]
+        .iter()
+        .map(|r| (format!("fig9_R{r}"), format!("R = {r}")))
+        .collect();
+    pass_figure(runs, &p, "Fig. 9 (no compensation)", &names)?;
+    files.push(p);
+    let p = dir.join("fig10_nominal_speed.png");
+    let names: Vec<_> = [1.0, 2.0, 3.0]
+        .iter()
+        .map(|r| (format!("fig10_r{r}"), format!("r = {r}")))
+        .collect();
+    pass_figure(runs, &p, "Fig. 10 (nominal speed, no compensation)", &names)?;
+    files.push(p);
+
+    let p = dir.join("fig1_pvfc_vs_timed.png");
+    let (s1, pv) = runs
+        .runs
+        .get("fig1_pvfc_vs_timed")
+        .ok_or_else(|| SimError::Setting("run `fig1_pvfc_vs_timed` is missing".into()))?;
+    let tm = get("fig1_pvfc_vs_timed-timed")?;
+    let from = |t: &crate::simulate::Trace| {
+        t.t.iter()
+            .position(|&x| x >= s1.duration - 12.0)
+            .unwrap_or(0)
+    };
+    let traced = vec![
+        desired(runs, "fig1_pvfc_vs_timed")?,
+        Series {
+            label: "PVFC".into(),
+            points: path_of(pv, from(pv)..pv.len()),
+            reference: false,
+        },
+        Series {
+            label: "timed trajectory (computed torque + PD)".into(),
+            points: path_of(tm, from(tm)..tm.len()),
+            reference: false,
+        },
+    ];
+    figure(&p, 1, |_, a| {
+        panel(
+            a,
+            &p,
+            "Fig. 1: PVFC versus a timed tracker, same friction and mean speed (last 12 s)",
+            "q1 [rad]",
+            "q2 [rad]",
+            &traced,
+            false,
+        )
+    })?;
+    files.push(p);
+
+    let p = dir.join("energy_sampled_vs_continuous.png");
+    let series: Vec<Series> = [
+        ("energy_continuous", "continuous loop (RK4, 1 kHz)"),
+        ("energy_sampled", "sampled loop (1 kHz ZOH, plant 10 kHz)"),
+    ]
+    .iter()
+    .map(|(n, l)| {
+        let t = get(n)?;
+        let e0 = t.energy[0];
+        Ok(Series {
+            label: (*l).into(),
+            points: t
+                .t
+                .iter()
+                .zip(&t.energy)
+                .map(|(x, e)| (*x, (e - e0) / e0))
+                .collect(),
+            reference: false,
+        })
+    })
+    .collect::<Result<_>>()?;
+    figure(&p, 1, |_, a| {
+        panel(
+            a,
+            &p,
+            "Frictionless: relative change of κ_a",
+            "t [s]",
+            "(κ_a − κ_a(0))/κ_a(0)",
+            &series,
+            false,
+        )
+    })?;
+    files.push(p);
+    Ok(files)
+}

@@ -1,0 +1,378 @@
+//! Scenarios: everything one run needs, as data (a TOML file) or built in ([`presets`]).
+
+use crate::error::{Result, SimError};
+use crate::friction::JointFriction;
+use crate::paper::{PaperController, PaperField};
+use nalgebra::Vector2;
+use pvfc_core::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The default arm of the experiments (the numbers of `models/scara.urdf`): a direct-drive
+/// two-link SCARA heavier than the Pelican, so that at the paper's energy (50) and friction
+/// (2–3 N·m) the arm's kinetic energy on the contour is a sizeable share of the total.
+pub fn direct_drive_arm() -> ScaraParameters<f64> {
+    ScaraParameters {
+        m1: 15.0,
+        m2: 6.0,
+        l1: 0.4,
+        l2: 0.35,
+        lc1: 0.2,
+        lc2: 0.15,
+        i1: 0.4,
+        i2: 0.15,
+    }
+}
+
+/// Which arm to simulate.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum ArmSpec {
+    /// The built-in direct-drive arm ([`direct_drive_arm`], the same as `models/scara.urdf`).
+    DirectDrive,
+    /// The CICESE Pelican arm (control-law.md §1).
+    Pelican,
+    /// An arm read from a URDF file (relative paths are relative to the scenario file).
+    Urdf(PathBuf),
+}
+
+/// The plant: the arm and its joint friction.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlantSpec {
+    /// The arm.
+    #[serde(default = "default_arm")]
+    pub arm: ArmSpec,
+    /// Joint friction of the simulated plant.
+    #[serde(default)]
+    pub friction: JointFriction,
+}
+
+fn default_arm() -> ArmSpec {
+    ArmSpec::DirectDrive
+}
+
+impl Default for PlantSpec {
+    fn default() -> Self {
+        PlantSpec {
+            arm: default_arm(),
+            friction: JointFriction::default(),
+        }
+    }
+}
+
+/// A Lissajous contour `x_i = c_i + a_i sin(2πτ/T_i + φ_i)`; the default is the paper's.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContourSpec {
+    /// Amplitudes `a_i` (rad).
+    pub amplitude: [f64; 2],
+    /// Periods `T_i` in `τ`.
+    pub periods: [f64; 2],
+    /// Phases `φ_i` (rad).
+    pub phase: [f64; 2],
+    /// Offsets `c_i` (rad).
+    #[serde(default)]
+    pub offset: [f64; 2],
+    /// The common period of the curve in `τ`.
+    pub period: f64,
+}
+
+impl Default for ContourSpec {
+    fn default() -> Self {
+        ContourSpec {
+            amplitude: [1.0, 1.5],
+            periods: [3.0, 6.0],
+            phase: [0.0, std::f64::consts::FRAC_PI_2],
+            offset: [0.0, 0.0],
+            period: 6.0,
+        }
+    }
+}
+
+/// Nominal-speed control, eq. (36).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NominalSpeedSpec {
+    /// Gain `c` (the paper: 0.01).
+    pub c: f64,
+    /// Nominal speed `r`.
+    pub r: f64,
+}
+
+/// The PVFC controller.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ControllerSpec {
+    /// Self-pacing parameter `R` of eq. (21).
+    pub self_pacing: f64,
+    /// Navigation weights `h_i` of eq. (17).
+    pub h: [f64; 2],
+    /// Energy level `Ē` of eq. (6).
+    pub energy: f64,
+    /// Flywheel inertia `M_F`.
+    pub flywheel_inertia: f64,
+    /// Coupling gain `γ` of eq. (7).
+    pub gamma: f64,
+    /// Controller rate (Hz) in the sampled-data mode.
+    pub rate: f64,
+    /// Friction compensation levels of eq. (35), if any (N·m).
+    #[serde(default)]
+    pub friction_compensation: Option<[f64; 2]>,
+    /// Nominal-speed control of eq. (36), if any.
+    #[serde(default)]
+    pub nominal_speed: Option<NominalSpeedSpec>,
+}
+
+impl Default for ControllerSpec {
+    fn default() -> Self {
+        ControllerSpec {
+            self_pacing: 100.0,
+            h: [1.0, 1.0],
+            energy: 50.0,
+            flywheel_inertia: 1.0,
+            gamma: 0.05,
+            rate: 1000.0,
+            friction_compensation: None,
+            nominal_speed: None,
+        }
+    }
+}
+
+/// The initial state.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSpec {
+    /// Joint angles (rad).
+    #[serde(default)]
+    pub q: [f64; 2],
+    /// Joint velocities (rad/s).
+    #[serde(default)]
+    pub v: [f64; 2],
+    /// Contour parameter.
+    #[serde(default)]
+    pub tau: f64,
+    /// Its rate.
+    #[serde(default)]
+    pub tau_dot: f64,
+    /// Flywheel speed (rad/s); default `√(2Ē/M_F)` (β = 1 with the arm at rest).
+    #[serde(default)]
+    pub flywheel_speed: Option<f64>,
+}
+
+impl Default for InitialSpec {
+    fn default() -> Self {
+        InitialSpec {
+            q: [0.0, 1.5],
+            v: [0.0, 0.0],
+            tau: 0.0,
+            tau_dot: 0.0,
+            flywheel_speed: None,
+        }
+    }
+}
+
+/// How the loop is simulated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Mode {
+    /// The controller runs at its own rate with zero-order hold (`Controller::step`), the
+    /// plant is integrated with RK4 in substeps: as on a real motor controller.
+    #[default]
+    Sampled,
+    /// The controller's states are integrated together with the plant (RKMK4 at the
+    /// substep), the continuous-time closed loop of the paper's analysis.
+    Continuous,
+}
+
+/// Simulation settings.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulationSpec {
+    /// Sampled-data or continuous.
+    #[serde(default)]
+    pub mode: Mode,
+    /// Plant integration steps per controller period.
+    #[serde(default = "default_substeps")]
+    pub plant_substeps: usize,
+}
+
+fn default_substeps() -> usize {
+    10
+}
+
+impl Default for SimulationSpec {
+    fn default() -> Self {
+        SimulationSpec {
+            mode: Mode::Sampled,
+            plant_substeps: default_substeps(),
+        }
+    }
+}
+
+/// A timed-trajectory tracker to compare with (Fig. 1): computed torque + PD on
+/// `x_d(τ(t))`, `τ(t) = τ₀ + rate·t`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BaselineSpec {
+    /// Proportional gains (1/s²).
+    pub kp: [f64; 2],
+    /// Derivative gains (1/s).
+    pub kd: [f64; 2],
+    /// `dτ/dt`; default: the mean `τ̇` of the PVFC run of the same scenario.
+    #[serde(default)]
+    pub tau_rate: Option<f64>,
+}
+
+/// One run: plant, contour, controller, initial state, duration, rates.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// A short name (files are named after it).
+    pub name: String,
+    /// What the run shows.
+    #[serde(default)]
+    pub description: String,
+    /// Simulated time (s).
+    pub duration: f64,
+    /// The plant.
+    #[serde(default)]
+    pub plant: PlantSpec,
+    /// The contour.
+    #[serde(default)]
+    pub contour: ContourSpec,
+    /// The controller.
+    #[serde(default)]
+    pub controller: ControllerSpec,
+    /// The initial state.
+    #[serde(default)]
+    pub initial: InitialSpec,
+    /// Simulation settings.
+    #[serde(default)]
+    pub simulation: SimulationSpec,
+    /// A timed-trajectory baseline to run next to PVFC.
+    #[serde(default)]
+    pub baseline: Option<BaselineSpec>,
+    /// Directory that relative paths in the scenario are resolved against (not in the file).
+    #[serde(skip)]
+    pub base_dir: PathBuf,
+}
+
+impl Scenario {
+    /// Reads and validates a scenario file. Errors name the field and the line.
+    pub fn from_file(path: &Path) -> Result<Scenario> {
+        let text = std::fs::read_to_string(path).map_err(|e| SimError::io(path, e))?;
+        let mut s = Self::from_toml(&text, path)?;
+        s.base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Ok(s)
+    }
+
+    /// Parses and validates scenario text (`path` only names it in errors).
+    pub fn from_toml(text: &str, path: &Path) -> Result<Scenario> {
+        let s: Scenario = toml::from_str(text).map_err(|e| SimError::Scenario {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        s.validate().map_err(|e| SimError::Scenario {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        Ok(s)
+    }
+
+    /// The scenario as TOML text.
+    pub fn to_toml(&self) -> Result<String> {
+        toml::to_string_pretty(self).map_err(|e| SimError::Setting(e.to_string()))
+    }
+
+    /// Checks the settings that the types alone do not (and builds the models once).
+    pub fn validate(&self) -> Result<()> {
+        let bad = |what: &str| Err(SimError::Setting(what.to_string()));
+        if !(self.duration.is_finite() && self.duration > 0.0) {
+            return bad("duration must be finite and > 0");
+        }
+        if !(self.controller.rate.is_finite() && self.controller.rate > 0.0) {
+            return bad("controller.rate must be finite and > 0");
+        }
+        if self.simulation.plant_substeps == 0 {
+            return bad("simulation.plant_substeps must be ≥ 1");
+        }
+        self.plant.friction.validate()?;
+        let init = &self.initial;
+        if !init
+            .q
+            .iter()
+            .chain(init.v.iter())
+            .chain([init.tau, init.tau_dot].iter())
+            .all(|x| x.is_finite())
+        {
+            return bad("initial state must be finite");
+        }
+        if let Some(b) = &self.baseline {
+            if !b
+                .kp
+                .iter()
+                .chain(b.kd.iter())
+                .all(|x| x.is_finite() && *x > 0.0)
+            {
+                return bad("baseline gains must be finite and > 0");
+            }
+        }
+        self.controller()?;
+        Ok(())
+    }
+
+    /// The arm's parameters.
+    pub fn arm(&self) -> Result<ScaraParameters<f64>> {
+        Ok(match &self.plant.arm {
+            ArmSpec::DirectDrive => direct_drive_arm(),
+            ArmSpec::Pelican => ScaraParameters::pelican(),
+            ArmSpec::Urdf(p) => crate::urdf::scara_from_urdf(&self.base_dir.join(p))?,
+        })
+    }
+
+    /// The contour.
+    pub fn contour(&self) -> Result<Lissajous<f64, 2>> {
+        let c = &self.contour;
+        Ok(Lissajous::new(
+            Vector2::from(c.amplitude),
+            Vector2::from(c.periods),
+            Vector2::from(c.phase),
+            Vector2::from(c.offset),
+        )?
+        .with_period(c.period)?)
+    }
+
+    /// The field.
+    pub fn field(&self) -> Result<PaperField> {
+        Ok(SuspendedField::new(
+            self.contour()?,
+            TorusNavigation::paper(Vector2::from(self.controller.h))?,
+            ExponentialPacing::new(self.controller.self_pacing)?,
+        ))
+    }
+
+    /// The controller, with its add-ons and initial internal states. The controller's model
+    /// of the arm is the plant's (no model mismatch).
+    pub fn controller(&self) -> Result<PaperController> {
+        let c = &self.controller;
+        let flywheel = Flywheel::new(c.flywheel_inertia, c.energy)?;
+        let law = PvfcLaw::new(Scara::new(self.arm()?)?, self.field()?, flywheel, c.gamma)?;
+        let mut ctl = Controller::new(law).with_state(InternalState {
+            tau: self.initial.tau,
+            tau_dot: self.initial.tau_dot,
+            flywheel_speed: self
+                .initial
+                .flywheel_speed
+                .unwrap_or_else(|| flywheel.speed_for_unit_beta()),
+            laps: 0,
+        });
+        if let Some(f) = c.friction_compensation {
+            ctl = ctl.with_friction_compensation(FrictionCompensation::new(Vector2::from(f))?);
+        }
+        if let Some(n) = c.nominal_speed {
+            ctl = ctl.with_nominal_speed(NominalSpeed::new(n.c, n.r)?);
+        }
+        Ok(ctl)
+    }
+}
