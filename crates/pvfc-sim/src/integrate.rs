@@ -163,7 +163,7 @@ where
         let two = T::one() + T::one();
         let theta = (t1 + t2 * two + t3 * two + t4) * w;
         Ok(AugmentedState {
-            q: s.q.compose(&G::exp(&theta)),
+            q: s.q.compose(&G::exp(&theta)).normalized(),
             v: s.v + (k1.v + k2.v * two + k3.v * two + k4.v) * w,
             tau: s.tau + (k1.tau + k2.tau * two + k3.tau * two + k4.tau) * w,
             tau_dot: s.tau_dot

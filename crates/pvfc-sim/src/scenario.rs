@@ -38,7 +38,7 @@ pub enum ArmSpec {
 
 /// The plant: the arm and its joint friction.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct PlantSpec {
     /// The arm.
     #[serde(default = "default_arm")]
@@ -63,7 +63,7 @@ impl Default for PlantSpec {
 
 /// A Lissajous contour `x_i = c_i + a_i sin(2πτ/T_i + φ_i)`; the default is the paper's.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct ContourSpec {
     /// Amplitudes `a_i` (rad).
     pub amplitude: [f64; 2],
@@ -102,7 +102,7 @@ pub struct NominalSpeedSpec {
 
 /// The PVFC controller.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct ControllerSpec {
     /// Self-pacing parameter `R` of eq. (21).
     pub self_pacing: f64,
@@ -141,7 +141,7 @@ impl Default for ControllerSpec {
 
 /// The initial state.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct InitialSpec {
     /// Joint angles (rad).
     #[serde(default)]
@@ -187,7 +187,7 @@ pub enum Mode {
 
 /// Simulation settings.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct SimulationSpec {
     /// Sampled-data or continuous.
     #[serde(default)]
@@ -259,20 +259,26 @@ pub struct Scenario {
 }
 
 impl Scenario {
-    /// Reads and validates a scenario file. Errors name the field and the line.
+    /// Reads and validates a scenario file. Errors name the field and the line; relative
+    /// paths in it (a URDF) are relative to the file.
     pub fn from_file(path: &Path) -> Result<Scenario> {
         let text = std::fs::read_to_string(path).map_err(|e| SimError::io(path, e))?;
-        let mut s = Self::from_toml(&text, path)?;
-        s.base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        Ok(s)
+        let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Self::parse(&text, path, base)
     }
 
-    /// Parses and validates scenario text (`path` only names it in errors).
+    /// Parses and validates scenario text (`path` only names it in errors; relative paths
+    /// are relative to the working directory).
     pub fn from_toml(text: &str, path: &Path) -> Result<Scenario> {
-        let s: Scenario = toml::from_str(text).map_err(|e| SimError::Scenario {
+        Self::parse(text, path, PathBuf::new())
+    }
+
+    fn parse(text: &str, path: &Path, base_dir: PathBuf) -> Result<Scenario> {
+        let mut s: Scenario = toml::from_str(text).map_err(|e| SimError::Scenario {
             path: path.to_path_buf(),
             message: e.to_string(),
         })?;
+        s.base_dir = base_dir;
         s.validate().map_err(|e| SimError::Scenario {
             path: path.to_path_buf(),
             message: e.to_string(),
@@ -282,7 +288,7 @@ impl Scenario {
 
     /// The scenario as TOML text.
     pub fn to_toml(&self) -> Result<String> {
-        toml::to_string_pretty(self).map_err(|e| SimError::Setting(e.to_string()))
+        toml::to_string(self).map_err(|e| SimError::Setting(e.to_string()))
     }
 
     /// Checks the settings that the types alone do not (and builds the models once).

@@ -87,7 +87,7 @@ pub fn scara_from_urdf_str(text: &str, path: &Path) -> Result<ScaraParameters<f6
         let element = format!("link {name}");
         let l = link(name).ok_or_else(|| err(path, element.clone(), "not found"))?;
         let i = &l.inertial;
-        if !(i.mass.value > 0.0) || !i.mass.value.is_finite() {
+        if !i.mass.value.is_finite() || i.mass.value <= 0.0 {
             return Err(err(
                 path,
                 element,
@@ -103,7 +103,7 @@ pub fn scara_from_urdf_str(text: &str, path: &Path) -> Result<ScaraParameters<f6
             ));
         }
         let izz = i.inertia.izz;
-        if !(izz > 0.0) || !izz.is_finite() {
+        if !izz.is_finite() || izz <= 0.0 {
             return Err(err(path, element, "<inertia izz> must be > 0"));
         }
         Ok((i.mass.value, o[0], izz))

@@ -81,6 +81,13 @@ pub trait LieGroup<T: Real, const D: usize>: Copy + core::fmt::Debug + PartialEq
     /// `true` when every stored number is finite.
     fn is_finite(&self) -> bool;
 
+    /// The same element with rounding drift off the group removed (integrators call it after
+    /// every step). A no-op for groups stored in coordinates (torus, `ℝⁿ`).
+    #[inline]
+    fn normalized(&self) -> Self {
+        *self
+    }
+
     /// `(L_self)_*`: pushes a tangent vector at `b` (body coordinates) to `self·b`.
     /// In body coordinates this is the identity.
     #[inline]

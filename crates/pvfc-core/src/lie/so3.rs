@@ -57,7 +57,12 @@ impl<T: Real> So3<T> {
                 "So3::from_matrix: not a rotation matrix",
             ));
         }
-        Ok(So3 { m }.orthonormalized())
+        // Newton–Schulz converges quadratically from any drift below the tolerance checked.
+        let mut r = So3 { m };
+        for _ in 0..6 {
+            r = r.orthonormalized();
+        }
+        Ok(r)
     }
 
     /// Wraps a matrix the caller guarantees is a rotation (not checked).
@@ -87,14 +92,15 @@ impl<T: Real> So3<T> {
         (self.m.transpose() * self.m - Matrix3::identity()).norm()
     }
 
-    /// The nearest rotation by one Newton step of the polar decomposition,
-    /// `R ← ½ (R + R⁻ᵀ)`, which removes drift of the order of rounding in one call.
+    /// The nearest rotation, to first order in the drift, by one Newton–Schulz step of the
+    /// polar decomposition, `R ← R (3I − RᵀR)/2`: it squares the orthogonality error, so a
+    /// rotation drifted by rounding is restored to rounding in one call.
     pub fn orthonormalized(&self) -> Self {
-        match self.m.transpose().try_inverse() {
-            Some(inv_t) => So3 {
-                m: (self.m + inv_t) * cast::<T>(0.5),
-            },
-            None => *self,
+        let three: T = cast(3.0);
+        let half: T = cast(0.5);
+        let rtr = self.m.transpose() * self.m;
+        So3 {
+            m: self.m * (Matrix3::identity() * three - rtr) * half,
         }
     }
 
@@ -219,5 +225,9 @@ impl<T: Real> LieGroup<T, 3> for So3<T> {
     #[inline]
     fn is_finite(&self) -> bool {
         self.m.iter().all(|x| x.is_finite())
+    }
+    #[inline]
+    fn normalized(&self) -> Self {
+        self.orthonormalized()
     }
 }
