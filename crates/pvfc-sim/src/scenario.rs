@@ -1,4 +1,4 @@
-//! Scenarios: everything one run needs, as data (a TOML file) or built in ([`presets`]).
+//! Scenarios: everything one run needs, as data (a TOML file) or built in ([`presets`](crate::presets)).
 
 use crate::error::{Result, SimError};
 use crate::friction::JointFriction;
