@@ -1,7 +1,7 @@
 //! The paper's section V as built-in scenarios (also shipped as `scenarios/*.toml`).
 //!
 //! Parameters the paper does not publish, chosen once here (README, "Parameters"):
-//! * the arm: [`direct_drive_arm`](crate::scenario::direct_drive_arm) (`models/scara.urdf`);
+//! * the arm: [`direct_drive_arm`] (`models/scara.urdf`);
 //! * plant friction: Coulomb (2.5, 3.5) N·m — 25 % and 17 % more than the compensation
 //!   (2.0, 3.0) of eq. (35) assumes, the paper's "imperfect friction compensation" — viscous
 //!   0.1 N·m·s/rad, stiction velocity 0.01 rad/s;
