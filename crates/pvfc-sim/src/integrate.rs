@@ -131,6 +131,20 @@ where
         dt: T,
         force: impl Fn(&AugmentedState<T, G, D>) -> Tangent<T, D>,
     ) -> Result<AugmentedState<T, G, D>> {
+        let k1 = self.derivative(s, &force(s))?;
+        self.rk4_from(s, &k1, dt, force)
+    }
+
+    /// [`rk4_step_with`](Self::rk4_step_with) given the first stage `k1` (the derivative at
+    /// `s`, e.g. from an [`evaluate`](Self::evaluate) made for logging), saving one
+    /// evaluation of the law.
+    pub fn rk4_from(
+        &self,
+        s: &AugmentedState<T, G, D>,
+        k1: &Derivative<T, D>,
+        dt: T,
+        force: impl Fn(&AugmentedState<T, G, D>) -> Tangent<T, D>,
+    ) -> Result<AugmentedState<T, G, D>> {
         let half: T = pvfc_core::scalar::cast(0.5);
         let sixth: T = pvfc_core::scalar::cast(1.0 / 6.0);
         let twelfth: T = pvfc_core::scalar::cast(1.0 / 12.0);
@@ -145,7 +159,7 @@ where
             tau_dot: s.tau_dot + k.tau_dot * (c * dt),
             flywheel_speed: s.flywheel_speed + k.flywheel_speed * (c * dt),
         };
-        let k1 = self.derivative(s, &force(s))?;
+        let k1 = *k1;
         let t1 = k1.q; // θ = 0
         let th2 = t1 * (half * dt);
         let s2 = at(&th2, &k1, half);

@@ -265,14 +265,15 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
 pub fn markdown(claims: &[Claim]) -> String {
     let mut s =
         String::from("| claim | statement | measure | measured | holds |\n|---|---|---|---|---|\n");
+    let cell = |x: &str| x.replace('|', "\\|");
     for c in claims {
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} | {} |",
-            c.id,
-            c.statement,
-            c.measure,
-            c.measured,
+            cell(&c.id),
+            cell(&c.statement),
+            cell(&c.measure),
+            cell(&c.measured),
             if c.holds { "yes" } else { "**no**" }
         );
     }

@@ -215,7 +215,8 @@ fn simulate_continuous(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Tr
         if k == n {
             break;
         }
-        for _ in 0..s.simulation.plant_substeps {
+        st = sys.rk4_from(&st, &ev.derivative, h, force)?;
+        for _ in 1..s.simulation.plant_substeps {
             st = sys.rk4_step_with(&st, h, force)?;
         }
         if k % 1000 == 0 {
