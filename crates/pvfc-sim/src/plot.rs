@@ -227,7 +227,7 @@ fn pass_figure(runs: &Runs, path: &Path, title: &str, names: &[(String, String)]
             label: label.clone(),
             points: r
                 .clone()
-                .map(|i| (t.tau[i] - tau0, t.potential[i].max(1e-12)))
+                .map(|i| (t.tau[i] - tau0, t.potential[i].max(1e-8)))
                 .collect(),
             reference: false,
         });
@@ -305,7 +305,7 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
                     .t
                     .iter()
                     .zip(&f6.potential)
-                    .map(|(t, u)| (*t, u.max(1e-12)))
+                    .map(|(t, u)| (*t, u.max(1e-8)))
                     .collect(),
                 reference: false,
             }],
