@@ -1,0 +1,70 @@
+"""pvfc: Passive Velocity Field Control (Li & Horowitz) for contour following.
+
+Robots, contours, navigation functions, the PVFC controller, scenarios and simulations
+with numpy arrays, MCAP logs, and the paper's figures (``pvfc.plot``, needs matplotlib).
+
+>>> import pvfc
+>>> result = pvfc.simulate(pvfc.Scenario.preset("fig8_R100"))
+>>> result.q.shape[1]
+2
+"""
+
+from ._pvfc import (
+    Controller,
+    DimensionMismatchError,
+    Ellipse,
+    EnergyTooLowError,
+    InvalidNavigationMatrixError,
+    InvalidParameterError,
+    Lissajous,
+    LogError,
+    NoConvergenceError,
+    NonFiniteError,
+    PvfcError,
+    PvfcIOError,
+    Scara,
+    Scenario,
+    ScenarioError,
+    SimulationResult,
+    SingularInertiaError,
+    So3ConstantRate,
+    So3Navigation,
+    TorusNavigation,
+    UrdfError,
+    WaypointCurve,
+    __version__,
+    read_mcap,
+    simulate,
+    simulate_many,
+    simulate_timed,
+)
+
+__all__ = [
+    "Controller",
+    "DimensionMismatchError",
+    "Ellipse",
+    "EnergyTooLowError",
+    "InvalidNavigationMatrixError",
+    "InvalidParameterError",
+    "Lissajous",
+    "LogError",
+    "NoConvergenceError",
+    "NonFiniteError",
+    "PvfcError",
+    "PvfcIOError",
+    "Scara",
+    "Scenario",
+    "ScenarioError",
+    "SimulationResult",
+    "SingularInertiaError",
+    "So3ConstantRate",
+    "So3Navigation",
+    "TorusNavigation",
+    "UrdfError",
+    "WaypointCurve",
+    "__version__",
+    "read_mcap",
+    "simulate",
+    "simulate_many",
+    "simulate_timed",
+]

@@ -1,0 +1,70 @@
+//! numpy input adapters that check shapes, and fresh output arrays.
+
+use numpy::ndarray::Array2;
+use numpy::{
+    AllowTypeChange, IntoPyArray, PyArray1, PyArray2, PyArrayLikeDyn, PyUntypedArrayMethods,
+};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyString};
+
+/// Any array-like of numbers (list, tuple, numpy array of any layout, f32 or f64) as `f64`
+/// values with the given shape; `ValueError` naming the argument for a wrong shape,
+/// `TypeError` for strings or non-numbers.
+pub fn array(obj: &Bound<'_, PyAny>, name: &str, shape: &[usize]) -> PyResult<Vec<f64>> {
+    if obj.is_instance_of::<PyString>() || obj.is_instance_of::<PyBytes>() {
+        return Err(PyTypeError::new_err(format!(
+            "{name}: expected numbers with shape {shape:?}, got a string"
+        )));
+    }
+    let a: PyArrayLikeDyn<'_, f64, AllowTypeChange> = obj.extract().map_err(|e| {
+        PyTypeError::new_err(format!(
+            "{name}: expected numbers with shape {shape:?} ({e})"
+        ))
+    })?;
+    if a.shape() != shape {
+        return Err(PyValueError::new_err(format!(
+            "{name}: expected shape {shape:?}, got {:?}",
+            a.shape()
+        )));
+    }
+    Ok(a.as_array().iter().cloned().collect())
+}
+
+/// A vector of length `N`.
+pub fn vector<const N: usize>(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<[f64; N]> {
+    let v = array(obj, name, &[N])?;
+    let mut out = [0.0; N];
+    out.copy_from_slice(&v);
+    Ok(out)
+}
+
+/// An `R × C` matrix, row-major.
+pub fn matrix<const R: usize, const C: usize>(
+    obj: &Bound<'_, PyAny>,
+    name: &str,
+) -> PyResult<nalgebra::SMatrix<f64, R, C>> {
+    let v = array(obj, name, &[R, C])?;
+    Ok(nalgebra::SMatrix::<f64, R, C>::from_row_slice(&v))
+}
+
+/// A fresh 1-D array.
+pub fn out1<'py>(py: Python<'py>, v: Vec<f64>) -> Bound<'py, PyArray1<f64>> {
+    v.into_pyarray(py)
+}
+
+/// A fresh `(n, 2)` array from rows.
+pub fn out_rows<'py>(py: Python<'py>, rows: &[[f64; 2]]) -> Bound<'py, PyArray2<f64>> {
+    let flat: Vec<f64> = rows.iter().flat_map(|r| r.iter().cloned()).collect();
+    Array2::from_shape_vec((rows.len(), 2), flat)
+        .map(|a| a.into_pyarray(py))
+        .unwrap_or_else(|_| Array2::<f64>::zeros((0, 2)).into_pyarray(py))
+}
+
+/// A fresh matrix.
+pub fn out_matrix<'py, const R: usize, const C: usize>(
+    py: Python<'py>,
+    m: &nalgebra::SMatrix<f64, R, C>,
+) -> Bound<'py, PyArray2<f64>> {
+    Array2::from_shape_fn((R, C), |(i, j)| m[(i, j)]).into_pyarray(py)
+}

@@ -1,0 +1,21 @@
+import pathlib
+import shutil
+import subprocess
+
+import pytest
+
+REPO = pathlib.Path(__file__).resolve().parents[3]
+
+
+@pytest.fixture(scope="session")
+def repo() -> pathlib.Path:
+    return REPO
+
+
+@pytest.fixture(scope="session")
+def pvfc_cli() -> pathlib.Path:
+    """The Rust `pvfc` command line, built in release mode (for parity tests)."""
+    cargo = shutil.which("cargo")
+    assert cargo is not None, "cargo is needed for the Rust/Python parity tests"
+    subprocess.run([cargo, "build", "--release", "--locked", "--bin", "pvfc"], cwd=REPO, check=True)
+    return REPO / "target" / "release" / "pvfc"

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# All the tests: the Rust workspace (cargo test), then the Python wheel built into a fresh
+# virtual environment with its pytest suite and the stub check (mypy.stubtest).
+# Needs Rust (rustup) and Python ≥ 3.9 with venv; installs the rest itself.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+echo "=== cargo test"
+cargo test --locked
+
+echo "=== Python: build the wheel into a fresh virtual environment"
+venv="${PVFC_VENV:-target/py-venv}"
+rm -rf "$venv"
+python3 -m venv "$venv"
+py="$venv/bin/python"
+"$py" -m pip install --quiet --upgrade pip
+"$py" -m pip install --quiet "./crates/pvfc-py[test]"
+"$py" -c "import pvfc, numpy; print('pvfc', pvfc.__version__, 'numpy', numpy.__version__)"
+
+echo "=== pytest"
+(cd crates/pvfc-py && "../../$py" -m pytest -q -p no:cacheprovider)
+
+echo "=== stubtest"
+"$py" -m mypy.stubtest pvfc
