@@ -128,3 +128,15 @@ def test_timed_baseline_runs():
     r = pvfc.simulate_timed(s, [400, 400], [40, 40], 1.0)
     assert r.name.endswith("-timed") and len(r) == 2001
     assert r.tau[-1] == pytest.approx(2.0)
+
+
+def test_a_custom_arm_in_a_scenario_equals_the_same_arm_built_in():
+    d = pvfc.Scenario.preset("fig8_R100").to_dict()
+    d["duration"] = 1.0
+    built_in = pvfc.simulate(pvfc.Scenario.from_dict(d))
+    d["plant"]["arm"] = {"parameters": pvfc.Scara.direct_drive().parameters()}
+    custom = pvfc.simulate(pvfc.Scenario.from_dict(d))
+    np.testing.assert_array_equal(custom.q, built_in.q)
+    d["plant"]["arm"]["parameters"]["m2"] = -1.0
+    with pytest.raises(pvfc.ScenarioError, match="m2"):
+        pvfc.Scenario.from_dict(d)

@@ -34,6 +34,30 @@ pub enum ArmSpec {
     Pelican,
     /// An arm read from a URDF file (relative paths are relative to the scenario file).
     Urdf(PathBuf),
+    /// An arm given by its parameters.
+    Parameters(ArmParameters),
+}
+
+/// The physical parameters of a two-link arm (SI units), as in a scenario file.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArmParameters {
+    /// Mass of link 1 (kg).
+    pub m1: f64,
+    /// Mass of link 2 (kg).
+    pub m2: f64,
+    /// Length of link 1 (m).
+    pub l1: f64,
+    /// Length of link 2 (m).
+    pub l2: f64,
+    /// Joint 1 to the centre of mass of link 1 (m).
+    pub lc1: f64,
+    /// Joint 2 to the centre of mass of link 2 (m).
+    pub lc2: f64,
+    /// Inertia of link 1 about its centre of mass (kg·m²).
+    pub i1: f64,
+    /// Inertia of link 2 about its centre of mass (kg·m²).
+    pub i2: f64,
 }
 
 /// The plant: the arm and its joint friction.
@@ -334,6 +358,16 @@ impl Scenario {
             ArmSpec::DirectDrive => direct_drive_arm(),
             ArmSpec::Pelican => ScaraParameters::pelican(),
             ArmSpec::Urdf(p) => crate::urdf::scara_from_urdf(&self.base_dir.join(p))?,
+            ArmSpec::Parameters(a) => ScaraParameters {
+                m1: a.m1,
+                m2: a.m2,
+                l1: a.l1,
+                l2: a.l2,
+                lc1: a.lc1,
+                lc2: a.lc2,
+                i1: a.i1,
+                i2: a.i2,
+            },
         })
     }
 
