@@ -356,27 +356,39 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
     })?;
     files.push(p);
 
-    let p = dir.join("fig8_pacing_compensated.png");
-    let names: Vec<_> = [0.0, 100.0, 200.0]
-        .iter()
-        .map(|r| (format!("fig8_R{r}"), format!("R = {r}")))
-        .collect();
-    pass_figure(runs, &p, "Fig. 8 (friction compensation)", &names)?;
-    files.push(p);
-    let p = dir.join("fig9_pacing_uncompensated.png");
-    let names: Vec<_> = [0.0, 50.0, 100.0, 200.0]
-        .iter()
-        .map(|r| (format!("fig9_R{r}"), format!("R = {r}")))
-        .collect();
-    pass_figure(runs, &p, "Fig. 9 (no compensation)", &names)?;
-    files.push(p);
-    let p = dir.join("fig10_nominal_speed.png");
-    let names: Vec<_> = [1.0, 2.0, 3.0]
-        .iter()
-        .map(|r| (format!("fig10_r{r}"), format!("r = {r}")))
-        .collect();
-    pass_figure(runs, &p, "Fig. 10 (nominal speed, no compensation)", &names)?;
-    files.push(p);
+    // Figs. 8–10: file, title, run-name prefix, label prefix, parameter values.
+    let pass_figures: [(&str, &str, &str, &str, &[f64]); 3] = [
+        (
+            "fig8_pacing_compensated.png",
+            "Fig. 8 (friction compensation)",
+            "fig8_R",
+            "R",
+            &[0.0, 100.0, 200.0],
+        ),
+        (
+            "fig9_pacing_uncompensated.png",
+            "Fig. 9 (no compensation)",
+            "fig9_R",
+            "R",
+            &[0.0, 50.0, 100.0, 200.0],
+        ),
+        (
+            "fig10_nominal_speed.png",
+            "Fig. 10 (nominal speed, no compensation)",
+            "fig10_r",
+            "r",
+            &[1.0, 2.0, 3.0],
+        ),
+    ];
+    for (file, title, prefix, symbol, values) in pass_figures {
+        let p = dir.join(file);
+        let names: Vec<_> = values
+            .iter()
+            .map(|v| (format!("{prefix}{v}"), format!("{symbol} = {v}")))
+            .collect();
+        pass_figure(runs, &p, title, &names)?;
+        files.push(p);
+    }
 
     let p = dir.join("fig1_pvfc_vs_timed.png");
     let (s1, pv) = runs
