@@ -227,22 +227,34 @@ where
         let before = self.state;
         let tau_dot = before.tau_dot + total.tau * dt;
         let mut tau = before.tau + tau_dot * dt;
+        let flywheel_speed =
+            before.flywheel_speed + total.flywheel * dt * self.law.flywheel().inverse_inertia();
+        let overflow = Error::new(
+            ErrorKind::NonFinite,
+            "Controller::step: the internal states overflowed (is dt far too large?)",
+        );
+        if !(tau.is_finite() && tau_dot.is_finite() && flywheel_speed.is_finite()) {
+            return Err(overflow);
+        }
         let mut laps = before.laps;
         if let Some(period) = self.law.field().period() {
-            while tau >= period {
-                tau -= period;
-                laps += 1;
+            // One floor division (a loop of subtractions would never end for a huge τ).
+            let k = (tau / period).floor();
+            let whole = nalgebra::try_convert::<T, f64>(k).unwrap_or(f64::NAN);
+            if whole.is_nan() || whole.abs() >= 1e15 {
+                return Err(overflow);
             }
-            while tau < T::zero() {
-                tau += period;
-                laps -= 1;
+            tau -= k * period;
+            if tau >= period || tau < T::zero() {
+                // Rounding at the boundary of a period.
+                tau = T::zero();
             }
+            laps = laps.saturating_add(whole as i64);
         }
         self.state = InternalState {
             tau,
             tau_dot,
-            flywheel_speed: before.flywheel_speed
-                + total.flywheel * dt * self.law.flywheel().inverse_inertia(),
+            flywheel_speed,
             laps,
         };
         Ok(StepOutput {

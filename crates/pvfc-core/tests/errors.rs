@@ -218,3 +218,29 @@ fn starting_at_rest_gives_unit_beta_and_starts_moving() {
         .unwrap();
     assert_eq!(out.torque.norm(), 0.0);
 }
+
+#[test]
+fn a_huge_dt_is_an_error_not_a_hang() {
+    // A fuzzer found this: a huge dt made τ ~ 1e300, where wrapping by subtracting the period
+    // never ends. Now it is a NonFinite error and the state is kept.
+    let mut ctl = Controller::new(law(50.0)).starting_at_rest(0.0);
+    let before = *ctl.state();
+    for dt in [1e300, 1e200, 1e30] {
+        let r = ctl.step(
+            &Torus::new(Vector2::new(0.0, 1.5)),
+            &Vector2::new(0.5, 0.5),
+            dt,
+        );
+        assert_eq!(r.unwrap_err().kind(), ErrorKind::NonFinite, "dt = {dt}");
+        assert_eq!(*ctl.state(), before);
+    }
+    // A large but representable step still wraps τ into [0, 6) and counts the laps.
+    let out = ctl.step(
+        &Torus::new(Vector2::new(0.0, 1.5)),
+        &Vector2::new(0.5, 0.5),
+        10.0,
+    );
+    assert!(out.is_ok());
+    let s = ctl.state();
+    assert!((0.0..6.0).contains(&s.tau), "τ = {}", s.tau);
+}

@@ -1,8 +1,16 @@
+import os
 import pathlib
 import shutil
 import subprocess
 
 import pytest
+from hypothesis import settings
+
+# In CI the property tests are derandomized (the same cases every run, so a run's outcome
+# depends on the code only); locally they explore new random cases each time.
+settings.register_profile("ci", derandomize=True)
+if os.environ.get("CI"):
+    settings.load_profile("ci")
 
 REPO = pathlib.Path(__file__).resolve().parents[3]
 

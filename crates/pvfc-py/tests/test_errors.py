@@ -138,3 +138,12 @@ def test_fuzzed_inputs_raise_only_documented_exceptions(q, v, dt):
     except (ValueError, TypeError, pvfc.PvfcError):
         return
     assert out.shape == (2,) and np.all(np.isfinite(out))
+
+
+def test_huge_dt_is_an_error_not_a_hang():
+    # Found by the fuzz test above: τ ~ 1e300 made the period wrap loop endless.
+    c = pvfc.Controller(pvfc.Scenario.preset("fig9_R100"))
+    before = c.state
+    with pytest.raises(pvfc.NonFiniteError, match="dt"):
+        c.step([0.0, 1.5], [0.5, 0.5], 1e300)
+    assert c.state == before
