@@ -107,7 +107,7 @@ fn reproduce(out: &Path, logs: bool) -> Result<(), SimError> {
     for c in &claims {
         println!(
             "[{}] {:<20} {}",
-            if c.holds { " ok " } else { "FAIL" },
+            if c.holds { "holds" } else { "does not hold" },
             c.id,
             c.measured
         );
