@@ -38,6 +38,21 @@ pub enum ArmSpec {
     Parameters(ArmParameters),
 }
 
+impl From<ArmParameters> for ScaraParameters<f64> {
+    fn from(a: ArmParameters) -> Self {
+        ScaraParameters {
+            m1: a.m1,
+            m2: a.m2,
+            l1: a.l1,
+            l2: a.l2,
+            lc1: a.lc1,
+            lc2: a.lc2,
+            i1: a.i1,
+            i2: a.i2,
+        }
+    }
+}
+
 /// The physical parameters of a two-link arm (SI units), as in a scenario file.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -358,16 +373,7 @@ impl Scenario {
             ArmSpec::DirectDrive => direct_drive_arm(),
             ArmSpec::Pelican => ScaraParameters::pelican(),
             ArmSpec::Urdf(p) => crate::urdf::scara_from_urdf(&self.base_dir.join(p))?,
-            ArmSpec::Parameters(a) => ScaraParameters {
-                m1: a.m1,
-                m2: a.m2,
-                l1: a.l1,
-                l2: a.l2,
-                lc1: a.lc1,
-                lc2: a.lc2,
-                i1: a.i1,
-                i2: a.i2,
-            },
+            ArmSpec::Parameters(a) => (*a).into(),
         })
     }
 

@@ -41,6 +41,26 @@ pub struct Trace {
 }
 
 impl Trace {
+    /// An empty trace named `name`, with room for `n` samples (no reallocation in the run).
+    fn with_capacity(name: String, n: usize) -> Self {
+        Trace {
+            name,
+            t: Vec::with_capacity(n),
+            q: Vec::with_capacity(n),
+            v: Vec::with_capacity(n),
+            tau: Vec::with_capacity(n),
+            tau_dot: Vec::with_capacity(n),
+            flywheel_speed: Vec::with_capacity(n),
+            beta: Vec::with_capacity(n),
+            potential: Vec::with_capacity(n),
+            lambda1: Vec::with_capacity(n),
+            lambda2: Vec::with_capacity(n),
+            torque: Vec::with_capacity(n),
+            energy: Vec::with_capacity(n),
+            friction_power: Vec::with_capacity(n),
+        }
+    }
+
     fn push(&mut self, row: Row) {
         self.t.push(row.t);
         self.q.push(row.q);
@@ -135,10 +155,7 @@ fn simulate_sampled(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace
     let mf = s.controller.flywheel_inertia;
     let mut q = Torus::new(Vector2::from(s.initial.q));
     let mut v = Vector2::from(s.initial.v);
-    let mut trace = Trace {
-        name: s.name.clone(),
-        ..Trace::default()
-    };
+    let mut trace = Trace::with_capacity(s.name.clone(), n + 1);
     for k in 0..=n {
         let out = ctl.step(&q, &v, dt)?;
         let st = out.state;
@@ -190,10 +207,7 @@ fn simulate_continuous(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Tr
         flywheel_speed: i.flywheel_speed,
     };
     let force = |a: &AugmentedState<f64, Torus<f64, 2>, 2>| friction.torque(&a.v);
-    let mut trace = Trace {
-        name: s.name.clone(),
-        ..Trace::default()
-    };
+    let mut trace = Trace::with_capacity(s.name.clone(), n + 1);
     for k in 0..=n {
         let ev = sys.evaluate(&st, &force(&st))?;
         let c = &ev.coupling;
@@ -253,10 +267,7 @@ pub fn simulate_timed(
     let (kp, kd) = (Vector2::from(b.kp), Vector2::from(b.kd));
     let mut q = Torus::new(Vector2::from(s.initial.q));
     let mut v = Vector2::from(s.initial.v);
-    let mut trace = Trace {
-        name: format!("{}-timed", s.name),
-        ..Trace::default()
-    };
+    let mut trace = Trace::with_capacity(format!("{}-timed", s.name), n + 1);
     for k in 0..=n {
         let t = k as f64 * dt;
         let tau = s.initial.tau + tau_rate * t;
