@@ -180,8 +180,7 @@ proptest! {
         // Finite differences need smoothness: the third derivative of a cubic spline jumps at
         // its knots, so the difference quotient is taken inside a segment (continuity at the
         // knots is checked in `bspline_is_c2_at_the_knots`).
-        let pts = [(0.0, 0.0), (0.8, 0.3), (0.5, 1.2), (-0.4, 0.9), (-0.6, -0.2)]
-            .map(|(a, b)| Torus::<f64, 2>::new(Vector2::new(a, b)));
+        let pts = common::setups::waypoints::<f64>();
         let spline = PeriodicBSpline::through(pts, 1.3).unwrap();
         let r = contour_derivatives::<Torus<f64, 2>, _, 2>(&spline, (k as f64 + u) * 1.3);
         prop_assert!(r.is_ok(), "{}", r.unwrap_err());
@@ -216,14 +215,7 @@ fn paper_lissajous_is_the_published_curve() {
 
 #[test]
 fn interpolating_spline_passes_through_waypoints() {
-    let pts = [
-        (0.0, 0.0),
-        (0.8, 0.3),
-        (0.5, 1.2),
-        (-0.4, 0.9),
-        (-0.6, -0.2),
-    ]
-    .map(|(a, b)| Torus::<f32, 2>::new(Vector2::new(a, b)));
+    let pts = common::setups::waypoints::<f32>();
     let spline = PeriodicBSpline::through(pts, 1.3).unwrap();
     for (k, p) in pts.iter().enumerate() {
         assert!(spline.point(1.3 * k as f32).distance(p) < 1e-5);

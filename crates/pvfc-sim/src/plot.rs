@@ -181,6 +181,13 @@ pub fn figure(
     Ok(())
 }
 
+/// A one-panel figure of paths in joint space (q1, q2).
+fn joint_space_figure(path: &Path, title: &str, series: &[Series]) -> Result<()> {
+    figure(path, 1, |_, a| {
+        panel(a, path, title, "q1 [rad]", "q2 [rad]", series, false)
+    })
+}
+
 fn desired(runs: &Runs, name: &str) -> Result<Series> {
     let (s, _) = runs
         .runs
@@ -343,17 +350,7 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
             reference: false,
         });
     }
-    figure(&p, 1, |_, a| {
-        panel(
-            a,
-            &p,
-            "Fig. 7: approach from (0, 0), first 4 s",
-            "q1 [rad]",
-            "q2 [rad]",
-            &traced,
-            false,
-        )
-    })?;
+    joint_space_figure(&p, "Fig. 7: approach from (0, 0), first 4 s", &traced)?;
     files.push(p);
 
     // Figs. 8–10: file, title, run-name prefix, label prefix, parameter values.
@@ -414,17 +411,11 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
             reference: false,
         },
     ];
-    figure(&p, 1, |_, a| {
-        panel(
-            a,
-            &p,
-            "Fig. 1: PVFC versus a timed tracker, same friction and mean speed (last 12 s)",
-            "q1 [rad]",
-            "q2 [rad]",
-            &traced,
-            false,
-        )
-    })?;
+    joint_space_figure(
+        &p,
+        "Fig. 1: PVFC versus a timed tracker, same friction and mean speed (last 12 s)",
+        &traced,
+    )?;
     files.push(p);
 
     let p = dir.join("energy_sampled_vs_continuous.png");

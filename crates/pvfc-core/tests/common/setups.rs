@@ -53,16 +53,21 @@ pub type ScaraSpline<T> = PvfcLaw<
     2,
 >;
 
-/// SCARA on a waypoint spline, with the *left* error and eq. (28)'s convention.
-pub fn scara_spline<T: Real>(p: Params) -> ScaraSpline<T> {
-    let pts = [
+/// The waypoints of the test splines on T², one every spacing in τ.
+pub fn waypoints<T: Real>() -> [Torus<T, 2>; 5] {
+    [
         (0.0, 0.0),
         (0.8, 0.3),
         (0.5, 1.2),
         (-0.4, 0.9),
         (-0.6, -0.2),
     ]
-    .map(|(a, b)| Torus::new(Vector2::new(cast(a), cast(b))));
+    .map(|(a, b)| Torus::new(Vector2::new(cast(a), cast(b))))
+}
+
+/// SCARA on a waypoint spline, with the *left* error and eq. (28)'s convention.
+pub fn scara_spline<T: Real>(p: Params) -> ScaraSpline<T> {
+    let pts = waypoints::<T>();
     let field = SuspendedField::new(
         PeriodicBSpline::through(pts, cast(1.3)).unwrap(),
         TorusNavigation::new(vec([p.h[0], p.h[1]]), TorusConvention::Sum).unwrap(),
