@@ -8,6 +8,10 @@ use pvfc_core::lie::{LieGroup, Tangent};
 use pvfc_core::mechanics::MechanicalSystem;
 use pvfc_core::{Real, Result};
 
+/// The weights of the classical RK4 stages `k1..k4`: a quantity `∫ p dt` integrated along
+/// [`ClosedLoop::rk4_with_stages`] is `dt · Σ RK4_WEIGHTS[i] · p(s_i)`.
+pub const RK4_WEIGHTS: [f64; 4] = [1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0];
+
 /// The time derivative of an [`AugmentedState`]: body velocity of `q`, and the rates of the
 /// vector-valued states.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -145,6 +149,26 @@ where
         dt: T,
         force: impl Fn(&AugmentedState<T, G, D>) -> Tangent<T, D>,
     ) -> Result<AugmentedState<T, G, D>> {
+        self.rk4_with_stages(s, k1, dt, |_, _, x| self.derivative(x, &force(x)))
+    }
+
+    /// The RKMK4 step with the stage derivatives supplied by `stage(i, c·dt, s_i)` for the
+    /// stages `i = 1, 2, 3` (`k2`, `k3`, `k4`; `c·dt` is the stage's time offset, `dt/2` or
+    /// `dt`), given `k1` at `s`. A caller that also integrates a power along the step (the
+    /// work of a contact force, of friction, of the controller's add-ons) evaluates it at the
+    /// same stage states and sums it with [`RK4_WEIGHTS`]: the work is then integrated to
+    /// the same order as the energy, and an energy audit's residual is integration error.
+    pub fn rk4_with_stages<E>(
+        &self,
+        s: &AugmentedState<T, G, D>,
+        k1: &Derivative<T, D>,
+        dt: T,
+        mut stage: impl FnMut(
+            usize,
+            T,
+            &AugmentedState<T, G, D>,
+        ) -> core::result::Result<Derivative<T, D>, E>,
+    ) -> core::result::Result<AugmentedState<T, G, D>, E> {
         let half: T = pvfc_core::scalar::cast(0.5);
         let sixth: T = pvfc_core::scalar::cast(1.0 / 6.0);
         let twelfth: T = pvfc_core::scalar::cast(1.0 / 12.0);
@@ -163,15 +187,15 @@ where
         let t1 = k1.q; // θ = 0
         let th2 = t1 * (half * dt);
         let s2 = at(&th2, &k1, half);
-        let k2 = self.derivative(&s2, &force(&s2))?;
+        let k2 = stage(1, half * dt, &s2)?;
         let t2 = dexpinv(&th2, &k2.q);
         let th3 = t2 * (half * dt);
         let s3 = at(&th3, &k2, half);
-        let k3 = self.derivative(&s3, &force(&s3))?;
+        let k3 = stage(2, half * dt, &s3)?;
         let t3 = dexpinv(&th3, &k3.q);
         let th4 = t3 * dt;
         let s4 = at(&th4, &k3, T::one());
-        let k4 = self.derivative(&s4, &force(&s4))?;
+        let k4 = stage(3, dt, &s4)?;
         let t4 = dexpinv(&th4, &k4.q);
         let w = dt * sixth;
         let two = T::one() + T::one();

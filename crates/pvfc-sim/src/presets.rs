@@ -51,6 +51,7 @@ fn forced(name: &str, description: &str, r_pacing: f64, compensation: bool, r: f
         initial: InitialSpec::default(),
         simulation: SimulationSpec::default(),
         baseline: None,
+        contact: None,
         base_dir: Default::default(),
     }
 }

@@ -1,5 +1,6 @@
 //! Scenarios: everything one run needs, as data (a TOML file) or built in ([`presets`](crate::presets)).
 
+use crate::contact::ContactSpec;
 use crate::error::{Result, SimError};
 use crate::friction::JointFriction;
 use crate::paper::{PaperController, PaperField};
@@ -292,6 +293,10 @@ pub struct Scenario {
     /// A timed-trajectory baseline to run next to PVFC.
     #[serde(default)]
     pub baseline: Option<BaselineSpec>,
+    /// Contact with the world: obstacles, workpieces, the contact law (needs
+    /// `simulation.mode = "continuous"`).
+    #[serde(default)]
+    pub contact: Option<ContactSpec>,
     /// Directory that relative paths in the scenario are resolved against (not in the file).
     #[serde(skip)]
     pub base_dir: PathBuf,
@@ -361,6 +366,15 @@ impl Scenario {
                 .all(|x| x.is_finite() && *x > 0.0)
             {
                 return bad("baseline gains must be finite and > 0");
+            }
+        }
+        if let Some(c) = &self.contact {
+            c.validate()?;
+            if self.simulation.mode != Mode::Continuous {
+                return bad("a scenario with [contact] needs simulation.mode = \"continuous\"");
+            }
+            if c.force_schedule.is_some() && self.controller.nominal_speed.is_none() {
+                return bad("contact.force_schedule needs controller.nominal_speed (eq. 36)");
             }
         }
         self.controller()?;

@@ -1,8 +1,10 @@
 //! Running a scenario: the sampled-data or continuous PVFC loop, and the timed baseline.
 
+use crate::contact::{ContactForces, Environment, PlanarArm};
 use crate::error::{Result, SimError};
 use crate::friction::JointFriction;
-use crate::integrate::ClosedLoop;
+use crate::integrate::{ClosedLoop, Evaluation, RK4_WEIGHTS};
+use crate::paper::PaperField;
 use crate::scenario::{BaselineSpec, Mode, Scenario};
 use nalgebra::Vector2;
 use pvfc_core::prelude::*;
@@ -38,6 +40,93 @@ pub struct Trace {
     pub energy: Vec<f64>,
     /// Power of the plant's friction on the arm, `F_fᵀq̇ ≤ 0` (W).
     pub friction_power: Vec<f64>,
+    /// The contact columns, for a run with an [`Environment`].
+    pub contact: Option<ContactTrace>,
+}
+
+/// The contact columns of a [`Trace`], and the work of every force on the arm, each
+/// integrated by the RK4 quadrature of the state's own stages (so that
+/// `energy − energy[0] − work_contact − work_friction − work_controller` is integration
+/// error only: [`ContactTrace::audit_residual`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ContactTrace {
+    /// The sum of the Cartesian contact forces on the arm (N).
+    pub force: Vec<[f64; 2]>,
+    /// The sum of the contact normal forces (N): the measured contact force.
+    pub normal_force: Vec<f64>,
+    /// The deepest penetration (m).
+    pub depth: Vec<f64>,
+    /// The environment's joint torques `F_e = Jᵀf` (N·m).
+    pub torque: Vec<[f64; 2]>,
+    /// The tool centre (m).
+    pub tool: Vec<[f64; 2]>,
+    /// `∫ F_eᵀq̇ dt`: the work the environment did on the arm (J); its negative is the
+    /// energy the arm pumped into the contact.
+    pub work_contact: Vec<f64>,
+    /// `∫ F_fᵀq̇ dt`: the work of the plant's joint friction (J, ≤ 0).
+    pub work_friction: Vec<f64>,
+    /// The work of everything in the motor torques that is not the workless PVFC coupling:
+    /// the add-ons (35) and (36) for PVFC, all of `∫ uᵀq̇ dt` for the timed baseline (J).
+    pub work_controller: Vec<f64>,
+    /// The nominal speed `r` of (36) in force (scheduled on the contact force); 0 without.
+    pub nominal_speed: Vec<f64>,
+}
+
+impl ContactTrace {
+    fn with_capacity(n: usize) -> Self {
+        ContactTrace {
+            force: Vec::with_capacity(n),
+            normal_force: Vec::with_capacity(n),
+            depth: Vec::with_capacity(n),
+            torque: Vec::with_capacity(n),
+            tool: Vec::with_capacity(n),
+            work_contact: Vec::with_capacity(n),
+            work_friction: Vec::with_capacity(n),
+            work_controller: Vec::with_capacity(n),
+            nominal_speed: Vec::with_capacity(n),
+        }
+    }
+
+    fn push(&mut self, c: &ContactForces, tool: Vector2<f64>, w: &Work, r: f64) {
+        self.force.push([c.force.x, c.force.y]);
+        self.normal_force.push(c.normal_force);
+        self.depth.push(c.depth);
+        self.torque.push([c.torque.x, c.torque.y]);
+        self.tool.push([tool.x, tool.y]);
+        self.work_contact.push(w.0[0]);
+        self.work_friction.push(w.0[1]);
+        self.work_controller.push(w.0[2]);
+        self.nominal_speed.push(r);
+    }
+
+    /// The energy audit `E(t) − E(0) − W_contact − W_friction − W_controller` at every
+    /// sample, for the trace's `energy` column `E` (`κ_a` for PVFC, the arm's kinetic energy
+    /// for the baseline).
+    pub fn audit_residual(&self, energy: &[f64]) -> Vec<f64> {
+        let e0 = energy.first().copied().unwrap_or(0.0);
+        energy
+            .iter()
+            .zip(&self.work_contact)
+            .zip(&self.work_friction)
+            .zip(&self.work_controller)
+            .map(|(((e, c), f), u)| e - e0 - c - f - u)
+            .collect()
+    }
+}
+
+/// Works `[contact, friction, controller]` accumulated along a run.
+#[derive(Clone, Copy, Debug, Default)]
+struct Work([f64; 3]);
+
+impl Work {
+    /// Adds one RK4 step of length `h` given the powers at its four stages.
+    fn add(&mut self, h: f64, p: &[[f64; 3]; 4]) {
+        for (w, pi) in RK4_WEIGHTS.iter().zip(p) {
+            for (acc, x) in self.0.iter_mut().zip(pi) {
+                *acc += h * w * x;
+            }
+        }
+    }
 }
 
 impl Trace {
@@ -58,6 +147,7 @@ impl Trace {
             torque: Vec::with_capacity(n),
             energy: Vec::with_capacity(n),
             friction_power: Vec::with_capacity(n),
+            contact: None,
         }
     }
 
@@ -104,23 +194,26 @@ struct Row {
     friction_power: f64,
 }
 
-/// One RK4 step of the arm alone under a held motor torque and the friction.
-fn plant_step(
+/// One RK4 step of the arm alone under the generalized force `force(i, c, q, q̇)` at the
+/// stages `i = 0..4` (time offsets `c = 0, h/2, h/2, h`): motor torque, friction, contact.
+fn plant_rk4(
     arm: &Scara<f64>,
-    friction: &JointFriction,
     q: &Torus<f64, 2>,
     v: &Vector2<f64>,
-    u: &Vector2<f64>,
     h: f64,
+    mut force: impl FnMut(usize, f64, &Torus<f64, 2>, &Vector2<f64>) -> Result<Vector2<f64>>,
 ) -> Result<(Torus<f64, 2>, Vector2<f64>)> {
-    let f = |q: &Torus<f64, 2>, v: &Vector2<f64>| arm.acceleration(q, v, &(u + friction.torque(v)));
-    let a1 = f(q, v)?;
+    let mut f = |i: usize, c: f64, q: &Torus<f64, 2>, v: &Vector2<f64>| -> Result<Vector2<f64>> {
+        let u = force(i, c, q, v)?;
+        Ok(arm.acceleration(q, v, &u)?)
+    };
+    let a1 = f(0, 0.0, q, v)?;
     let (q2, v2) = (q.retract(v, 0.5 * h), v + a1 * (0.5 * h));
-    let a2 = f(&q2, &v2)?;
+    let a2 = f(1, 0.5 * h, &q2, &v2)?;
     let (q3, v3) = (q.retract(&v2, 0.5 * h), v + a2 * (0.5 * h));
-    let a3 = f(&q3, &v3)?;
+    let a3 = f(2, 0.5 * h, &q3, &v3)?;
     let (q4, v4) = (q.retract(&v3, h), v + a3 * h);
-    let a4 = f(&q4, &v4)?;
+    let a4 = f(3, h, &q4, &v4)?;
     let qn = q.retract(&((v + v2 * 2.0 + v3 * 2.0 + v4) / 6.0), h);
     let vn = v + (a1 + a2 * 2.0 + a3 * 2.0 + a4) * (h / 6.0);
     Ok((qn, vn))
@@ -138,11 +231,57 @@ fn timing(s: &Scenario) -> Result<(f64, f64, usize)> {
     Ok((dt, dt / s.simulation.plant_substeps as f64, n))
 }
 
-/// Runs the PVFC loop of a scenario. `progress` is called with the fraction done.
+/// Runs the PVFC loop of a scenario (with its `[contact]` world, if it has one). `progress`
+/// is called with the fraction done.
 pub fn simulate(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
+    match (s.simulation.mode, environment(s)?) {
+        (Mode::Sampled, None) => simulate_sampled(s, progress),
+        (Mode::Continuous, None) => simulate_continuous(s, &mut Free, false, progress),
+        (Mode::Continuous, Some(mut env)) => simulate_continuous(s, &mut *env, true, progress),
+        (Mode::Sampled, Some(_)) => Err(contact_needs_continuous()),
+    }
+}
+
+/// Runs the continuous PVFC loop of a scenario against a given environment (one of your
+/// own, or a [`HalfPlane`](crate::contact::HalfPlane)) instead of the scenario's `[contact]`
+/// world. The scenario's force schedule, if any, still applies.
+pub fn simulate_in(
+    s: &Scenario,
+    env: &mut dyn Environment,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
     match s.simulation.mode {
-        Mode::Sampled => simulate_sampled(s, progress),
-        Mode::Continuous => simulate_continuous(s, progress),
+        Mode::Continuous => simulate_continuous(s, env, true, progress),
+        Mode::Sampled => Err(contact_needs_continuous()),
+    }
+}
+
+/// Free space: no contact.
+struct Free;
+
+impl Environment for Free {
+    fn contact(&mut self, _: f64, _: &Torus<f64, 2>, _: &Vector2<f64>) -> Result<ContactForces> {
+        Ok(ContactForces::default())
+    }
+}
+
+fn contact_needs_continuous() -> SimError {
+    SimError::Setting("contact runs need simulation.mode = \"continuous\"".into())
+}
+
+/// The scenario's contact world, if it has a `[contact]` table.
+pub fn environment(s: &Scenario) -> Result<Option<Box<dyn Environment>>> {
+    match &s.contact {
+        None => Ok(None),
+        #[cfg(feature = "contact")]
+        Some(spec) => Ok(Some(Box::new(crate::contact::ContactWorld::new(
+            spec,
+            &s.arm()?,
+        )?))),
+        #[cfg(not(feature = "contact"))]
+        Some(_) => Err(SimError::Setting(
+            "the scenario has a [contact] table, but pvfc-sim was built without its `contact` feature".into(),
+        )),
     }
 }
 
@@ -179,7 +318,9 @@ fn simulate_sampled(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace
             break;
         }
         for _ in 0..s.simulation.plant_substeps {
-            (q, v) = plant_step(&arm, &friction, &q, &v, &out.torque, h)?;
+            (q, v) = plant_rk4(&arm, &q, &v, h, |_, _, _, v| {
+                Ok(out.torque + friction.torque(v))
+            })?;
         }
         if k % 1000 == 0 {
             progress(k as f64 / n as f64);
@@ -189,15 +330,55 @@ fn simulate_sampled(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace
     Ok(trace)
 }
 
-fn simulate_continuous(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
+type PaperLoop = ClosedLoop<f64, Torus<f64, 2>, Scara<f64>, Scara<f64>, PaperField, 2>;
+
+/// One evaluation of the closed loop with its environment, and the powers
+/// `[contact, friction, controller add-ons]` on the augmented system.
+struct Stage {
+    contact: ContactForces,
+    friction: Vector2<f64>,
+    ev: Evaluation<f64, Torus<f64, 2>, 2>,
+    power: [f64; 3],
+}
+
+fn stage(
+    sys: &PaperLoop,
+    env: &mut dyn Environment,
+    friction: &JointFriction,
+    t: f64,
+    st: &AugmentedState<f64, Torus<f64, 2>, 2>,
+) -> Result<Stage> {
+    let contact = env.contact(t, &st.q, &st.v)?;
+    let ff = friction.torque(&st.v);
+    let ev = sys.evaluate(st, &(contact.torque + ff))?;
+    let addon = ev.torque - ev.coupling.torque;
+    let controller =
+        addon.robot.dot(&st.v) + addon.tau * st.tau_dot + addon.flywheel * st.flywheel_speed;
+    Ok(Stage {
+        power: [contact.torque.dot(&st.v), ff.dot(&st.v), controller],
+        contact,
+        friction: ff,
+        ev,
+    })
+}
+
+fn simulate_continuous(
+    s: &Scenario,
+    env: &mut dyn Environment,
+    with_contact: bool,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
     let ctl = s.controller()?;
     let arm = Scara::new(s.arm()?)?;
+    let kin = PlanarArm::from(&s.arm()?);
     let friction = s.plant.friction;
     let (dt, h, n) = timing(s)?;
-    let sys = ClosedLoop {
+    let mut sys = ClosedLoop {
         plant: arm,
         controller: ctl,
     };
+    let schedule = s.contact.as_ref().and_then(|c| c.force_schedule);
+    let r0 = s.controller.nominal_speed.map(|n| n.r);
     let i = ctl.state();
     let mut st = AugmentedState {
         q: Torus::new(Vector2::from(s.initial.q)),
@@ -206,13 +387,21 @@ fn simulate_continuous(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Tr
         tau_dot: i.tau_dot,
         flywheel_speed: i.flywheel_speed,
     };
-    let force = |a: &AugmentedState<f64, Torus<f64, 2>, 2>| friction.torque(&a.v);
     let mut trace = Trace::with_capacity(s.name.clone(), n + 1);
+    let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1));
+    let mut work = Work::default();
     for k in 0..=n {
-        let ev = sys.evaluate(&st, &force(&st))?;
-        let c = &ev.coupling;
+        let t = k as f64 * dt;
+        let mut first = stage(&sys, env, &friction, t, &st)?;
+        if let (Some(sch), Some(r0)) = (schedule, r0) {
+            if let Some(ns) = sys.controller.nominal_speed_mut() {
+                ns.set_speed(sch.speed(r0, first.contact.normal_force))?;
+                first = stage(&sys, env, &friction, t, &st)?;
+            }
+        }
+        let c = &first.ev.coupling;
         trace.push(Row {
-            t: k as f64 * dt,
+            t,
             q: [st.q.angles()[0], st.q.angles()[1]],
             v: [st.v[0], st.v[1]],
             tau: st.tau,
@@ -222,21 +411,38 @@ fn simulate_continuous(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Tr
             potential: c.field.potential,
             lambda1: c.field.lambda1,
             lambda2: c.field.lambda2,
-            torque: [ev.torque.robot[0], ev.torque.robot[1]],
+            torque: [first.ev.torque.robot[0], first.ev.torque.robot[1]],
             energy: sys.kinetic_energy(&st),
-            friction_power: force(&st).dot(&st.v),
+            friction_power: first.friction.dot(&st.v),
         });
+        if let Some(ct) = contact.as_mut() {
+            let r = sys
+                .controller
+                .nominal_speed_mut()
+                .map_or(0.0, |n| n.speed());
+            ct.push(&first.contact, kin.tip(&st.q), &work, r);
+        }
         if k == n {
             break;
         }
-        st = sys.rk4_from(&st, &ev.derivative, h, force)?;
-        for _ in 1..s.simulation.plant_substeps {
-            st = sys.rk4_step_with(&st, h, force)?;
+        for j in 0..s.simulation.plant_substeps {
+            let t0 = t + j as f64 * h;
+            if j > 0 {
+                first = stage(&sys, env, &friction, t0, &st)?;
+            }
+            let mut p = [first.power; 4];
+            st = sys.rk4_with_stages(&st, &first.ev.derivative, h, |i, c, x| {
+                let e = stage(&sys, env, &friction, t0 + c, x)?;
+                p[i] = e.power;
+                Ok::<_, SimError>(e.ev.derivative)
+            })?;
+            work.add(h, &p);
         }
         if k % 1000 == 0 {
             progress(k as f64 / n as f64);
         }
     }
+    trace.contact = contact;
     progress(1.0);
     Ok(trace)
 }
@@ -245,12 +451,34 @@ fn simulate_continuous(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Tr
 /// `τ(t) = τ₀ + rate·t`, on the same plant and friction (and the same friction compensation
 /// as the scenario's controller, if any):
 /// `T = M(q)(ẍ_d + K_d(ẋ_d − q̇) + K_p(x_d − q)) + C(q, q̇) q̇`.
+///
+/// With a `[contact]` table, the baseline runs against the same contact world, and its trace
+/// has the contact columns.
 pub fn simulate_timed(
     s: &Scenario,
     b: &BaselineSpec,
     tau_rate: f64,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
+    match environment(s)? {
+        Some(mut env) => simulate_timed_in(s, b, tau_rate, Some(&mut *env), progress),
+        None => simulate_timed_in(s, b, tau_rate, None, progress),
+    }
+}
+
+/// [`simulate_timed`] against a given environment (or none).
+pub fn simulate_timed_in(
+    s: &Scenario,
+    b: &BaselineSpec,
+    tau_rate: f64,
+    env: Option<&mut dyn Environment>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
+    let with_contact = env.is_some();
+    let env: &mut dyn Environment = match env {
+        Some(e) => e,
+        None => &mut Free,
+    };
     if !tau_rate.is_finite() {
         return Err(SimError::Setting("baseline: τ rate must be finite".into()));
     }
@@ -267,7 +495,10 @@ pub fn simulate_timed(
     let (kp, kd) = (Vector2::from(b.kp), Vector2::from(b.kd));
     let mut q = Torus::new(Vector2::from(s.initial.q));
     let mut v = Vector2::from(s.initial.v);
+    let kin = PlanarArm::from(&s.arm()?);
     let mut trace = Trace::with_capacity(format!("{}-timed", s.name), n + 1);
+    let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1));
+    let mut work = Work::default();
     for k in 0..=n {
         let t = k as f64 * dt;
         let tau = s.initial.tau + tau_rate * t;
@@ -295,16 +526,28 @@ pub fn simulate_timed(
             energy: arm.kinetic_energy(&q, &v),
             friction_power: friction.torque(&v).dot(&v),
         });
+        if let Some(ct) = contact.as_mut() {
+            ct.push(&env.contact(t, &q, &v)?, kin.tip(&q), &work, 0.0);
+        }
         if k == n {
             break;
         }
-        for _ in 0..s.simulation.plant_substeps {
-            (q, v) = plant_step(&arm, &friction, &q, &v, &u, h)?;
+        for j in 0..s.simulation.plant_substeps {
+            let t0 = t + j as f64 * h;
+            let mut p = [[0.0; 3]; 4];
+            (q, v) = plant_rk4(&arm, &q, &v, h, |i, c, q, v| {
+                let ff = friction.torque(v);
+                let fc = env.contact(t0 + c, q, v)?.torque;
+                p[i] = [fc.dot(v), ff.dot(v), u.dot(v)];
+                Ok(u + ff + fc)
+            })?;
+            work.add(h, &p);
         }
         if k % 1000 == 0 {
             progress(k as f64 / n as f64);
         }
     }
+    trace.contact = contact;
     progress(1.0);
     Ok(trace)
 }
