@@ -12,6 +12,7 @@
 //!   `Ē = 2000` for the forced runs (Figs. 1, 7–10): with `c = 0.01` the nominal-speed term
 //!   (36) injects at most `c·2Ē·β(r − β)` W, which must cover the friction losses (~5 W).
 
+use crate::contact::{ContactLaw, ContactSpec, ForceSchedule, Keyframe, ObstacleSpec, ShapeSpec};
 use crate::friction::JointFriction;
 use crate::scenario::*;
 
@@ -171,4 +172,188 @@ pub fn all() -> Vec<Scenario> {
     v.push(energy_check(Mode::Continuous));
     v.push(energy_check(Mode::Sampled));
     v
+}
+
+/// The controller and plant of the contact scenarios: Fig. 6's energy (`Ē = 50`, `γ = 1`,
+/// flywheel at 10 rad/s, so `β = 1`), self-pacing `R = 5` (with `R = 100` the robot waits at
+/// a wall that sits on the contour, `λ₁ = e^{−RU}` ≈ 0, and does not resume), a frictionless arm (the contact is then the
+/// only power port, and passivity is seen undiluted), the continuous loop with RK4 at 10 kHz
+/// (contact stiffness up to 2·10⁵ N/m), and a timed tracker (computed torque + PD at
+/// `ω_n = 20 rad/s`) as the baseline.
+fn contact_base(name: &str, description: &str, contact: ContactSpec) -> Scenario {
+    let mut s = fig6();
+    s.name = name.into();
+    s.description = description.into();
+    s.duration = 15.0;
+    s.plant.friction = JointFriction::default();
+    s.controller.self_pacing = 5.0;
+    s.simulation.mode = Mode::Continuous;
+    s.simulation.plant_substeps = 10;
+    s.baseline = Some(BaselineSpec {
+        kp: [400.0, 400.0],
+        kd: [40.0, 40.0],
+        tau_rate: Some(1.0),
+    });
+    s.contact = Some(contact);
+    s
+}
+
+fn obstacle(name: &str, shape: ShapeSpec, position: [f64; 2]) -> ObstacleSpec {
+    ObstacleSpec {
+        name: name.into(),
+        shape,
+        position,
+        angle: 0.0,
+        law: None,
+        motion: vec![],
+    }
+}
+
+/// Contact 1: a rigid wall (`k = 2·10⁵ N/m`) across the contour at `x = 0.68 m`; the tool
+/// reaches `x = 0.75 m` twice per pass. The robot presses, slides along it, and resumes when
+/// the contour leaves the wall.
+pub fn contact_wall() -> Scenario {
+    contact_base(
+        "contact_wall",
+        "Contact 1: a rigid wall across the contour; press, slide, resume",
+        ContactSpec {
+            link_radius: [0.04, 0.03],
+            tool_radius: 0.015,
+            law: ContactLaw {
+                stiffness: 2.0e5,
+                damping: 1.0,
+                friction: 0.2,
+                slip_velocity: 0.01,
+            },
+            obstacles: vec![obstacle(
+                "wall",
+                ShapeSpec::Box {
+                    half_extents: [0.05, 0.6],
+                },
+                [0.73, 0.0],
+            )],
+            force_schedule: None,
+        },
+    )
+}
+
+/// Contact 2: deburring. A compliant workpiece (`k = 5·10³ N/m`) whose lower edge at
+/// `y = 0.63 m` the contour runs up to 4 cm beyond, for about a sixth of each pass; the plant
+/// has the presets' friction, with the paper's compensation (35) and nominal speed (36), `r`
+/// scheduled on the contact force (onset 15 N, limit 40 N, down to 5 % of `r₀`).
+pub fn contact_deburr() -> Scenario {
+    let mut s = contact_base(
+        "contact_deburr",
+        "Contact 2: deburring a compliant edge, nominal speed scheduled on the contact force",
+        ContactSpec {
+            link_radius: [0.04, 0.03],
+            tool_radius: 0.015,
+            law: ContactLaw::default(),
+            obstacles: vec![ObstacleSpec {
+                law: Some(ContactLaw {
+                    stiffness: 5.0e3,
+                    damping: 1.0,
+                    friction: 0.3,
+                    slip_velocity: 0.01,
+                }),
+                ..obstacle(
+                    "workpiece",
+                    ShapeSpec::Box {
+                        half_extents: [0.25, 0.1],
+                    },
+                    [0.15, 0.745],
+                )
+            }],
+            force_schedule: Some(ForceSchedule {
+                onset: 10.0,
+                limit: 60.0,
+                min_fraction: 0.05,
+            }),
+        },
+    );
+    s.duration = 20.0;
+    s.plant.friction = plant_friction();
+    s.controller.friction_compensation = Some(PAPER_COMPENSATION);
+    s.controller.nominal_speed = Some(NominalSpeedSpec { c: 5.0, r: 1.0 });
+    s
+}
+
+/// Contact 3: a push. A disc (radius 5 cm) sweeps in at up to 1.5 m/s, strikes the forearm
+/// during following (`t ≈ 2.5 s`), and withdraws; the robot recovers.
+pub fn contact_push() -> Scenario {
+    contact_base(
+        "contact_push",
+        "Contact 3: a moving body strikes the forearm during following; recovery",
+        ContactSpec {
+            link_radius: [0.04, 0.03],
+            tool_radius: 0.015,
+            law: ContactLaw::default(),
+            obstacles: vec![ObstacleSpec {
+                motion: vec![
+                    Keyframe {
+                        t: 2.3,
+                        offset: [0.0, 0.0],
+                    },
+                    Keyframe {
+                        t: 2.8,
+                        offset: [0.5, 0.0],
+                    },
+                    Keyframe {
+                        t: 3.5,
+                        offset: [0.0, 0.0],
+                    },
+                ],
+                ..obstacle("pusher", ShapeSpec::Ball { radius: 0.05 }, [-0.2, -0.45])
+            }],
+            force_schedule: None,
+        },
+    )
+}
+
+/// Contact 4: a block in the way (`x ≥ 0.68 m`, as the wall) stops the robot at `t ≈ 1.4 s`;
+/// with the paper's self-pacing `R = 100` the robot waits there (`λ₁ = e^{−RU}` ≈ 0) instead of
+/// skipping the blocked part of the contour. At `t = 5 s` the block is taken away (0.5 m in
+/// 0.5 s) and the robot returns to the contour where it left it.
+pub fn contact_obstacle() -> Scenario {
+    let mut s = contact_base(
+        "contact_obstacle",
+        "Contact 4: collision with an obstacle, then release",
+        ContactSpec {
+            link_radius: [0.04, 0.03],
+            tool_radius: 0.015,
+            law: ContactLaw::default(),
+            obstacles: vec![ObstacleSpec {
+                motion: vec![
+                    Keyframe {
+                        t: 5.0,
+                        offset: [0.0, 0.0],
+                    },
+                    Keyframe {
+                        t: 5.5,
+                        offset: [0.5, 0.0],
+                    },
+                ],
+                ..obstacle(
+                    "block",
+                    ShapeSpec::Box {
+                        half_extents: [0.05, 0.6],
+                    },
+                    [0.73, 0.0],
+                )
+            }],
+            force_schedule: None,
+        },
+    );
+    s.controller.self_pacing = 100.0;
+    s
+}
+
+/// The contact scenarios, in the order `pvfc reproduce` runs them.
+pub fn contact() -> Vec<Scenario> {
+    vec![
+        contact_wall(),
+        contact_deburr(),
+        contact_push(),
+        contact_obstacle(),
+    ]
 }

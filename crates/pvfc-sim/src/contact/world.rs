@@ -14,8 +14,8 @@ use rapier2d_f64::prelude::{
     Pose, RigidBodySet, Vector,
 };
 
-/// The contact layer on Rapier (2-D, f64). The arm's two links are capsules and the tool is
-/// a disc at the end effector; they are parentless colliders placed from `q` at every call,
+/// The contact layer on Rapier (2-D, f64). The arm's two links are capsules (link 2's ends
+/// at the tool's centre) and the tool is a disc at the end effector; they are parentless colliders placed from `q` at every call,
 /// and the obstacles are colliders placed from their keyframed motion at `t`. Rapier's
 /// collision pipeline (broad phase + narrow phase, no dynamics) finds the contact manifolds
 /// between the arm and the world; every contact point with penetration gives a force by the
@@ -71,8 +71,9 @@ impl ContactWorld {
                 .collision_groups(robot_groups)
                 .build()
         };
+        // Link 2's capsule ends at the tool's centre; the tool disc protrudes beyond it.
         let link1 = colliders.insert(link(arm.l1, r1));
-        let link2 = colliders.insert(link(arm.l2, r2));
+        let link2 = colliders.insert(link((arm.l2 - r2).max(0.0), r2));
         let tool = colliders.insert(
             ColliderBuilder::ball(spec.tool_radius)
                 .active_collision_types(types)
