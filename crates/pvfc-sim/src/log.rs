@@ -14,6 +14,11 @@ pub const JOINT_STATE_TOPIC: &str = "/joint_state";
 /// `potential`, `lambda1`, `lambda2`, `energy`, `friction_power`.
 pub const CONTROLLER_TOPIC: &str = "/pvfc/controller";
 
+/// Topic of the contact columns (runs with an environment): `force`, `normal_force`,
+/// `depth`, `torque`, `tool`, `work_contact`, `work_friction`, `work_controller`,
+/// `nominal_speed`.
+pub const CONTACT_TOPIC: &str = "/pvfc/contact";
+
 fn mcap_err(e: impl std::fmt::Display) -> SimError {
     SimError::Mcap(e.to_string())
 }
@@ -52,6 +57,22 @@ pub fn write_mcap(trace: &Trace, path: &Path) -> Result<()> {
             ),
         )
         .map_err(mcap_err)?;
+    let contact_schema = match &trace.contact {
+        Some(_) => Some(
+            w.add_schema(
+                "pvfc.Contact",
+                "jsonschema",
+                &schema(
+                    "pvfc.Contact",
+                    json!({"force": vec2, "normal_force": num, "depth": num, "torque": vec2,
+                           "tool": vec2, "work_contact": num, "work_friction": num,
+                           "work_controller": num, "nominal_speed": num}),
+                ),
+            )
+            .map_err(mcap_err)?,
+        ),
+        None => None,
+    };
     let meta = BTreeMap::from([("run".to_string(), trace.name.clone())]);
     let jc = w
         .add_channel(js, JOINT_STATE_TOPIC, "json", &meta)
@@ -59,6 +80,13 @@ pub fn write_mcap(trace: &Trace, path: &Path) -> Result<()> {
     let cc = w
         .add_channel(cs, CONTROLLER_TOPIC, "json", &meta)
         .map_err(mcap_err)?;
+    let kc = match contact_schema {
+        Some(id) => Some(
+            w.add_channel(id, CONTACT_TOPIC, "json", &meta)
+                .map_err(mcap_err)?,
+        ),
+        None => None,
+    };
     for i in 0..trace.len() {
         let time = (trace.t[i] * 1e9).round() as u64;
         let header = |channel_id, sequence| mcap::records::MessageHeader {
@@ -79,6 +107,16 @@ pub fn write_mcap(trace: &Trace, path: &Path) -> Result<()> {
         });
         w.write_to_known_channel(&header(cc, i as u32), ctl.to_string().as_bytes())
             .map_err(mcap_err)?;
+        if let (Some(kc), Some(c)) = (kc, &trace.contact) {
+            let msg = json!({
+                "force": c.force[i], "normal_force": c.normal_force[i], "depth": c.depth[i],
+                "torque": c.torque[i], "tool": c.tool[i], "work_contact": c.work_contact[i],
+                "work_friction": c.work_friction[i], "work_controller": c.work_controller[i],
+                "nominal_speed": c.nominal_speed[i],
+            });
+            w.write_to_known_channel(&header(kc, i as u32), msg.to_string().as_bytes())
+                .map_err(mcap_err)?;
+        }
     }
     w.finish().map_err(mcap_err)?;
     Ok(())

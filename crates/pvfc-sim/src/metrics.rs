@@ -114,3 +114,62 @@ pub fn energy_drift(trace: &Trace) -> f64 {
         .map(|e| (e - e0).abs() / e0)
         .fold(0.0, f64::max)
 }
+
+/// What a run with contact did to the world and to itself.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactSummary {
+    /// The largest measured contact force (sum of normal forces, N).
+    pub peak_force: f64,
+    /// The most energy the arm had put into the contact at any time, `max_t −∫F_eᵀq̇` (J).
+    pub energy_pumped: f64,
+    /// The work the environment did on the arm over the run, `∫F_eᵀq̇` (J).
+    pub work_contact: f64,
+    /// The energy scale of the audit: `κ_a(0)`, or the largest energy of the run if that
+    /// is 0 (the baseline starts at rest).
+    pub energy_scale: f64,
+    /// `max_t |E(t) − E(0) − W_contact − W_friction − W_controller| / energy_scale`.
+    pub audit: f64,
+    /// `min_t (E(0) + W_controller(t) + W_contact(t))`: the passivity bound on what the arm
+    /// can give the world is `−W_contact(t) ≤ E(0) + W_controller(t)` (W_controller = 0 for
+    /// PVFC without add-ons); this is its margin, ≥ 0 when it holds.
+    pub passivity_margin: f64,
+    /// `min_t (E(0) + W_contact(t) + W_controller(t) − E(t))`: the arm's energy never exceeds
+    /// its initial energy plus the work done on it (friction only takes away); ≥ 0 (up to
+    /// the audit's residual) when it holds.
+    pub energy_bound_margin: f64,
+    /// The time of the last sample in contact (s), if any.
+    pub last_contact: Option<f64>,
+}
+
+/// The [`ContactSummary`] of a run with contact columns.
+pub fn contact_summary(trace: &Trace) -> Option<ContactSummary> {
+    let c = trace.contact.as_ref()?;
+    let e0 = *trace.energy.first()?;
+    let scale = if e0 > 0.0 {
+        e0
+    } else {
+        trace
+            .energy
+            .iter()
+            .cloned()
+            .fold(0.0, f64::max)
+            .max(f64::MIN_POSITIVE)
+    };
+    let fold_max = |xs: &mut dyn Iterator<Item = f64>| xs.fold(f64::NEG_INFINITY, f64::max);
+    let fold_min = |xs: &mut dyn Iterator<Item = f64>| xs.fold(f64::INFINITY, f64::min);
+    let n = trace.len();
+    Some(ContactSummary {
+        peak_force: fold_max(&mut c.normal_force.iter().cloned()).max(0.0),
+        energy_pumped: fold_max(&mut c.work_contact.iter().map(|w| -w)).max(0.0),
+        work_contact: *c.work_contact.last()?,
+        energy_scale: scale,
+        audit: fold_max(&mut c.audit_residual(&trace.energy).iter().map(|r| r.abs())) / scale,
+        passivity_margin: fold_min(
+            &mut (0..n).map(|i| e0 + c.work_controller[i] + c.work_contact[i]),
+        ),
+        energy_bound_margin: fold_min(
+            &mut (0..n).map(|i| e0 + c.work_contact[i] + c.work_controller[i] - trace.energy[i]),
+        ),
+        last_contact: (0..n).rev().find(|&i| c.contacts_at(i)).map(|i| trace.t[i]),
+    })
+}

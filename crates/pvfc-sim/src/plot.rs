@@ -1,8 +1,10 @@
 //! PNG figures laid out like the paper's Figs. 1 and 6–10 (plotters, bundled DejaVu font).
 
+use crate::contact::{ObstacleSpec, PlanarArm, ShapeSpec};
 use crate::error::{Result, SimError};
 use crate::metrics::last_pass;
 use crate::report::Runs;
+use crate::simulate::Trace;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -122,13 +124,14 @@ pub fn panel(
                     .filter(|(x, y)| x.is_finite() && y.is_finite() && (!log_y || *y > 0.0));
                 if s.reference {
                     let style = ShapeStyle::from(&RGBColor(120, 120, 120)).stroke_width(1);
-                    chart
+                    let drawn = chart
                         .draw_series(DashedLineSeries::new(pts, 6, 4, style))
-                        .map_err(|e| err(path, e))?
-                        .label(s.label.clone())
-                        .legend(|(x, y)| {
+                        .map_err(|e| err(path, e))?;
+                    if !s.label.is_empty() {
+                        drawn.label(s.label.clone()).legend(|(x, y)| {
                             PathElement::new(vec![(x, y), (x + 18, y)], RGBColor(120, 120, 120))
                         });
+                    }
                 } else {
                     let c = COLORS[k % COLORS.len()];
                     k += 1;
@@ -451,5 +454,191 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
         )
     })?;
     files.push(p);
+    for (name, (_, t)) in &runs.runs {
+        if t.contact.is_some() && !name.ends_with("-timed") {
+            let p = dir.join(format!("{name}.png"));
+            contact_figure(runs, name, &p)?;
+            files.push(p);
+        }
+    }
     Ok(files)
+}
+
+/// The outline of an obstacle at time `t`, as a closed polyline.
+fn outline(o: &ObstacleSpec, t: f64) -> Vec<(f64, f64)> {
+    let (d, _) = o.motion_at(t);
+    let (c, s) = (o.angle.cos(), o.angle.sin());
+    let place = |x: f64, y: f64| {
+        (
+            o.position[0] + d.x + c * x - s * y,
+            o.position[1] + d.y + s * x + c * y,
+        )
+    };
+    let arc = |cx: f64, cy: f64, r: f64, from: f64, to: f64| {
+        (0..=24).map(move |k| {
+            let a = from + (to - from) * k as f64 / 24.0;
+            (cx + r * a.cos(), cy + r * a.sin())
+        })
+    };
+    let pts: Vec<(f64, f64)> = match o.shape {
+        ShapeSpec::Box {
+            half_extents: [hx, hy],
+        } => vec![(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy), (-hx, -hy)],
+        ShapeSpec::Ball { radius } => arc(0.0, 0.0, radius, 0.0, std::f64::consts::TAU).collect(),
+        ShapeSpec::Capsule { a, b, radius } => {
+            let th = (b[1] - a[1]).atan2(b[0] - a[0]);
+            let half = std::f64::consts::FRAC_PI_2;
+            let mut v: Vec<(f64, f64)> = arc(b[0], b[1], radius, th - half, th + half)
+                .chain(arc(a[0], a[1], radius, th + half, th + 3.0 * half))
+                .collect();
+            v.push(v[0]);
+            v
+        }
+    };
+    pts.into_iter().map(|(x, y)| place(x, y)).collect()
+}
+
+/// A contact scenario's figure: the tool's path against the obstacles, the contact force,
+/// the energy and the work of the environment, and the energy audit's residual; PVFC and
+/// (if it ran) the timed baseline.
+pub fn contact_figure(runs: &Runs, name: &str, p: &Path) -> Result<()> {
+    let (s, t) = runs
+        .runs
+        .get(name)
+        .ok_or_else(|| SimError::Setting(format!("run `{name}` is missing")))?;
+    let timed = runs.runs.get(&format!("{name}-timed")).map(|(_, t)| t);
+    let spec = s
+        .contact
+        .as_ref()
+        .ok_or_else(|| SimError::Setting(format!("run `{name}` has no contact")))?;
+    let kin = PlanarArm::from(&s.arm()?);
+    let contour = s.contour()?;
+    let period = s.contour.period;
+    let mut paths = vec![Series {
+        label: "desired contour (tool)".into(),
+        points: (0..=600)
+            .map(|k| {
+                let x = contour.coordinates(period * k as f64 / 600.0)[0];
+                let tip = kin.tip(&pvfc_core::lie::Torus::new(x));
+                (tip.x, tip.y)
+            })
+            .collect(),
+        reference: true,
+    }];
+    let end = t.t.last().copied().unwrap_or(0.0);
+    for (k, o) in spec.obstacles.iter().enumerate() {
+        paths.push(Series {
+            label: if k == 0 {
+                "obstacles".into()
+            } else {
+                String::new()
+            },
+            points: outline(o, 0.0),
+            reference: true,
+        });
+        if !o.motion.is_empty() {
+            paths.push(Series {
+                label: String::new(),
+                points: outline(o, end),
+                reference: true,
+            });
+        }
+    }
+    let runs_drawn: Vec<(&str, &Trace)> = std::iter::once(("PVFC", t))
+        .chain(timed.map(|t| ("timed tracker", t)))
+        .collect();
+    let (mut force, mut energy, mut audit) = (Vec::new(), Vec::new(), Vec::new());
+    for (label, tr) in &runs_drawn {
+        let Some(c) = tr.contact.as_ref() else {
+            continue;
+        };
+        paths.push(Series {
+            label: (*label).into(),
+            points: c.tool.iter().map(|x| (x[0], x[1])).collect(),
+            reference: false,
+        });
+        force.push(Series {
+            label: (*label).into(),
+            points: tr
+                .t
+                .iter()
+                .zip(&c.normal_force)
+                .map(|(a, b)| (*a, *b))
+                .collect(),
+            reference: false,
+        });
+        let e0 = tr.energy[0];
+        let scale = if e0 > 0.0 {
+            e0
+        } else {
+            tr.energy.iter().cloned().fold(f64::MIN_POSITIVE, f64::max)
+        };
+        audit.push(Series {
+            label: format!("{label} (of {scale:.3} J)"),
+            points: tr
+                .t
+                .iter()
+                .zip(c.audit_residual(&tr.energy))
+                .map(|(a, r)| (*a, (r.abs() / scale).max(1e-16)))
+                .collect(),
+            reference: false,
+        });
+        if *label == "PVFC" {
+            energy.push(Series {
+                label: "κ_a (PVFC)".into(),
+                points: tr.t.iter().zip(&tr.energy).map(|(a, b)| (*a, *b)).collect(),
+                reference: false,
+            });
+            energy.push(Series {
+                label: "κ_a(0) + W_add-ons: what it may give".into(),
+                points: tr
+                    .t
+                    .iter()
+                    .zip(&c.work_controller)
+                    .map(|(a, w)| (*a, e0 + w))
+                    .collect(),
+                reference: true,
+            });
+        }
+        energy.push(Series {
+            label: format!("energy pumped into the contact ({label})"),
+            points: tr
+                .t
+                .iter()
+                .zip(&c.work_contact)
+                .map(|(a, w)| (*a, -w))
+                .collect(),
+            reference: false,
+        });
+    }
+    figure(p, 4, |i, a| match i {
+        0 => panel(
+            a,
+            p,
+            &format!("{}: tool path", s.name),
+            "x [m]",
+            "y [m]",
+            &paths,
+            false,
+        ),
+        1 => panel(a, p, "contact force", "t [s]", "Σ f_n [N]", &force, false),
+        2 => panel(
+            a,
+            p,
+            "energy: PVFC never gives more than it has",
+            "t [s]",
+            "[J]",
+            &energy,
+            false,
+        ),
+        _ => panel(
+            a,
+            p,
+            "energy audit residual |κ(t) − κ(0) − ΣW| / scale",
+            "t [s]",
+            "relative",
+            &audit,
+            true,
+        ),
+    })
 }

@@ -171,6 +171,7 @@ pub fn all() -> Vec<Scenario> {
     v.push(fig1());
     v.push(energy_check(Mode::Continuous));
     v.push(energy_check(Mode::Sampled));
+    v.extend(contact());
     v
 }
 
@@ -238,9 +239,12 @@ pub fn contact_wall() -> Scenario {
 }
 
 /// Contact 2: deburring. A compliant workpiece (`k = 5·10³ N/m`) whose lower edge at
-/// `y = 0.63 m` the contour runs up to 4 cm beyond, for about a sixth of each pass; the plant
-/// has the presets' friction, with the paper's compensation (35) and nominal speed (36), `r`
-/// scheduled on the contact force (onset 15 N, limit 40 N, down to 5 % of `r₀`).
+/// `y = 0.645 m` the contour runs up to 2.6 cm beyond, for about 0.5 s of each 6 s pass; the plant
+/// has the presets' friction, with the paper's compensation (35) and nominal speed (36) at
+/// `c = 5 s⁻¹` (eq. 36 gives `β̇ = c(r − β)`, so the paper's `c = 0.01` would take 100 s to
+/// slow the robot), `r` scheduled on the contact force (onset 10 N, limit 60 N, down to 5 %
+/// of `r₀`). The limit sits above the entry transient (≈ 50 N, set by the approach speed and
+/// the edge's stiffness, which a force-triggered schedule cannot act before).
 pub fn contact_deburr() -> Scenario {
     let mut s = contact_base(
         "contact_deburr",
@@ -275,6 +279,18 @@ pub fn contact_deburr() -> Scenario {
     s.plant.friction = plant_friction();
     s.controller.friction_compensation = Some(PAPER_COMPENSATION);
     s.controller.nominal_speed = Some(NominalSpeedSpec { c: 5.0, r: 1.0 });
+    s
+}
+
+/// Contact 2 without the force schedule (`r = 1` throughout), to show what the schedule does.
+pub fn contact_deburr_unscheduled() -> Scenario {
+    let mut s = contact_deburr();
+    s.name = "contact_deburr_unscheduled".into();
+    s.description = "Contact 2 without the force schedule of the nominal speed".into();
+    s.baseline = None;
+    if let Some(c) = s.contact.as_mut() {
+        c.force_schedule = None;
+    }
     s
 }
 
@@ -353,6 +369,7 @@ pub fn contact() -> Vec<Scenario> {
     vec![
         contact_wall(),
         contact_deburr(),
+        contact_deburr_unscheduled(),
         contact_push(),
         contact_obstacle(),
     ]

@@ -99,6 +99,11 @@ impl ContactTrace {
         self.nominal_speed.push(r);
     }
 
+    /// `true` when the arm touches something at sample `i`.
+    pub fn contacts_at(&self, i: usize) -> bool {
+        self.depth.get(i).is_some_and(|d| *d > 0.0)
+    }
+
     /// The energy audit `E(t) − E(0) − W_contact − W_friction − W_controller` at every
     /// sample, for the trace's `energy` column `E` (`κ_a` for PVFC, the arm's kinetic energy
     /// for the baseline).

@@ -135,6 +135,17 @@ fn run(path: &Path, out: &Path) -> Result<(), SimError> {
                 .map(|u| format!("{u:.3e}"))
                 .unwrap_or_else(|| "(no complete pass)".into())
         );
+        if let Some(c) = pvfc_sim::metrics::contact_summary(t) {
+            println!(
+                "{name}: contact: peak force {:.1} N, energy pumped into the contact {:.3} J, work of the environment {:+.3} J, audit residual {:.1e} of {:.3} J",
+                c.peak_force, c.energy_pumped, c.work_contact, c.audit, c.energy_scale
+            );
+        }
+    }
+    if s.contact.is_some() {
+        let p = out.join(format!("{}.png", s.name));
+        plot::contact_figure(&runs, &s.name, &p)?;
+        println!("wrote {}", p.display());
     }
     Ok(())
 }
