@@ -91,9 +91,36 @@ fn the_sampled_loop_energy_change_is_reported_and_small() {
 #[test]
 fn every_claim_is_evaluated_and_the_table_renders() {
     let c = &all_claims().1;
-    assert_eq!(c.len(), 12);
+    assert_eq!(c.len(), 17, "12 claims of section V and 5 of contact");
     let md = pvfc_sim::report::markdown(c);
     assert_eq!(md.lines().count(), 2 + c.len());
     let csv = pvfc_sim::report::csv(c);
     assert_eq!(csv.lines().count(), 1 + c.len());
+}
+
+// Contact (issue 4): the claims of `pvfc reproduce` about the contact scenarios.
+
+#[test]
+fn contact_energy_audit_is_integration_error_only() {
+    assert_holds("contact.audit");
+}
+
+#[test]
+fn contact_pvfc_never_gives_the_world_more_than_it_has() {
+    assert_holds("contact.passivity");
+}
+
+#[test]
+fn contact_timed_baseline_pushes_harder_than_pvfc() {
+    assert_holds("contact.baseline");
+}
+
+#[test]
+fn contact_force_schedule_keeps_the_deburring_force_under_its_limit() {
+    assert_holds("contact.deburr");
+}
+
+#[test]
+fn contact_contour_is_followed_again_after_release() {
+    assert_holds("contact.recovery");
 }
