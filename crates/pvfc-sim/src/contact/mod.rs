@@ -509,3 +509,19 @@ pub(crate) fn check_state(q: &Torus<f64, 2>, v: &Vector2<f64>) -> Result<()> {
         )))
     }
 }
+
+#[cfg(all(test, not(feature = "contact")))]
+mod without_rapier {
+    #[test]
+    fn a_contact_scenario_is_a_clear_error_without_the_feature() {
+        let s = crate::presets::contact_wall();
+        match crate::simulate::simulate(&s, &mut |_| {}) {
+            Err(crate::SimError::Setting(m)) => assert!(m.contains("`contact` feature"), "{m}"),
+            other => panic!("expected a setting error, got {other:?}"),
+        }
+        // The scenarios without contact still run.
+        let mut s = crate::presets::fig6();
+        s.duration = 0.1;
+        assert!(crate::simulate::simulate(&s, &mut |_| {}).is_ok());
+    }
+}

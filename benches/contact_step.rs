@@ -1,0 +1,61 @@
+//! One contact step: an RKMK4 step of the closed loop (Fig. 6's controller, the wall scenario)
+//! with the contact forces from Rapier at every stage — four placements of the colliders and
+//! runs of Rapier's collision pipeline, four evaluations of the contact law and of the control
+//! law — from a state where the tool presses on the wall. Also one contact query alone.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use nalgebra::Vector2;
+use pvfc::core::prelude::*;
+use pvfc::sim::contact::{ContactWorld, Environment};
+use pvfc::sim::presets;
+use pvfc::sim::simulate::simulate;
+use pvfc::sim::ClosedLoop;
+use std::hint::black_box;
+
+fn contact_step(c: &mut Criterion) {
+    let mut s = presets::contact_wall();
+    s.duration = 2.0;
+    s.baseline = None;
+    // A state in contact, from a run: the tool presses on the wall at t = 2 s.
+    let run = simulate(&s, &mut |_| {}).expect("the wall scenario runs");
+    let k = run.len() - 1;
+    assert!(run.contact.as_ref().expect("contact columns").depth[k] > 0.0);
+    let st = AugmentedState {
+        q: Torus::new(Vector2::from(run.q[k])),
+        v: Vector2::from(run.v[k]),
+        tau: run.tau[k],
+        tau_dot: run.tau_dot[k],
+        flywheel_speed: run.flywheel_speed[k],
+    };
+    let arm = s.arm().expect("arm");
+    let sys = ClosedLoop {
+        plant: Scara::new(arm).expect("arm"),
+        controller: s.controller().expect("controller"),
+    };
+    let mut world = ContactWorld::new(s.contact.as_ref().expect("contact"), &arm).expect("world");
+    let h = 1e-4;
+    let mut g = c.benchmark_group("contact");
+    g.bench_function("rk4_step_with_contact", |b| {
+        b.iter(|| {
+            let st = black_box(&st);
+            let f = world.contact(2.0, &st.q, &st.v).expect("finite");
+            let k1 = sys.derivative(st, &f.torque).expect("finite");
+            sys.rk4_with_stages(st, &k1, h, |_, c, x| {
+                let f = world.contact(2.0 + c, &x.q, &x.v)?;
+                Ok::<_, pvfc::sim::SimError>(sys.derivative(x, &f.torque)?)
+            })
+            .expect("finite")
+        })
+    });
+    g.bench_function("contact_query", |b| {
+        b.iter(|| {
+            world
+                .contact(2.0, black_box(&st.q), black_box(&st.v))
+                .expect("finite")
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, contact_step);
+criterion_main!(benches);
