@@ -608,6 +608,53 @@ impl SimulationResult {
         self.period
     }
 
+    /// The contact columns of a run with a `[contact]` world, or None: a dict of fresh
+    /// arrays `force` (n, 2), `normal_force`, `depth`, `torque` (n, 2, `F_e = Jᵀf`), `tool`
+    /// (n, 2), `work_contact` (∫F_eᵀq̇ dt), `work_friction`, `work_controller` (the
+    /// add-ons' work), `nominal_speed`, and `audit_residual` (energy − energy[0] − the works).
+    #[getter]
+    fn contact<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(c) = &self.t.contact else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("force", out_rows(py, &c.force))?;
+        d.set_item("normal_force", out1(py, c.normal_force.clone()))?;
+        d.set_item("depth", out1(py, c.depth.clone()))?;
+        d.set_item("torque", out_rows(py, &c.torque))?;
+        d.set_item("tool", out_rows(py, &c.tool))?;
+        d.set_item("work_contact", out1(py, c.work_contact.clone()))?;
+        d.set_item("work_friction", out1(py, c.work_friction.clone()))?;
+        d.set_item("work_controller", out1(py, c.work_controller.clone()))?;
+        d.set_item("nominal_speed", out1(py, c.nominal_speed.clone()))?;
+        d.set_item("audit_residual", out1(py, c.audit_residual(&self.t.energy)))?;
+        Ok(Some(d))
+    }
+
+    /// For a run with contact, a dict: `peak_force` (N), `energy_pumped` (J, the most the
+    /// arm had put into the contact), `work_contact` (J), `energy_scale` (J), `audit`
+    /// (relative), `passivity_margin` and `energy_bound_margin` (J, ≥ 0 when passivity
+    /// holds), `last_contact` (s or None). None without contact.
+    fn contact_summary<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(c) = pvfc_sim::metrics::contact_summary(&self.t) else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        for (k, v) in [
+            ("peak_force", c.peak_force),
+            ("energy_pumped", c.energy_pumped),
+            ("work_contact", c.work_contact),
+            ("energy_scale", c.energy_scale),
+            ("audit", c.audit),
+            ("passivity_margin", c.passivity_margin),
+            ("energy_bound_margin", c.energy_bound_margin),
+        ] {
+            d.set_item(k, v)?;
+        }
+        d.set_item("last_contact", c.last_contact)?;
+        Ok(Some(d))
+    }
+
     /// The mean of U over the last complete pass of the contour, or None.
     fn mean_potential_over_pass(&self) -> Option<f64> {
         pvfc_sim::metrics::mean_potential_over_pass(&self.t, self.period)

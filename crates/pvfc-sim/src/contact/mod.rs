@@ -511,6 +511,7 @@ pub(crate) fn check_state(q: &Torus<f64, 2>, v: &Vector2<f64>) -> Result<()> {
 }
 
 #[cfg(all(test, not(feature = "contact")))]
+#[allow(clippy::panic)]
 mod without_rapier {
     #[test]
     fn a_contact_scenario_is_a_clear_error_without_the_feature() {
