@@ -54,8 +54,8 @@ def test_bad_contact_settings_raise_scenario_errors():
     with pytest.raises(pvfc.ScenarioError, match="stiffness"):
         pvfc.Scenario.from_dict(d)
     d = pvfc.Scenario.preset("contact_wall").to_dict()
-    d["simulation"]["mode"] = "sampled"
-    with pytest.raises(pvfc.ScenarioError, match="continuous"):
+    d["contact"]["force_schedule"] = {"onset": 1.0, "limit": 5.0, "min_fraction": 0.1}
+    with pytest.raises(pvfc.ScenarioError, match="nominal_speed"):
         pvfc.Scenario.from_dict(d)
     d = pvfc.Scenario.preset("contact_wall").to_dict()
     d["contact"]["obstacles"][0]["shape"] = {"cone": {"radius": 1.0}}

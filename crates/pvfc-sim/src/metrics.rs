@@ -129,6 +129,11 @@ pub struct ContactSummary {
     pub energy_scale: f64,
     /// `max_t |E(t) − E(0) − W_contact − W_friction − W_controller| / energy_scale`.
     pub audit: f64,
+    /// The largest audit residual (J): energy that appeared unaccounted for (> 0 means the
+    /// loop created energy; a sampled-data controller can).
+    pub audit_max: f64,
+    /// The smallest audit residual (J): energy that disappeared unaccounted for.
+    pub audit_min: f64,
     /// `min_t (E(0) + W_controller(t) + W_contact(t))`: the passivity bound on what the arm
     /// can give the world is `−W_contact(t) ≤ E(0) + W_controller(t)` (W_controller = 0 for
     /// PVFC without add-ons); this is its margin, ≥ 0 when it holds.
@@ -158,12 +163,15 @@ pub fn contact_summary(trace: &Trace) -> Option<ContactSummary> {
     let fold_max = |xs: &mut dyn Iterator<Item = f64>| xs.fold(f64::NEG_INFINITY, f64::max);
     let fold_min = |xs: &mut dyn Iterator<Item = f64>| xs.fold(f64::INFINITY, f64::min);
     let n = trace.len();
+    let residual = c.audit_residual(&trace.energy);
     Some(ContactSummary {
         peak_force: fold_max(&mut c.normal_force.iter().cloned()).max(0.0),
         energy_pumped: fold_max(&mut c.work_contact.iter().map(|w| -w)).max(0.0),
         work_contact: *c.work_contact.last()?,
         energy_scale: scale,
-        audit: fold_max(&mut c.audit_residual(&trace.energy).iter().map(|r| r.abs())) / scale,
+        audit: fold_max(&mut residual.iter().map(|r| r.abs())) / scale,
+        audit_max: fold_max(&mut residual.iter().cloned()),
+        audit_min: fold_min(&mut residual.iter().cloned()),
         passivity_margin: fold_min(
             &mut (0..n).map(|i| e0 + c.work_controller[i] + c.work_contact[i]),
         ),

@@ -199,6 +199,24 @@ fn contact_base(name: &str, description: &str, contact: ContactSpec) -> Scenario
     s
 }
 
+/// Keyframes from `(t, offset)` pairs.
+fn keyframes(k: &[(f64, [f64; 2])]) -> Vec<Keyframe> {
+    k.iter()
+        .map(|&(t, offset)| Keyframe { t, offset })
+        .collect()
+}
+
+/// The box of the wall and obstacle scenarios: its face at `x = 0.68 m`.
+fn block(name: &str) -> ObstacleSpec {
+    obstacle(
+        name,
+        ShapeSpec::Box {
+            half_extents: [0.05, 0.6],
+        },
+        [0.73, 0.0],
+    )
+}
+
 fn obstacle(name: &str, shape: ShapeSpec, position: [f64; 2]) -> ObstacleSpec {
     ObstacleSpec {
         name: name.into(),
@@ -218,24 +236,28 @@ pub fn contact_wall() -> Scenario {
         "contact_wall",
         "Contact 1: a rigid wall across the contour; press, slide, resume",
         ContactSpec {
-            link_radius: [0.04, 0.03],
-            tool_radius: 0.015,
             law: ContactLaw {
                 stiffness: 2.0e5,
                 damping: 1.0,
                 friction: 0.2,
                 slip_velocity: 0.01,
             },
-            obstacles: vec![obstacle(
-                "wall",
-                ShapeSpec::Box {
-                    half_extents: [0.05, 0.6],
-                },
-                [0.73, 0.0],
-            )],
-            force_schedule: None,
+            obstacles: vec![block("wall")],
+            ..ContactSpec::default()
         },
     )
+}
+
+/// Contact 1 with the controller as it runs on a motor controller: `Controller::step` at
+/// 1 kHz with zero-order hold, the plant and the contact at 10 kHz. The sampled controller is
+/// passive only up to its sampling; the audit measures by how much.
+pub fn contact_wall_sampled() -> Scenario {
+    let mut s = contact_wall();
+    s.name = "contact_wall_sampled".into();
+    s.description = "Contact 1 with the sampled-data controller (1 kHz, zero-order hold)".into();
+    s.simulation.mode = Mode::Sampled;
+    s.baseline = None;
+    s
 }
 
 /// Contact 2: deburring. A compliant workpiece (`k = 5·10³ N/m`) whose lower edge at
@@ -250,9 +272,6 @@ pub fn contact_deburr() -> Scenario {
         "contact_deburr",
         "Contact 2: deburring a compliant edge, nominal speed scheduled on the contact force",
         ContactSpec {
-            link_radius: [0.04, 0.03],
-            tool_radius: 0.015,
-            law: ContactLaw::default(),
             obstacles: vec![ObstacleSpec {
                 law: Some(ContactLaw {
                     stiffness: 5.0e3,
@@ -273,6 +292,7 @@ pub fn contact_deburr() -> Scenario {
                 limit: 60.0,
                 min_fraction: 0.05,
             }),
+            ..ContactSpec::default()
         },
     );
     s.duration = 20.0;
@@ -301,27 +321,11 @@ pub fn contact_push() -> Scenario {
         "contact_push",
         "Contact 3: a moving body strikes the forearm during following; recovery",
         ContactSpec {
-            link_radius: [0.04, 0.03],
-            tool_radius: 0.015,
-            law: ContactLaw::default(),
             obstacles: vec![ObstacleSpec {
-                motion: vec![
-                    Keyframe {
-                        t: 2.3,
-                        offset: [0.0, 0.0],
-                    },
-                    Keyframe {
-                        t: 2.8,
-                        offset: [0.5, 0.0],
-                    },
-                    Keyframe {
-                        t: 3.5,
-                        offset: [0.0, 0.0],
-                    },
-                ],
+                motion: keyframes(&[(2.3, [0.0, 0.0]), (2.8, [0.5, 0.0]), (3.5, [0.0, 0.0])]),
                 ..obstacle("pusher", ShapeSpec::Ball { radius: 0.05 }, [-0.2, -0.45])
             }],
-            force_schedule: None,
+            ..ContactSpec::default()
         },
     )
 }
@@ -335,29 +339,11 @@ pub fn contact_obstacle() -> Scenario {
         "contact_obstacle",
         "Contact 4: collision with an obstacle, then release",
         ContactSpec {
-            link_radius: [0.04, 0.03],
-            tool_radius: 0.015,
-            law: ContactLaw::default(),
             obstacles: vec![ObstacleSpec {
-                motion: vec![
-                    Keyframe {
-                        t: 5.0,
-                        offset: [0.0, 0.0],
-                    },
-                    Keyframe {
-                        t: 5.5,
-                        offset: [0.5, 0.0],
-                    },
-                ],
-                ..obstacle(
-                    "block",
-                    ShapeSpec::Box {
-                        half_extents: [0.05, 0.6],
-                    },
-                    [0.73, 0.0],
-                )
+                motion: keyframes(&[(5.0, [0.0, 0.0]), (5.5, [0.5, 0.0])]),
+                ..block("block")
             }],
-            force_schedule: None,
+            ..ContactSpec::default()
         },
     );
     s.controller.self_pacing = 100.0;
@@ -368,6 +354,7 @@ pub fn contact_obstacle() -> Scenario {
 pub fn contact() -> Vec<Scenario> {
     vec![
         contact_wall(),
+        contact_wall_sampled(),
         contact_deburr(),
         contact_deburr_unscheduled(),
         contact_push(),

@@ -293,8 +293,7 @@ pub struct Scenario {
     /// A timed-trajectory baseline to run next to PVFC.
     #[serde(default)]
     pub baseline: Option<BaselineSpec>,
-    /// Contact with the world: obstacles, workpieces, the contact law (needs
-    /// `simulation.mode = "continuous"`).
+    /// Contact with the world: obstacles, workpieces, the contact law.
     #[serde(default)]
     pub contact: Option<ContactSpec>,
     /// Directory that relative paths in the scenario are resolved against (not in the file).
@@ -370,9 +369,6 @@ impl Scenario {
         }
         if let Some(c) = &self.contact {
             c.validate()?;
-            if self.simulation.mode != Mode::Continuous {
-                return bad("a scenario with [contact] needs simulation.mode = \"continuous\"");
-            }
             if c.force_schedule.is_some() && self.controller.nominal_speed.is_none() {
                 return bad("contact.force_schedule needs controller.nominal_speed (eq. 36)");
             }

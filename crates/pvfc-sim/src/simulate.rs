@@ -240,16 +240,16 @@ fn timing(s: &Scenario) -> Result<(f64, f64, usize)> {
 /// is called with the fraction done.
 pub fn simulate(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
     match (s.simulation.mode, environment(s)?) {
-        (Mode::Sampled, None) => simulate_sampled(s, progress),
+        (Mode::Sampled, None) => simulate_sampled(s, &mut Free, false, progress),
+        (Mode::Sampled, Some(mut env)) => simulate_sampled(s, &mut *env, true, progress),
         (Mode::Continuous, None) => simulate_continuous(s, &mut Free, false, progress),
         (Mode::Continuous, Some(mut env)) => simulate_continuous(s, &mut *env, true, progress),
-        (Mode::Sampled, Some(_)) => Err(contact_needs_continuous()),
     }
 }
 
-/// Runs the continuous PVFC loop of a scenario against a given environment (one of your
-/// own, or a [`HalfPlane`](crate::contact::HalfPlane)) instead of the scenario's `[contact]`
-/// world. The scenario's force schedule, if any, still applies.
+/// Runs the PVFC loop of a scenario against a given environment (one of your own, or a
+/// [`HalfPlane`](crate::contact::HalfPlane)) instead of the scenario's `[contact]` world. The
+/// scenario's force schedule, if any, still applies.
 pub fn simulate_in(
     s: &Scenario,
     env: &mut dyn Environment,
@@ -257,7 +257,7 @@ pub fn simulate_in(
 ) -> Result<Trace> {
     match s.simulation.mode {
         Mode::Continuous => simulate_continuous(s, env, true, progress),
-        Mode::Sampled => Err(contact_needs_continuous()),
+        Mode::Sampled => simulate_sampled(s, env, true, progress),
     }
 }
 
@@ -268,10 +268,6 @@ impl Environment for Free {
     fn contact(&mut self, _: f64, _: &Torus<f64, 2>, _: &Vector2<f64>) -> Result<ContactForces> {
         Ok(ContactForces::default())
     }
-}
-
-fn contact_needs_continuous() -> SimError {
-    SimError::Setting("contact runs need simulation.mode = \"continuous\"".into())
 }
 
 /// The scenario's contact world, if it has a `[contact]` table.
@@ -290,47 +286,102 @@ pub fn environment(s: &Scenario) -> Result<Option<Box<dyn Environment>>> {
     }
 }
 
-fn simulate_sampled(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
+/// The sampled-data loop: `Controller::step` at the controller's rate with zero-order hold,
+/// the plant (and its contact, if any) integrated with RK4 in substeps. The controller's
+/// internal states are logged as they are at the sample (before the step advances them).
+/// With contact, the add-ons' work is summed at the samples (rectangle rule): for a loop
+/// without add-ons the audit residual is then the sampled controller's own departure from
+/// passivity.
+fn simulate_sampled(
+    s: &Scenario,
+    env: &mut dyn Environment,
+    with_contact: bool,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
     let mut ctl = s.controller()?;
     let arm = Scara::new(s.arm()?)?;
+    let kin = PlanarArm::from(&s.arm()?);
     let friction = s.plant.friction;
     let (dt, h, n) = timing(s)?;
     let period = s.contour.period;
     let mf = s.controller.flywheel_inertia;
+    let schedule = s.contact.as_ref().and_then(|c| c.force_schedule);
+    let r0 = s.controller.nominal_speed.map(|n| n.r);
     let mut q = Torus::new(Vector2::from(s.initial.q));
     let mut v = Vector2::from(s.initial.v);
     let mut trace = Trace::with_capacity(s.name.clone(), n + 1);
+    let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1));
+    let mut work = Work::default();
     for k in 0..=n {
+        let t = k as f64 * dt;
+        let pre = *ctl.state();
+        let mut addon_power = 0.0;
+        let mut cf = ContactForces::default();
+        if with_contact {
+            cf = env.contact(t, &q, &v)?;
+            if let (Some(sch), Some(r0)) = (schedule, r0) {
+                if let Some(ns) = ctl.nominal_speed_mut() {
+                    ns.set_speed(sch.speed(r0, cf.normal_force))?;
+                }
+            }
+            let aug = AugmentedState {
+                q,
+                v,
+                tau: pre.tau,
+                tau_dot: pre.tau_dot,
+                flywheel_speed: pre.flywheel_speed,
+            };
+            let (total, coupling) = ctl.evaluate(&aug)?;
+            let a = total - coupling.torque;
+            addon_power = a.robot.dot(&v) + a.tau * pre.tau_dot + a.flywheel * pre.flywheel_speed;
+        }
         let out = ctl.step(&q, &v, dt)?;
-        let st = out.state;
         trace.push(Row {
-            t: k as f64 * dt,
+            t,
             q: [q.angles()[0], q.angles()[1]],
             v: [v[0], v[1]],
-            tau: st.unwrapped_tau(Some(period)),
-            tau_dot: st.tau_dot,
-            flywheel_speed: st.flywheel_speed,
+            tau: pre.unwrapped_tau(Some(period)),
+            tau_dot: pre.tau_dot,
+            flywheel_speed: pre.flywheel_speed,
             beta: out.diagnostics.beta,
             potential: out.diagnostics.potential,
             lambda1: out.diagnostics.lambda1,
             lambda2: out.diagnostics.lambda2,
             torque: [out.torque[0], out.torque[1]],
             energy: arm.kinetic_energy(&q, &v)
-                + 0.5 * (st.tau_dot * st.tau_dot + mf * st.flywheel_speed * st.flywheel_speed),
+                + 0.5 * (pre.tau_dot * pre.tau_dot + mf * pre.flywheel_speed * pre.flywheel_speed),
             friction_power: friction.torque(&v).dot(&v),
         });
+        if let Some(ct) = contact.as_mut() {
+            let r = ctl.nominal_speed_mut().map_or(0.0, |n| n.speed());
+            ct.push(&cf, kin.tip(&q), &work, r);
+        }
         if k == n {
             break;
         }
-        for _ in 0..s.simulation.plant_substeps {
-            (q, v) = plant_rk4(&arm, &q, &v, h, |_, _, _, v| {
-                Ok(out.torque + friction.torque(v))
-            })?;
+        work.0[2] += addon_power * dt;
+        for j in 0..s.simulation.plant_substeps {
+            if with_contact {
+                let t0 = t + j as f64 * h;
+                let mut p = [[0.0; 3]; 4];
+                (q, v) = plant_rk4(&arm, &q, &v, h, |i, c, q, v| {
+                    let ff = friction.torque(v);
+                    let fc = env.contact(t0 + c, q, v)?.torque;
+                    p[i] = [fc.dot(v), ff.dot(v), 0.0];
+                    Ok(out.torque + ff + fc)
+                })?;
+                work.add(h, &p);
+            } else {
+                (q, v) = plant_rk4(&arm, &q, &v, h, |_, _, _, v| {
+                    Ok(out.torque + friction.torque(v))
+                })?;
+            }
         }
         if k % 1000 == 0 {
             progress(k as f64 / n as f64);
         }
     }
+    trace.contact = contact;
     progress(1.0);
     Ok(trace)
 }

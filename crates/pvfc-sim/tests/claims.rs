@@ -91,7 +91,7 @@ fn the_sampled_loop_energy_change_is_reported_and_small() {
 #[test]
 fn every_claim_is_evaluated_and_the_table_renders() {
     let c = &all_claims().1;
-    assert_eq!(c.len(), 17, "12 claims of section V and 5 of contact");
+    assert_eq!(c.len(), 18, "12 claims of section V and 6 of contact");
     let md = pvfc_sim::report::markdown(c);
     assert_eq!(md.lines().count(), 2 + c.len());
     let csv = pvfc_sim::report::csv(c);
@@ -113,6 +113,14 @@ fn contact_pvfc_never_gives_the_world_more_than_it_has() {
 #[test]
 fn contact_timed_baseline_pushes_harder_than_pvfc() {
     assert_holds("contact.baseline");
+}
+
+#[test]
+fn contact_sampled_controller_is_reported() {
+    assert_holds("contact.sampled");
+    assert!(claim("contact.sampled")
+        .measured
+        .contains("at the first touch"));
 }
 
 #[test]

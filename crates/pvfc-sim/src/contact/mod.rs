@@ -299,6 +299,19 @@ pub struct ContactSpec {
     pub force_schedule: Option<ForceSchedule>,
 }
 
+impl Default for ContactSpec {
+    /// The default robot shapes and contact law, no obstacles.
+    fn default() -> Self {
+        ContactSpec {
+            link_radius: default_link_radius(),
+            tool_radius: default_tool_radius(),
+            law: ContactLaw::default(),
+            obstacles: Vec::new(),
+            force_schedule: None,
+        }
+    }
+}
+
 fn default_link_radius() -> [f64; 2] {
     [0.04, 0.03]
 }
