@@ -583,23 +583,6 @@ pub fn contact_figure(runs: &Runs, name: &str, p: &Path) -> Result<()> {
                 .collect(),
             reference: false,
         });
-        if *label == "PVFC" {
-            energy.push(Series {
-                label: "κ_a (PVFC)".into(),
-                points: tr.t.iter().zip(&tr.energy).map(|(a, b)| (*a, *b)).collect(),
-                reference: false,
-            });
-            energy.push(Series {
-                label: "κ_a(0) + W_add-ons: what it may give".into(),
-                points: tr
-                    .t
-                    .iter()
-                    .zip(&c.work_controller)
-                    .map(|(a, w)| (*a, e0 + w))
-                    .collect(),
-                reference: true,
-            });
-        }
         energy.push(Series {
             label: format!("energy pumped into the contact ({label})"),
             points: tr
@@ -609,6 +592,26 @@ pub fn contact_figure(runs: &Runs, name: &str, p: &Path) -> Result<()> {
                 .map(|(a, w)| (*a, -w))
                 .collect(),
             reference: false,
+        });
+    }
+    // PVFC's own energy after the per-run curves, so that every panel colours PVFC and the
+    // baseline alike.
+    if let Some(c) = t.contact.as_ref() {
+        let e0 = t.energy[0];
+        energy.push(Series {
+            label: "κ_a (PVFC)".into(),
+            points: t.t.iter().zip(&t.energy).map(|(a, b)| (*a, *b)).collect(),
+            reference: false,
+        });
+        energy.push(Series {
+            label: "κ_a(0) + W_add-ons: what PVFC may give".into(),
+            points: t
+                .t
+                .iter()
+                .zip(&c.work_controller)
+                .map(|(a, w)| (*a, e0 + w))
+                .collect(),
+            reference: true,
         });
     }
     figure(p, 4, |i, a| match i {

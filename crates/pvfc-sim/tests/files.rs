@@ -26,7 +26,10 @@ fn shipped_scenarios_are_the_presets() {
     let ex = Scenario::from_file(&repo().join("scenarios/example_urdf_arm.toml")).unwrap();
     assert_eq!(ex.arm().unwrap(), direct_drive_arm());
     let ex = Scenario::from_file(&repo().join("scenarios/example_contact.toml")).unwrap();
-    let c = ex.contact.as_ref().expect("the contact example has a [contact] table");
+    let c = ex
+        .contact
+        .as_ref()
+        .expect("the contact example has a [contact] table");
     assert_eq!(c.obstacles.len(), 2);
     assert_eq!(c.obstacles[1].motion.len(), 3);
 }
