@@ -90,18 +90,29 @@ where
         f_e: &Tangent<T, D>,
     ) -> Result<Evaluation<T, G, D>> {
         let (torque, coupling) = self.controller.evaluate(s)?;
-        let acc = self.plant.acceleration(&s.q, &s.v, &(torque.robot + f_e))?;
-        let mf = self.controller.law().flywheel().inertia();
         Ok(Evaluation {
-            derivative: Derivative {
-                q: s.v,
-                v: acc,
-                tau: s.tau_dot,
-                tau_dot: torque.tau,
-                flywheel_speed: torque.flywheel / mf,
-            },
+            derivative: self.rate(s, &torque, f_e)?,
             torque,
             coupling,
+        })
+    }
+
+    /// The rate of the augmented state at `s` under the augmented motor torque `torque` (from
+    /// [`Controller::evaluate`]) and the environment force `f_e`.
+    pub fn rate(
+        &self,
+        s: &AugmentedState<T, G, D>,
+        torque: &AugmentedVector<T, D>,
+        f_e: &Tangent<T, D>,
+    ) -> Result<Derivative<T, D>> {
+        let acc = self.plant.acceleration(&s.q, &s.v, &(torque.robot + f_e))?;
+        let mf = self.controller.law().flywheel().inertia();
+        Ok(Derivative {
+            q: s.v,
+            v: acc,
+            tau: s.tau_dot,
+            tau_dot: torque.tau,
+            flywheel_speed: torque.flywheel / mf,
         })
     }
 

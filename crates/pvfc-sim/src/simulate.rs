@@ -3,7 +3,7 @@
 use crate::contact::{ContactForces, Environment, PlanarArm};
 use crate::error::{Result, SimError};
 use crate::friction::JointFriction;
-use crate::integrate::{ClosedLoop, Evaluation, RK4_WEIGHTS};
+use crate::integrate::{ClosedLoop, Derivative, RK4_WEIGHTS};
 use crate::paper::PaperField;
 use crate::scenario::{BaselineSpec, Mode, Scenario};
 use nalgebra::Vector2;
@@ -265,6 +265,7 @@ pub fn simulate_in(
 struct Free;
 
 impl Environment for Free {
+    #[inline]
     fn contact(&mut self, _: f64, _: &Torus<f64, 2>, _: &Vector2<f64>) -> Result<ContactForces> {
         Ok(ContactForces::default())
     }
@@ -292,9 +293,9 @@ pub fn environment(s: &Scenario) -> Result<Option<Box<dyn Environment>>> {
 /// With contact, the add-ons' work is summed at the samples (rectangle rule): for a loop
 /// without add-ons the audit residual is then the sampled controller's own departure from
 /// passivity.
-fn simulate_sampled(
+fn simulate_sampled<E: Environment + ?Sized>(
     s: &Scenario,
-    env: &mut dyn Environment,
+    env: &mut E,
     with_contact: bool,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
@@ -388,39 +389,52 @@ fn simulate_sampled(
 
 type PaperLoop = ClosedLoop<f64, Torus<f64, 2>, Scara<f64>, Scara<f64>, PaperField, 2>;
 
-/// One evaluation of the closed loop with its environment, and the powers
+/// One evaluation of the closed loop with its environment: what the integrator and the log
+/// need (kept small: the full `Evaluation` is large and moving it costs), and the powers
 /// `[contact, friction, controller add-ons]` on the augmented system.
 struct Stage {
     contact: ContactForces,
     friction: Vector2<f64>,
-    ev: Evaluation<f64, Torus<f64, 2>, 2>,
+    derivative: Derivative<f64, 2>,
+    torque: Vector2<f64>,
+    beta: f64,
+    potential: f64,
+    lambda1: f64,
+    lambda2: f64,
     power: [f64; 3],
 }
 
-fn stage(
+fn stage<E: Environment + ?Sized>(
     sys: &PaperLoop,
-    env: &mut dyn Environment,
+    env: &mut E,
     friction: &JointFriction,
     t: f64,
     st: &AugmentedState<f64, Torus<f64, 2>, 2>,
 ) -> Result<Stage> {
     let contact = env.contact(t, &st.q, &st.v)?;
     let ff = friction.torque(&st.v);
-    let ev = sys.evaluate(st, &(contact.torque + ff))?;
-    let addon = ev.torque - ev.coupling.torque;
+    // The controller's output used in place (not moved into an `Evaluation`).
+    let (torque, c) = sys.controller.evaluate(st)?;
+    let derivative = sys.rate(st, &torque, &(contact.torque + ff))?;
+    let addon = torque - c.torque;
     let controller =
         addon.robot.dot(&st.v) + addon.tau * st.tau_dot + addon.flywheel * st.flywheel_speed;
     Ok(Stage {
         power: [contact.torque.dot(&st.v), ff.dot(&st.v), controller],
         contact,
         friction: ff,
-        ev,
+        derivative,
+        torque: torque.robot,
+        beta: c.beta,
+        potential: c.field.potential,
+        lambda1: c.field.lambda1,
+        lambda2: c.field.lambda2,
     })
 }
 
-fn simulate_continuous(
+fn simulate_continuous<E: Environment + ?Sized>(
     s: &Scenario,
-    env: &mut dyn Environment,
+    env: &mut E,
     with_contact: bool,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
@@ -455,7 +469,6 @@ fn simulate_continuous(
                 first = stage(&sys, env, &friction, t, &st)?;
             }
         }
-        let c = &first.ev.coupling;
         trace.push(Row {
             t,
             q: [st.q.angles()[0], st.q.angles()[1]],
@@ -463,11 +476,11 @@ fn simulate_continuous(
             tau: st.tau,
             tau_dot: st.tau_dot,
             flywheel_speed: st.flywheel_speed,
-            beta: c.beta,
-            potential: c.field.potential,
-            lambda1: c.field.lambda1,
-            lambda2: c.field.lambda2,
-            torque: [first.ev.torque.robot[0], first.ev.torque.robot[1]],
+            beta: first.beta,
+            potential: first.potential,
+            lambda1: first.lambda1,
+            lambda2: first.lambda2,
+            torque: [first.torque[0], first.torque[1]],
             energy: sys.kinetic_energy(&st),
             friction_power: first.friction.dot(&st.v),
         });
@@ -487,10 +500,10 @@ fn simulate_continuous(
                 first = stage(&sys, env, &friction, t0, &st)?;
             }
             let mut p = [first.power; 4];
-            st = sys.rk4_with_stages(&st, &first.ev.derivative, h, |i, c, x| {
+            st = sys.rk4_with_stages(&st, &first.derivative, h, |i, c, x| {
                 let e = stage(&sys, env, &friction, t0 + c, x)?;
                 p[i] = e.power;
-                Ok::<_, SimError>(e.ev.derivative)
+                Ok::<_, SimError>(e.derivative)
             })?;
             work.add(h, &p);
         }
