@@ -316,25 +316,11 @@ fn simulate_sampled<E: Environment + ?Sized>(
     for k in 0..=n {
         let t = k as f64 * dt;
         let pre = *ctl.state();
-        let mut addon_power = 0.0;
-        let mut cf = ContactForces::default();
-        if with_contact {
-            cf = env.contact(t, &q, &v)?;
-            if let (Some(sch), Some(r0)) = (schedule, r0) {
-                if let Some(ns) = ctl.nominal_speed_mut() {
-                    ns.set_speed(sch.speed(r0, cf.normal_force))?;
-                }
+        let cf = env.contact(t, &q, &v)?;
+        if let (Some(sch), Some(r0)) = (schedule, r0) {
+            if let Some(ns) = ctl.nominal_speed_mut() {
+                ns.set_speed(sch.speed(r0, cf.normal_force))?;
             }
-            let aug = AugmentedState {
-                q,
-                v,
-                tau: pre.tau,
-                tau_dot: pre.tau_dot,
-                flywheel_speed: pre.flywheel_speed,
-            };
-            let (total, coupling) = ctl.evaluate(&aug)?;
-            let a = total - coupling.torque;
-            addon_power = a.robot.dot(&v) + a.tau * pre.tau_dot + a.flywheel * pre.flywheel_speed;
         }
         let out = ctl.step(&q, &v, dt)?;
         trace.push(Row {
@@ -360,23 +346,25 @@ fn simulate_sampled<E: Environment + ?Sized>(
         if k == n {
             break;
         }
-        work.0[2] += addon_power * dt;
+        // The coupling is workless (q̇_aᵀT_coupling = 0), so the add-ons' power is that of the
+        // whole augmented torque, at the sample (rectangle rule).
+        let a = out.augmented_torque;
+        work.0[2] += (a.robot.dot(&v) + a.tau * pre.tau_dot + a.flywheel * pre.flywheel_speed) * dt;
         for j in 0..s.simulation.plant_substeps {
-            if with_contact {
-                let t0 = t + j as f64 * h;
-                let mut p = [[0.0; 3]; 4];
-                (q, v) = plant_rk4(&arm, &q, &v, h, |i, c, q, v| {
-                    let ff = friction.torque(v);
-                    let fc = env.contact(t0 + c, q, v)?.torque;
-                    p[i] = [fc.dot(v), ff.dot(v), 0.0];
-                    Ok(out.torque + ff + fc)
-                })?;
-                work.add(h, &p);
-            } else {
-                (q, v) = plant_rk4(&arm, &q, &v, h, |_, _, _, v| {
-                    Ok(out.torque + friction.torque(v))
-                })?;
-            }
+            let t0 = t + j as f64 * h;
+            let mut p = [[0.0; 3]; 4];
+            (q, v) = plant_rk4(&arm, &q, &v, h, |i, c, q, v| {
+                let ff = friction.torque(v);
+                // The first stage of the period is the sample itself: its contact is known.
+                let fc = if i == 0 && j == 0 {
+                    cf.torque
+                } else {
+                    env.contact(t0 + c, q, v)?.torque
+                };
+                p[i] = [fc.dot(v), ff.dot(v), 0.0];
+                Ok(out.torque + ff + fc)
+            })?;
+            work.add(h, &p);
         }
         if k % 1000 == 0 {
             progress(k as f64 / n as f64);
@@ -595,8 +583,9 @@ pub fn simulate_timed_in(
             energy: arm.kinetic_energy(&q, &v),
             friction_power: friction.torque(&v).dot(&v),
         });
+        let cf = env.contact(t, &q, &v)?;
         if let Some(ct) = contact.as_mut() {
-            ct.push(&env.contact(t, &q, &v)?, kin.tip(&q), &work, 0.0);
+            ct.push(&cf, kin.tip(&q), &work, 0.0);
         }
         if k == n {
             break;
@@ -606,7 +595,12 @@ pub fn simulate_timed_in(
             let mut p = [[0.0; 3]; 4];
             (q, v) = plant_rk4(&arm, &q, &v, h, |i, c, q, v| {
                 let ff = friction.torque(v);
-                let fc = env.contact(t0 + c, q, v)?.torque;
+                // The first stage of the period is the sample itself: its contact is known.
+                let fc = if i == 0 && j == 0 {
+                    cf.torque
+                } else {
+                    env.contact(t0 + c, q, v)?.torque
+                };
                 p[i] = [fc.dot(v), ff.dot(v), u.dot(v)];
                 Ok(u + ff + fc)
             })?;

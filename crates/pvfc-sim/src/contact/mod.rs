@@ -23,7 +23,7 @@
 
 use crate::error::{Result, SimError};
 use nalgebra::Vector2;
-use pvfc_core::lie::Torus;
+use pvfc_core::lie::{LieGroup, Torus};
 use pvfc_core::mechanics::ScaraParameters;
 use serde::{Deserialize, Serialize};
 
@@ -513,7 +513,7 @@ impl Environment for HalfPlane {
 
 /// A NaN or infinite state is a typed error, not a contact query.
 pub(crate) fn check_state(q: &Torus<f64, 2>, v: &Vector2<f64>) -> Result<()> {
-    if q.angles().iter().chain(v.iter()).all(|x| x.is_finite()) {
+    if q.is_finite() && v.iter().all(|x| x.is_finite()) {
         Ok(())
     } else {
         Err(SimError::Core(pvfc_core::Error::new(
