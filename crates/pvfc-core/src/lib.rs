@@ -75,10 +75,13 @@ pub mod prelude {
     };
     pub use crate::error::{Error, ErrorKind};
     pub use crate::field::{ErrorConvention, FieldSample, SuspendedField, VelocityField};
-    pub use crate::lie::{LieGroup, Rn, So3, Tangent, Torus};
-    pub use crate::mechanics::{LinearStage, MechanicalSystem, RigidBody, Scara, ScaraParameters};
+    pub use crate::lie::{JointKind, JointSpace, LieGroup, Rn, So3, Tangent, Torus};
+    pub use crate::mechanics::{
+        LinearStage, MechanicalSystem, RigidBody, Scara, ScaraParameters, SerialChain,
+    };
     pub use crate::navigation::{
-        NavigationFunction, QuadraticNavigation, So3Navigation, TorusConvention, TorusNavigation,
+        JointNavigation, NavigationFunction, QuadraticNavigation, So3Navigation, TorusConvention,
+        TorusNavigation,
     };
     pub use crate::pacing::{ConstantGains, ExponentialPacing, SelfPacing};
     pub use crate::Real;

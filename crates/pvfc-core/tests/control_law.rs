@@ -371,7 +371,7 @@ where
     // The plant: Ṁ − 2C is skew, with Ṁ by finite differences.
     let m_along = |t: f64| {
         let mt = sys.inertia(&s.q.retract(&s.v, t));
-        SVector::<f64, 9>::from_fn(|k, _| if k < D * D { mt[(k / D, k % D)] } else { 0.0 })
+        SVector::<f64, 16>::from_fn(|k, _| if k < D * D { mt[(k / D, k % D)] } else { 0.0 })
     };
     let md = derivative(m_along, h);
     let m_dot = SMatrix::<f64, D, D>::from_fn(|r, cc| md[r * D + cc]);
@@ -503,3 +503,12 @@ law_suite!(
     1.8
 );
 law_suite!(linear_stage, stage, Rn<f64, 3>, Rn<f32, 3>, 3, 5, 2.0);
+law_suite!(
+    rail_arm_mixed_joints,
+    rail_arm_ellipse,
+    JointSpace<f64, 4>,
+    JointSpace<f32, 4>,
+    4,
+    6,
+    2.5
+);

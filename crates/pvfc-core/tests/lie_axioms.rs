@@ -5,7 +5,7 @@ mod common;
 use common::{close_vec, f, Tolerance, CASES};
 use nalgebra::SVector;
 use proptest::prelude::*;
-use pvfc_core::lie::{LieGroup, Rn, So3, Tangent, Torus};
+use pvfc_core::lie::{JointKind, JointSpace, LieGroup, Rn, So3, Tangent, Torus};
 use pvfc_core::scalar::cast;
 
 /// The axioms every `LieGroup` satisfies, for three random elements `exp(a)`, `exp(b)`,
@@ -189,6 +189,31 @@ suite!(so3_f64, So3<f64>, f64, 3, PI_BALL);
 suite!(so3_f32, So3<f32>, f32, 3, PI_BALL);
 suite!(rn3_f64, Rn<f64, 3>, f64, 3, 10.0);
 suite!(rn3_f32, Rn<f32, 3>, f32, 3, 10.0);
+suite!(joint7_f64, JointSpace<f64, 7>, f64, 7, PI_BALL);
+suite!(joint7_f32, JointSpace<f32, 7>, f32, 7, PI_BALL);
+
+/// The kinds of a mixed joint space: circular coordinates wrap in `log`, linear ones do not,
+/// and the kinds survive composition with kind-less elements (identity, `exp`).
+#[test]
+fn joint_space_wraps_only_its_circular_coordinates() {
+    use nalgebra::Vector3;
+    let kinds = [JointKind::Circular, JointKind::Linear, JointKind::Circular];
+    let q = JointSpace::new(Vector3::new(4.0, 4.0, -4.0), kinds);
+    let two_pi = std::f64::consts::TAU;
+    let expect = Vector3::new(4.0 - two_pi, 4.0, -4.0 + two_pi);
+    assert!((q.log() - expect).norm() < 1e-12);
+    let x_d = JointSpace::exp(&Vector3::new(1.0, 1.0, 1.0));
+    let e = q.compose(&x_d.inverse());
+    assert_eq!(e.kinds(), kinds);
+    assert!((e.log() - Vector3::new(3.0, 3.0, -5.0 + two_pi)).norm() < 1e-12);
+    assert_eq!(JointSpace::identity().compose(&q).kinds(), kinds);
+    // Two configurations a full turn apart on a circular joint are the same element...
+    let turned = JointSpace::new(Vector3::new(4.0 + two_pi, 4.0, -4.0), kinds);
+    assert!(q.distance(&turned) < 1e-12);
+    // ...but not on a linear one.
+    let shifted = JointSpace::new(Vector3::new(4.0, 4.0 + two_pi, -4.0), kinds);
+    assert!((q.distance(&shifted) - two_pi).abs() < 1e-12);
+}
 
 #[test]
 fn so3_log_is_accurate_near_the_half_turn_and_near_identity() {

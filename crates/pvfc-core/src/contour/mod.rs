@@ -16,7 +16,7 @@ pub use constant_rate::ConstantRate;
 pub use ellipse::Ellipse;
 pub use lissajous::Lissajous;
 
-use crate::lie::{LieGroup, Rn, Tangent, Torus};
+use crate::lie::{JointSpace, LieGroup, Rn, Tangent, Torus};
 use crate::Real;
 use nalgebra::SVector;
 
@@ -49,7 +49,7 @@ pub trait Contour<T: Real, G: LieGroup<T, D>, const D: usize> {
 }
 
 /// A group whose elements are given by `N` real coordinates with addition as the group
-/// operation: the torus (angles) and `ℝⁿ`. Curves written coordinate-wise ([`Lissajous`],
+/// operation: the torus (angles), `ℝⁿ` and the mixed joint space of a serial chain. Curves written coordinate-wise ([`Lissajous`],
 /// [`Ellipse`]) are contours on any such group.
 pub trait VectorGroup<T: Real, const N: usize>: LieGroup<T, N> {
     /// The element with these coordinates.
@@ -73,6 +73,19 @@ impl<T: Real, const N: usize> VectorGroup<T, N> for Rn<T, N> {
     #[inline]
     fn from_coordinates(x: SVector<T, N>) -> Self {
         Rn::new(x)
+    }
+    #[inline]
+    fn coordinates(&self) -> SVector<T, N> {
+        *self.coords()
+    }
+}
+
+/// The coordinates carry no kinds ([`JointSpace`]'s identity and `exp` do the same); an
+/// error `E = q·x_d⁻¹` takes the kinds of the measured `q`.
+impl<T: Real, const N: usize> VectorGroup<T, N> for JointSpace<T, N> {
+    #[inline]
+    fn from_coordinates(x: SVector<T, N>) -> Self {
+        JointSpace::exp(&x)
     }
     #[inline]
     fn coordinates(&self) -> SVector<T, N> {

@@ -13,13 +13,16 @@
 //! * `(L_a)_*`: tangent at `b` ↦ tangent at `a·b` — the identity on body coordinates;
 //! * `(R_a)_*`: tangent at `b` ↦ tangent at `b·a` — `v ↦ Ad_{a⁻¹} v`.
 //!
-//! Implementations: [`Torus`] (`Tⁿ`, revolute arms), [`So3`] (attitude) and [`Rn`]
-//! (a vector space, for linear stages).
+//! Implementations: [`Torus`] (`Tⁿ`, revolute arms), [`So3`] (attitude), [`Rn`]
+//! (a vector space, for linear stages) and [`JointSpace`] (`T^r × ℝ^p`, serial chains with
+//! revolute and prismatic joints).
 
+mod joint_space;
 mod rn;
 mod so3;
 mod torus;
 
+pub use joint_space::{JointKind, JointSpace};
 pub use rn::Rn;
 pub use so3::{hat, vee, So3};
 pub use torus::{wrap_angle, Torus, Torus2};

@@ -1,11 +1,18 @@
-//! Mechanical systems `M(q) q̈ + C(q, q̇) q̇ = T + F_e` (eq. 3), in body coordinates.
+//! Mechanical systems `M(q) q̈ + C(q, q̇) q̇ + g(q) = T + F_e` (eq. 3, with gravity for
+//! arms that are not horizontal), in body coordinates.
 
 mod rigid_body;
 mod scara;
+mod serial_chain;
+mod spatial;
 mod stage;
 
 pub use rigid_body::RigidBody;
 pub use scara::{Scara, ScaraParameters};
+pub use serial_chain::{ChainJoint, ChainKinematics, SerialChain, STANDARD_GRAVITY};
+pub use spatial::{
+    axis_angle, force_cross, force_cross_bar, motion_cross, Pose, RigidInertia, Spatial, Spatial6,
+};
 pub use stage::LinearStage;
 
 use crate::error::{Error, ErrorKind, Result};
@@ -41,13 +48,22 @@ pub trait MechanicalSystem<T: Real, G: LieGroup<T, D>, const D: usize> {
         c + c.transpose()
     }
 
+    /// `g(q)`, the gradient of the potential energy (gravity) in body coordinates: the
+    /// torque that holds the system still. Zero for the paper's horizontal SCARA, a free rigid
+    /// body and a horizontal stage (the default).
+    #[inline]
+    fn gravity(&self, q: &G) -> Tangent<T, D> {
+        let _ = q;
+        Tangent::zeros()
+    }
+
     /// `½ vᵀ M(q) v`.
     #[inline]
     fn kinetic_energy(&self, q: &G, v: &Tangent<T, D>) -> T {
         (self.inertia(q) * v).dot(v) * cast::<T>(0.5)
     }
 
-    /// The forward dynamics `q̈ = M⁻¹ (T + F_e − C v)` (Cholesky; no allocation).
+    /// The forward dynamics `q̈ = M⁻¹ (T + F_e − C v − g)` (Cholesky; no allocation).
     fn acceleration(
         &self,
         q: &G,
@@ -55,7 +71,7 @@ pub trait MechanicalSystem<T: Real, G: LieGroup<T, D>, const D: usize> {
         force: &Tangent<T, D>,
     ) -> Result<Tangent<T, D>> {
         let m = self.inertia(q);
-        let rhs = force - self.coriolis(q, v) * v;
+        let rhs = force - self.coriolis(q, v) * v - self.gravity(q);
         match m.cholesky() {
             Some(ch) => Ok(ch.solve(&rhs)),
             None => Err(Error::new(

@@ -5,10 +5,12 @@
 //! is a constant multiple of the Euclidean one in body coordinates,
 //! `⟨⟨a, b⟩⟩_V = k·aᵀb` ([`NavigationFunction::metric_weight`]), so that `grad U = dU / k`.
 
+mod joint;
 mod quadratic;
 mod so3;
 mod torus;
 
+pub use joint::JointNavigation;
 pub use quadratic::QuadraticNavigation;
 pub use so3::So3Navigation;
 pub use torus::{TorusConvention, TorusNavigation};

@@ -194,3 +194,86 @@ pub fn stage<T: Real>(p: Params) -> Stage<T> {
     )
     .unwrap()
 }
+
+/// A rail (prismatic) carrying a three-joint arm: a mixed joint space `ℝ × T³`.
+pub fn rail_arm<T: Real>() -> SerialChain<T, 4> {
+    use pvfc_core::mechanics::{ChainJoint, Pose, RigidInertia};
+    let joint = |kind, xyz: [f64; 3], rpy: [f64; 3], axis: [f64; 3]| ChainJoint {
+        kind,
+        origin: Pose::from_xyz_rpy(xyz.map(cast), rpy.map(cast)),
+        axis: vec(axis),
+    };
+    let link = |m: f64, com: [f64; 3], i: [f64; 3]| RigidInertia {
+        mass: cast(m),
+        com: vec(com),
+        inertia: Matrix3::from_diagonal(&vec(i)),
+    };
+    SerialChain::new(
+        [
+            joint(JointKind::Linear, [0.0; 3], [0.0; 3], [1.0, 0.0, 0.0]),
+            joint(
+                JointKind::Circular,
+                [0.0, 0.0, 0.2],
+                [0.0; 3],
+                [0.0, 0.0, 1.0],
+            ),
+            joint(
+                JointKind::Circular,
+                [0.1, 0.0, 0.3],
+                [0.3, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+            ),
+            joint(
+                JointKind::Circular,
+                [0.4, 0.0, 0.0],
+                [0.0, 0.2, 0.0],
+                [0.0, 1.0, 0.0],
+            ),
+        ],
+        [
+            link(8.0, [0.0, 0.0, 0.1], [0.1, 0.1, 0.1]),
+            link(4.0, [0.0, 0.0, 0.15], [0.05, 0.05, 0.02]),
+            link(3.0, [0.2, 0.0, 0.0], [0.01, 0.05, 0.05]),
+            link(1.5, [0.15, 0.02, 0.0], [0.005, 0.02, 0.02]),
+        ],
+    )
+    .unwrap()
+}
+
+pub type RailArm<T> = PvfcLaw<
+    T,
+    JointSpace<T, 4>,
+    SerialChain<T, 4>,
+    SuspendedField<
+        T,
+        JointSpace<T, 4>,
+        Ellipse<T, 4>,
+        JointNavigation<T, 4>,
+        ExponentialPacing<T>,
+        4,
+    >,
+    4,
+>;
+
+/// The rail arm on an ellipse in its joint space, with the mixed navigation function.
+pub fn rail_arm_ellipse<T: Real>(p: Params) -> RailArm<T> {
+    let arm = rail_arm::<T>();
+    let field = SuspendedField::new(
+        Ellipse::new(
+            vec([0.1, 0.2, -0.3, 0.5]),
+            vec([0.3, 0.5, 0.2, -0.4]),
+            vec([0.0, -0.6, 0.4, 0.3]),
+            cast(4.0),
+        )
+        .unwrap(),
+        JointNavigation::new(vec([p.h[0], p.h[1], p.h[2], p.h[0]]), arm.kinds()).unwrap(),
+        ExponentialPacing::new(cast(p.r)).unwrap(),
+    );
+    PvfcLaw::new(
+        arm,
+        field,
+        Flywheel::new(T::one(), cast(3000.0)).unwrap(),
+        cast(p.gamma),
+    )
+    .unwrap()
+}

@@ -1,0 +1,402 @@
+//! Serial chains of rigid links with revolute and prismatic joints: the arms users bring in
+//! their URDF files, with the algorithms Pinocchio's users know (CRBA, RNEA, the Coriolis
+//! matrix, gravity, forward kinematics, Jacobians).
+
+use super::spatial::{
+    axis_angle, force_cross, force_cross_bar, motion_cross, Pose, RigidInertia, Spatial, Spatial6,
+};
+use super::MechanicalSystem;
+use crate::contour::VectorGroup;
+use crate::error::{Error, ErrorKind, Result};
+use crate::lie::{JointKind, JointSpace, Tangent};
+use crate::scalar::cast;
+use crate::Real;
+use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+
+/// One joint of a [`SerialChain`]: its kind, the pose of the joint frame in the parent link's
+/// frame at `q = 0` (URDF `<origin>`), and its axis in the joint frame (URDF `<axis>`).
+/// The child link's frame is the joint frame moved by `q` about (revolute) or along
+/// (prismatic) the axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChainJoint<T: Real> {
+    /// Revolute/continuous (circular) or prismatic (linear).
+    pub kind: JointKind,
+    /// The joint frame in the parent link's frame at `q = 0`.
+    pub origin: Pose<T>,
+    /// The joint axis in the joint frame (normalised by [`SerialChain::new`]).
+    pub axis: Vector3<T>,
+}
+
+/// The world-frame kinematics of a chain at one configuration: every link's pose and every
+/// joint's spatial axis `S_i = [a_i; p_i × a_i]` (revolute) or `[0; a_i]` (prismatic).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChainKinematics<T: Real, const N: usize> {
+    /// The pose of link `i`'s frame in the base frame.
+    pub link_poses: [Pose<T>; N],
+    /// The spatial axis of joint `i` in the base frame, `[angular; linear]`.
+    pub axes: [Spatial<T>; N],
+}
+
+/// A fully actuated serial chain of `N` rigid links, each moved by one revolute or prismatic
+/// joint, with an optional tool frame on the last link and gravity.
+///
+/// Built from plain data ([`ChainJoint`], [`RigidInertia`]), so firmware can construct it from
+/// constants without a URDF parser; `pvfc-sim` reads URDF files into it.
+///
+/// The dynamics `M(q) q̈ + C(q, q̇) q̇ + g(q) = T + F_e` are computed in the base frame with
+/// spatial algebra: `M` by the composite-rigid-body algorithm, `C` in the factorisation of
+/// Echeandia & Wensing (2021), `C = Σ_i J_iᵀ(I_i J̇_i + B_i J_i)` with
+/// `B_i = ½(v_i×* I_i − I_i v_i× + (I_i v_i)×̄*)`, which gives the Christoffel symbols of the
+/// first kind: `C(q, v)_{jk} = Σ_l Γ_{jkl} v_l` with `Γ_{jkl} = Γ_{jlk}`, hence
+/// `Ṁ = C + Cᵀ` identically (not only `Ṁ − 2C` skew), and `C v` is the Coriolis and
+/// centrifugal torque of the recursive Newton–Euler algorithm ([`Self::rnea`]).
+///
+/// It is a [`MechanicalSystem`] on every coordinate group ([`VectorGroup`]): the mixed
+/// [`JointSpace`] (see [`Self::configuration`]), the torus `Tᴺ` of an all-revolute arm, `ℝᴺ`.
+///
+/// ```
+/// use pvfc_core::mechanics::{ChainJoint, MechanicalSystem, Pose, RigidInertia, SerialChain};
+/// use pvfc_core::lie::JointKind;
+/// use nalgebra::{Matrix3, Vector1, Vector3};
+/// // A pendulum: a 1 kg point-like bob 0.5 m down the link, swinging about y.
+/// let joint = ChainJoint {
+///     kind: JointKind::Circular,
+///     origin: Pose::identity(),
+///     axis: Vector3::y(),
+/// };
+/// let bob = RigidInertia { mass: 1.0, com: Vector3::new(0.0, 0.0, -0.5), inertia: Matrix3::identity() * 1e-6 };
+/// let chain = SerialChain::new([joint], [bob]).unwrap();
+/// let q = chain.configuration(Vector1::new(0.3));
+/// let m = chain.inertia(&q);
+/// assert!((m[(0, 0)] - (0.25 + 1e-6)).abs() < 1e-12);
+/// // g(q) = m g l sin q.
+/// assert!((chain.gravity(&q)[0] - 9.81 * 0.5 * 0.3f64.sin()).abs() < 1e-12);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SerialChain<T: Real, const N: usize> {
+    joints: [ChainJoint<T>; N],
+    links: [RigidInertia<T>; N],
+    base: Pose<T>,
+    tool: Pose<T>,
+    gravity: Vector3<T>,
+}
+
+/// Standard gravity, m/s².
+pub const STANDARD_GRAVITY: f64 = 9.80665;
+
+impl<T: Real, const N: usize> SerialChain<T, N> {
+    /// A chain from its joints and the inertias of the links they move (each in its link's
+    /// frame), with gravity `(0, 0, −9.81)` in the base frame, the base frame at the first
+    /// joint's parent, and the tool frame at the last link's frame.
+    ///
+    /// Errors: `NonFinite` for a NaN or infinite number; `InvalidParameter` for a zero axis, a
+    /// rotation that is not orthonormal, a mass ≤ 0 or an asymmetric inertia;
+    /// `SingularInertia` for a rotational inertia that is not positive definite. The
+    /// error's value is the index of the joint or link at fault.
+    pub fn new(joints: [ChainJoint<T>; N], links: [RigidInertia<T>; N]) -> Result<Self> {
+        if N == 0 {
+            return Err(Error::new(
+                ErrorKind::DimensionMismatch,
+                "SerialChain: a chain needs at least one joint",
+            ));
+        }
+        let mut joints = joints;
+        for (i, j) in joints.iter_mut().enumerate() {
+            let at = |e: Error| e.with_value(i as f64);
+            check_pose(&j.origin, "SerialChain: joint origin").map_err(at)?;
+            crate::error::ensure_finite(j.axis.iter(), "SerialChain: joint axis").map_err(at)?;
+            let norm = j.axis.norm();
+            if norm <= T::default_epsilon() {
+                return Err(at(Error::new(
+                    ErrorKind::InvalidParameter,
+                    "SerialChain: joint axis must not be zero",
+                )));
+            }
+            j.axis /= norm;
+        }
+        for (i, l) in links.iter().enumerate() {
+            l.validate("SerialChain: link inertia (mass > 0, symmetric positive definite)")
+                .map_err(|e| e.with_value(i as f64))?;
+        }
+        Ok(SerialChain {
+            joints,
+            links,
+            base: Pose::identity(),
+            tool: Pose::identity(),
+            gravity: Vector3::new(T::zero(), T::zero(), -cast::<T>(STANDARD_GRAVITY)),
+        })
+    }
+
+    /// The same chain with a tool frame: its pose in the last link's frame.
+    pub fn with_tool(mut self, tool: Pose<T>) -> Result<Self> {
+        check_pose(&tool, "SerialChain: tool pose")?;
+        self.tool = tool;
+        Ok(self)
+    }
+
+    /// The same chain mounted at `base` (the pose of the first joint's parent frame in the
+    /// world frame, in which gravity, poses and Jacobians are written).
+    pub fn with_base(mut self, base: Pose<T>) -> Result<Self> {
+        check_pose(&base, "SerialChain: base pose")?;
+        self.base = base;
+        Ok(self)
+    }
+
+    /// The same chain under the gravity acceleration `g` (world frame, m/s²); zero for a
+    /// horizontal arm.
+    pub fn with_gravity(mut self, g: Vector3<T>) -> Result<Self> {
+        crate::error::ensure_finite(g.iter(), "SerialChain: gravity")?;
+        self.gravity = g;
+        Ok(self)
+    }
+
+    /// The joints.
+    pub fn joints(&self) -> &[ChainJoint<T>; N] {
+        &self.joints
+    }
+
+    /// The link inertias, each in its link's frame.
+    pub fn links(&self) -> &[RigidInertia<T>; N] {
+        &self.links
+    }
+
+    /// The tool frame in the last link's frame.
+    pub fn tool(&self) -> &Pose<T> {
+        &self.tool
+    }
+
+    /// The gravity acceleration in the world frame.
+    pub fn gravity_vector(&self) -> &Vector3<T> {
+        &self.gravity
+    }
+
+    /// The kind of every joint.
+    pub fn kinds(&self) -> [JointKind; N] {
+        self.joints.map(|j| j.kind)
+    }
+
+    /// The configuration `q` as an element of the chain's joint space `T^r × ℝ^p`.
+    pub fn configuration(&self, q: SVector<T, N>) -> JointSpace<T, N> {
+        JointSpace::new(q, self.kinds())
+    }
+
+    /// Forward kinematics: every link's pose and every joint's spatial axis in the world
+    /// frame.
+    pub fn kinematics(&self, q: &SVector<T, N>) -> ChainKinematics<T, N> {
+        let mut link_poses = [Pose::identity(); N];
+        let mut axes = [Spatial::zeros(); N];
+        let mut parent = self.base;
+        for i in 0..N {
+            let j = &self.joints[i];
+            let pre = parent.compose(&j.origin);
+            let a = pre.rotation * j.axis;
+            let p = pre.translation;
+            let (pose, s) = match j.kind {
+                JointKind::Circular => (
+                    Pose {
+                        rotation: pre.rotation * axis_angle(&j.axis, q[i]),
+                        translation: p,
+                    },
+                    spatial(a, p.cross(&a)),
+                ),
+                JointKind::Linear => (
+                    Pose {
+                        rotation: pre.rotation,
+                        translation: p + a * q[i],
+                    },
+                    spatial(Vector3::zeros(), a),
+                ),
+            };
+            link_poses[i] = pose;
+            axes[i] = s;
+            parent = pose;
+        }
+        ChainKinematics { link_poses, axes }
+    }
+
+    /// The tool frame's pose in the world frame.
+    pub fn tool_pose(&self, q: &SVector<T, N>) -> Pose<T> {
+        let k = self.kinematics(q);
+        k.link_poses[N - 1].compose(&self.tool)
+    }
+
+    /// The tool's geometric Jacobian in the world frame, rows `[linear; angular]`: the
+    /// velocity of the tool frame's origin and the angular velocity, both in world axes
+    /// (Pinocchio's `LOCAL_WORLD_ALIGNED`).
+    pub fn tool_jacobian_world(&self, q: &SVector<T, N>) -> SMatrix<T, 6, N> {
+        let k = self.kinematics(q);
+        let x = k.link_poses[N - 1].compose(&self.tool).translation;
+        let mut jac = SMatrix::<T, 6, N>::zeros();
+        for (i, s) in k.axes.iter().enumerate() {
+            let w = Vector3::new(s[0], s[1], s[2]);
+            let lin = Vector3::new(s[3], s[4], s[5]) + w.cross(&x);
+            jac.fixed_view_mut::<3, 1>(0, i).copy_from(&lin);
+            jac.fixed_view_mut::<3, 1>(3, i).copy_from(&w);
+        }
+        jac
+    }
+
+    /// The tool's geometric Jacobian in the tool frame, rows `[linear; angular]`
+    /// (Pinocchio's `LOCAL`).
+    pub fn tool_jacobian_body(&self, q: &SVector<T, N>) -> SMatrix<T, 6, N> {
+        let rt = self.tool_pose(q).rotation.transpose();
+        let world = self.tool_jacobian_world(q);
+        let mut jac = SMatrix::<T, 6, N>::zeros();
+        for i in 0..N {
+            let lin: Vector3<T> = rt * world.fixed_view::<3, 1>(0, i);
+            let ang: Vector3<T> = rt * world.fixed_view::<3, 1>(3, i);
+            jac.fixed_view_mut::<3, 1>(0, i).copy_from(&lin);
+            jac.fixed_view_mut::<3, 1>(3, i).copy_from(&ang);
+        }
+        jac
+    }
+
+    /// The spatial inertias of the links in the world frame.
+    fn world_inertias(&self, k: &ChainKinematics<T, N>) -> [Spatial6<T>; N] {
+        let mut out = [Spatial6::zeros(); N];
+        for i in 0..N {
+            out[i] = self.links[i].transformed(&k.link_poses[i]).spatial();
+        }
+        out
+    }
+
+    /// The spatial acceleration standing for gravity, `[0; −g]` (Featherstone's trick: the
+    /// base accelerates upwards).
+    fn gravity_acceleration(&self) -> Spatial<T> {
+        spatial(Vector3::zeros(), -self.gravity)
+    }
+
+    /// The recursive Newton–Euler algorithm: the joint torques `M q̈ + C q̇ + g` that produce
+    /// the accelerations `a` at the state `(q, v)`, gravity included.
+    pub fn rnea(&self, q: &SVector<T, N>, v: &SVector<T, N>, a: &SVector<T, N>) -> SVector<T, N> {
+        let k = self.kinematics(q);
+        let inertias = self.world_inertias(&k);
+        let mut forces = [Spatial::zeros(); N];
+        let mut vel = Spatial::zeros();
+        let mut acc = self.gravity_acceleration();
+        for i in 0..N {
+            let s = k.axes[i];
+            vel += s * v[i];
+            acc += motion_cross(&vel) * s * v[i] + s * a[i];
+            forces[i] = inertias[i] * acc + force_cross(&vel) * (inertias[i] * vel);
+        }
+        let mut tau = SVector::zeros();
+        let mut f = Spatial::zeros();
+        for i in (0..N).rev() {
+            f += forces[i];
+            tau[i] = k.axes[i].dot(&f);
+        }
+        tau
+    }
+
+    /// `M(q)`, `C(q, v)` and `g(q)` in one pass (see the type's documentation).
+    pub fn dynamics(
+        &self,
+        q: &SVector<T, N>,
+        v: &SVector<T, N>,
+    ) -> (SMatrix<T, N, N>, SMatrix<T, N, N>, SVector<T, N>) {
+        let k = self.kinematics(q);
+        let inertias = self.world_inertias(&k);
+        let half: T = cast(0.5);
+        // Forward: the links' velocities, the axes' rates Ṡ_i = v_i × S_i and B_i.
+        let mut axis_rates = [Spatial::zeros(); N];
+        let mut b = [Spatial6::zeros(); N];
+        let mut vel = Spatial::zeros();
+        for i in 0..N {
+            vel += k.axes[i] * v[i];
+            let vx = motion_cross(&vel);
+            axis_rates[i] = vx * k.axes[i];
+            let iv = inertias[i] * vel;
+            b[i] = (vx.transpose() * inertias[i] + inertias[i] * vx) * (-half)
+                + force_cross_bar(&iv) * half;
+        }
+        // Backward: composite inertias I^c_i = Σ_{l ≥ i} I_l and B^c_i likewise.
+        let mut m = SMatrix::<T, N, N>::zeros();
+        let mut c = SMatrix::<T, N, N>::zeros();
+        let mut g = SVector::<T, N>::zeros();
+        let mut ic = Spatial6::zeros();
+        let mut bc = Spatial6::zeros();
+        let a0 = self.gravity_acceleration();
+        for j in (0..N).rev() {
+            ic += inertias[j];
+            bc += b[j];
+            let s = k.axes[j];
+            let ics = ic * s;
+            // Column/row j against every joint i ≤ j: M_ij = S_iᵀ I^c_j S_j.
+            let f = ic * axis_rates[j] + bc * s;
+            let bts = bc.transpose() * s;
+            for i in 0..=j {
+                let mij = k.axes[i].dot(&ics);
+                m[(i, j)] = mij;
+                m[(j, i)] = mij;
+                // C_ij (i ≤ j) = S_iᵀ (I^c_j Ṡ_j + B^c_j S_j).
+                c[(i, j)] = k.axes[i].dot(&f);
+                if i < j {
+                    // C_ji (j > i) = S_jᵀ (I^c_j Ṡ_i + B^c_j S_i).
+                    c[(j, i)] = ics.dot(&axis_rates[i]) + bts.dot(&k.axes[i]);
+                }
+            }
+            g[j] = ics.dot(&a0);
+        }
+        (m, c, g)
+    }
+
+    /// `g(q)`, the torques that hold the chain still against gravity.
+    pub fn gravity_torque(&self, q: &SVector<T, N>) -> SVector<T, N> {
+        let k = self.kinematics(q);
+        let inertias = self.world_inertias(&k);
+        let a0 = self.gravity_acceleration();
+        let mut g = SVector::zeros();
+        let mut ic = Spatial6::zeros();
+        for j in (0..N).rev() {
+            ic += inertias[j];
+            g[j] = k.axes[j].dot(&(ic * a0));
+        }
+        g
+    }
+}
+
+impl<T: Real, G: VectorGroup<T, N>, const N: usize> MechanicalSystem<T, G, N>
+    for SerialChain<T, N>
+{
+    fn inertia(&self, q: &G) -> SMatrix<T, N, N> {
+        self.dynamics(&q.coordinates(), &SVector::zeros()).0
+    }
+
+    fn coriolis(&self, q: &G, v: &Tangent<T, N>) -> SMatrix<T, N, N> {
+        self.dynamics(&q.coordinates(), v).1
+    }
+
+    #[inline]
+    fn inertia_and_coriolis(
+        &self,
+        q: &G,
+        v: &Tangent<T, N>,
+    ) -> (SMatrix<T, N, N>, SMatrix<T, N, N>) {
+        let (m, c, _) = self.dynamics(&q.coordinates(), v);
+        (m, c)
+    }
+
+    fn gravity(&self, q: &G) -> Tangent<T, N> {
+        self.gravity_torque(&q.coordinates())
+    }
+}
+
+#[inline]
+fn spatial<T: Real>(angular: Vector3<T>, linear: Vector3<T>) -> Spatial<T> {
+    Spatial::new(
+        angular[0], angular[1], angular[2], linear[0], linear[1], linear[2],
+    )
+}
+
+fn check_pose<T: Real>(pose: &Pose<T>, context: &'static str) -> Result<()> {
+    if !pose.is_finite() {
+        return Err(Error::new(ErrorKind::NonFinite, context));
+    }
+    let r = &pose.rotation;
+    let off = (r.transpose() * r - Matrix3::identity()).amax();
+    if off > cast(1e-5) || r.determinant() <= T::zero() {
+        return Err(Error::new(ErrorKind::InvalidParameter, context));
+    }
+    Ok(())
+}
