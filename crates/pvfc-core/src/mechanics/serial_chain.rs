@@ -253,11 +253,7 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
 
     /// The spatial inertias of the links in the world frame.
     fn world_inertias(&self, k: &ChainKinematics<T, N>) -> [Spatial6<T>; N] {
-        let mut out = [Spatial6::zeros(); N];
-        for i in 0..N {
-            out[i] = self.links[i].transformed(&k.link_poses[i]).spatial();
-        }
-        out
+        core::array::from_fn(|i| self.links[i].transformed(&k.link_poses[i]).spatial())
     }
 
     /// The spatial acceleration standing for gravity, `[0; −g]` (Featherstone's trick: the
