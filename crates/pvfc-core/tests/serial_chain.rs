@@ -296,10 +296,10 @@ fn f32_chain_agrees_with_f64() {
     let (q, v) = state::<6>(&mut d);
     let (m64, cc64, g64) = c64.dynamics(&q, &v);
     let (m32, cc32, g32) = c32.dynamics(&q.map(conv), &v.map(conv));
-    let up = |m: SMatrix<f32, 6, 6>| m.map(|x| f(x));
+    let up = |m: SMatrix<f32, 6, 6>| m.map(f);
     assert!(rel(&up(m32), &m64) < 1e-5);
     assert!(rel(&up(cc32), &cc64) < 1e-5);
-    assert!((g32.map(|x| f(x)) - g64).amax() < 1e-4 * (1.0 + g64.amax()));
+    assert!((g32.map(f) - g64).amax() < 1e-4 * (1.0 + g64.amax()));
 }
 
 #[test]
