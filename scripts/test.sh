@@ -14,7 +14,7 @@ rm -rf "$venv"
 python3 -m venv "$venv"
 py="$venv/bin/python"
 "$py" -m pip install --quiet --upgrade pip
-"$py" -m pip install --quiet "./crates/pvfc-py[test]"
+"$py" -m pip install --quiet "./crates/pvfc-py[test,reference]"
 "$py" -c "import pvfc, numpy; print('pvfc', pvfc.__version__, 'numpy', numpy.__version__)"
 
 echo "=== pytest"

@@ -66,7 +66,8 @@ impl<T: Real, G, const D: usize> From<&CouplingOutput<T, G, D>> for Diagnostics<
 /// full [`CouplingOutput`] is what [`Controller::evaluate`] returns).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepOutput<T: Real, const D: usize> {
-    /// The motor torques to apply: coupling + nominal speed + friction compensation.
+    /// The motor torques to apply: coupling + nominal speed + friction and gravity
+    /// compensation.
     pub torque: Tangent<T, D>,
     /// The whole augmented torque (robot, `τ`, flywheel) that was applied.
     pub augmented_torque: AugmentedVector<T, D>,
@@ -113,6 +114,7 @@ pub struct Controller<T: Real, G, Sys, F, const D: usize> {
     law: PvfcLaw<T, G, Sys, F, D>,
     nominal: Option<NominalSpeed<T>>,
     friction: Option<FrictionCompensation<T, D>>,
+    gravity_compensation: bool,
     state: InternalState<T>,
 }
 
@@ -131,6 +133,7 @@ where
             law,
             nominal: None,
             friction: None,
+            gravity_compensation: false,
             state: InternalState {
                 tau: T::zero(),
                 tau_dot: T::zero(),
@@ -170,6 +173,21 @@ where
         self
     }
 
+    /// Adds gravity compensation: `T = T_pvfc + g(q)` with the plant model's
+    /// [`MechanicalSystem::gravity`].
+    ///
+    /// Why the loop stays passive: the plant is `M q̈ + C q̇ + g(q) = T + F_e`; with
+    /// `T = T_a + g(q)` the gravity terms cancel and the closed loop is exactly the
+    /// gravity-free one of Theorem 1, `M_a q̈_a + C_a q̇_a = T_a + F_e` with `q̇_aᵀT_a = 0`, so
+    /// `d/dt κ_a = q̇ᵀF_e`. Gravity's work is cancelled as it is done, not stored in `κ_a`: the
+    /// robot's potential energy is not part of the storage, and the bound on the energy
+    /// the robot can give the environment is `κ_a`, as for the horizontal arm. (If the model's
+    /// `g` differs from the plant's, the difference is an external force like `F_e`.)
+    pub fn with_gravity_compensation(mut self) -> Self {
+        self.gravity_compensation = true;
+        self
+    }
+
     /// The law.
     pub fn law(&self) -> &PvfcLaw<T, G, Sys, F, D> {
         &self.law
@@ -198,6 +216,9 @@ where
         }
         if let Some(f) = &self.friction {
             total.robot += f.torque(&s.v);
+        }
+        if self.gravity_compensation {
+            total.robot += self.law.system().gravity(&s.q);
         }
         Ok((total, out))
     }

@@ -68,3 +68,13 @@ pub fn out_matrix<'py, const R: usize, const C: usize>(
 ) -> Bound<'py, PyArray2<f64>> {
     Array2::from_shape_fn((R, C), |(i, j)| m[(i, j)]).into_pyarray(py)
 }
+
+/// A vector whose length is known at run time (a robot's number of joints).
+pub fn dyn_vector(obj: &Bound<'_, PyAny>, name: &str, n: usize) -> PyResult<Vec<f64>> {
+    array(obj, name, &[n])
+}
+
+/// A fresh 2-D array from a run-time-sized matrix.
+pub fn out_dmatrix<'py>(py: Python<'py>, m: &nalgebra::DMatrix<f64>) -> Bound<'py, PyArray2<f64>> {
+    Array2::from_shape_fn((m.nrows(), m.ncols()), |(i, j)| m[(i, j)]).into_pyarray(py)
+}

@@ -5,6 +5,7 @@
 
 mod convert;
 mod errors;
+mod robots;
 
 use convert::{matrix, out1, out_matrix, out_rows, vector};
 use errors::{core_err, sim_err};
@@ -887,6 +888,7 @@ impl Controller {
 fn _pvfc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     m.add_class::<Scara>()?;
+    m.add_class::<robots::Robot>()?;
     m.add_class::<Lissajous>()?;
     m.add_class::<Ellipse>()?;
     m.add_class::<WaypointCurve>()?;

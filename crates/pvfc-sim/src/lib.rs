@@ -22,6 +22,7 @@ pub mod plot;
 pub mod presets;
 pub mod report;
 pub mod reproduce;
+pub mod robot;
 pub mod scenario;
 pub mod simulate;
 pub mod urdf;

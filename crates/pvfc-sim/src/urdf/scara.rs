@@ -1,16 +1,9 @@
 //! A two-link SCARA from a URDF file (urdf-rs), with the checks urdf-rs does not make.
 
+use super::err;
 use crate::error::{Result, SimError};
 use pvfc_core::mechanics::ScaraParameters;
 use std::path::Path;
-
-fn err(path: &Path, element: impl Into<String>, message: impl Into<String>) -> SimError {
-    SimError::Urdf {
-        path: path.to_path_buf(),
-        element: element.into(),
-        message: message.into(),
-    }
-}
 
 /// Reads a planar two-link arm from a URDF: a chain `base → (revolute) link1 → (revolute)
 /// link2 → (fixed) tool`, both revolute axes along `z`, every moving link with an

@@ -1,0 +1,251 @@
+//! `pvfc.Robot`: any serial chain from its URDF, with its rigid-body algorithms.
+
+use crate::convert::{array, dyn_vector, out1, out_dmatrix};
+use crate::errors::sim_err;
+use numpy::ndarray::Array3;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
+use pvfc_core::lie::JointKind;
+use pvfc_core::mechanics::Pose;
+use pvfc_sim::robot::Robot as SimRobot;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::PathBuf;
+
+/// A serial arm read from a URDF file: `M(q)`, `C(q, v)`, `g(q)`, RNEA, forward kinematics and
+/// the tool Jacobian, for 1 to 8 joints.
+#[pyclass(module = "pvfc", frozen, from_py_object, name = "Robot")]
+#[derive(Clone)]
+pub struct Robot {
+    pub(crate) robot: SimRobot,
+}
+
+fn homogeneous(p: &Pose<f64>) -> [[f64; 4]; 4] {
+    let mut h = [[0.0; 4]; 4];
+    for (i, row) in h.iter_mut().enumerate().take(3) {
+        for (j, x) in row.iter_mut().enumerate().take(3) {
+            *x = p.rotation[(i, j)];
+        }
+        row[3] = p.translation[i];
+    }
+    h[3][3] = 1.0;
+    h
+}
+
+fn out_poses<'py>(py: Python<'py>, poses: &[Pose<f64>]) -> Bound<'py, PyArray3<f64>> {
+    let hs: Vec<[[f64; 4]; 4]> = poses.iter().map(homogeneous).collect();
+    Array3::from_shape_fn((hs.len(), 4, 4), |(k, i, j)| hs[k][i][j]).into_pyarray(py)
+}
+
+impl Robot {
+    fn v(&self, obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
+        dyn_vector(obj, name, self.robot.dof())
+    }
+}
+
+#[pymethods]
+impl Robot {
+    /// Reads the chain from `base` (default: the root link) to `tip` (default: the only leaf;
+    /// required when the URDF is a tree).
+    #[staticmethod]
+    #[pyo3(signature = (path, tip=None, base=None))]
+    fn from_urdf(path: PathBuf, tip: Option<&str>, base: Option<&str>) -> PyResult<Self> {
+        Ok(Robot {
+            robot: SimRobot::from_urdf(&path, base, tip).map_err(sim_err)?,
+        })
+    }
+
+    /// The same robot under another gravity vector (world frame, m/s²).
+    fn with_gravity(&self, g: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let g = array(g, "g", &[3])?;
+        Ok(Robot {
+            robot: self
+                .robot
+                .clone()
+                .with_gravity(nalgebra::Vector3::new(g[0], g[1], g[2]))
+                .map_err(sim_err)?,
+        })
+    }
+
+    /// The number of joints.
+    #[getter]
+    fn dof(&self) -> usize {
+        self.robot.dof()
+    }
+
+    /// The robot's name in the URDF.
+    #[getter]
+    fn name(&self) -> String {
+        self.robot.description().name.clone()
+    }
+
+    /// The joints' names, base to tip.
+    #[getter]
+    fn joint_names(&self) -> Vec<String> {
+        self.robot.description().joint_names()
+    }
+
+    /// `"revolute"` or `"prismatic"` per joint.
+    #[getter]
+    fn joint_kinds(&self) -> Vec<&'static str> {
+        self.robot
+            .description()
+            .kinds()
+            .iter()
+            .map(|k| match k {
+                JointKind::Circular => "revolute",
+                JointKind::Linear => "prismatic",
+            })
+            .collect()
+    }
+
+    /// The base and tip links.
+    #[getter]
+    fn base_link(&self) -> String {
+        self.robot.description().base_link.clone()
+    }
+
+    #[getter]
+    fn tip_link(&self) -> String {
+        self.robot.description().tip_link.clone()
+    }
+
+    /// Movable joints of side branches locked at 0 and folded into the chain.
+    #[getter]
+    fn locked_joints(&self) -> Vec<String> {
+        self.robot.description().locked_joints.clone()
+    }
+
+    /// The joint limits: a dict of arrays `lower`, `upper`, `effort`, `velocity` (NaN where
+    /// the URDF gives none).
+    #[getter]
+    fn limits<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let joints = &self.robot.description().joints;
+        let col = |f: &dyn Fn(&pvfc_sim::urdf::JointLimits) -> Option<f64>| -> Vec<f64> {
+            joints
+                .iter()
+                .map(|j| f(&j.limits).unwrap_or(f64::NAN))
+                .collect()
+        };
+        d.set_item("lower", out1(py, col(&|l| l.lower)))?;
+        d.set_item("upper", out1(py, col(&|l| l.upper)))?;
+        d.set_item("effort", out1(py, col(&|l| l.effort)))?;
+        d.set_item("velocity", out1(py, col(&|l| l.velocity)))?;
+        Ok(d)
+    }
+
+    /// `M(q)` (composite rigid body algorithm), `(dof, dof)`.
+    fn inertia<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'_, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let q = self.v(q, "q")?;
+        Ok(out_dmatrix(py, &self.robot.inertia(&q).map_err(sim_err)?))
+    }
+
+    /// `C(q, v)` in Christoffel form (`Ṁ = C + Cᵀ`), `(dof, dof)`.
+    fn coriolis<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'_, PyAny>,
+        v: &Bound<'_, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (q, v) = (self.v(q, "q")?, self.v(v, "v")?);
+        Ok(out_dmatrix(
+            py,
+            &self.robot.coriolis(&q, &v).map_err(sim_err)?,
+        ))
+    }
+
+    /// `g(q)`, the torque that holds the arm against gravity.
+    fn gravity<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'_, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let q = self.v(q, "q")?;
+        let g = self.robot.gravity(&q).map_err(sim_err)?;
+        Ok(out1(py, g.as_slice().to_vec()))
+    }
+
+    /// The recursive Newton–Euler algorithm: `M(q) a + C(q, v) v + g(q)`.
+    fn rnea<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'_, PyAny>,
+        v: &Bound<'_, PyAny>,
+        a: &Bound<'_, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let (q, v, a) = (self.v(q, "q")?, self.v(v, "v")?, self.v(a, "a")?);
+        let t = self.robot.rnea(&q, &v, &a).map_err(sim_err)?;
+        Ok(out1(py, t.as_slice().to_vec()))
+    }
+
+    /// The poses of the moving links' frames and, last, of the tool frame, in the world frame:
+    /// `(dof + 1, 4, 4)` homogeneous transforms.
+    fn forward_kinematics<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'_, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        let q = self.v(q, "q")?;
+        Ok(out_poses(py, &self.robot.link_poses(&q).map_err(sim_err)?))
+    }
+
+    /// The tool frame's pose, a `(4, 4)` homogeneous transform.
+    fn tool_pose<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'_, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let q = self.v(q, "q")?;
+        let (r, p) = self.robot.tool_pose(&q).map_err(sim_err)?;
+        let h = homogeneous(&Pose {
+            rotation: r,
+            translation: p,
+        });
+        let flat: Vec<f64> = h.iter().flatten().copied().collect();
+        Ok(numpy::ndarray::Array2::from_shape_vec((4, 4), flat)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?
+            .into_pyarray(py))
+    }
+
+    /// The tool's geometric Jacobian `(6, dof)`, rows `[linear; angular]`: `frame="world"`
+    /// (Pinocchio's LOCAL_WORLD_ALIGNED: the tool origin's velocity and the angular velocity
+    /// in world axes) or `"local"` (both in the tool frame).
+    #[pyo3(signature = (q, frame="world"))]
+    fn jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'_, PyAny>,
+        frame: &str,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let world = match frame {
+            "world" => true,
+            "local" => false,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "frame: expected 'world' or 'local', got {other:?}"
+                )))
+            }
+        };
+        let q = self.v(q, "q")?;
+        Ok(out_dmatrix(
+            py,
+            &self.robot.jacobian(&q, world).map_err(sim_err)?,
+        ))
+    }
+
+    fn __repr__(&self) -> String {
+        let d = self.robot.description();
+        format!(
+            "Robot({:?}, dof={}, base={:?}, tip={:?})",
+            d.name,
+            d.dof(),
+            d.base_link,
+            d.tip_link
+        )
+    }
+}

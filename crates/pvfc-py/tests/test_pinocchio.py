@@ -1,0 +1,137 @@
+"""pvfc's rigid-body models against Pinocchio, the reference implementation, on the UR5 and
+the Franka Panda of ``example-robot-data``: M, C, Ṁ = C + Cᵀ, g, RNEA, the tool pose and the
+tool Jacobian at 1,000 random states each.
+
+Conventions matched: Pinocchio's ``crba`` (upper triangle, mirrored), ``computeCoriolisMatrix``
+(Christoffel-consistent, like pvfc's), ``computeGeneralizedGravity`` with Pinocchio's gravity
+(−9.81 z; pvfc is given the same), the tool frame's ``oMf`` and its Jacobian in
+``LOCAL_WORLD_ALIGNED`` (pvfc's ``frame="world"``) and ``LOCAL`` (``frame="local"``), rows
+[linear; angular]. The Panda's finger joints are locked at 0 in Pinocchio
+(``buildReducedModel``), as pvfc folds side branches.
+
+The error measure is max|pvfc − Pinocchio| / max(1, max|Pinocchio|) per quantity and state.
+"""
+
+import os
+import pathlib
+
+import numpy as np
+import pytest
+
+import pvfc
+
+try:
+    import example_robot_data  # noqa: F401
+except ImportError:  # the wheel of example-robot-data installs its files under cmeel.prefix
+    pass
+
+try:
+    import pinocchio as pin
+except ImportError:  # pragma: no cover - CI installs it (scripts/test.sh)
+    if os.environ.get("CI"):
+        raise
+    pytest.skip("pinocchio (pip install pin) is not installed", allow_module_level=True)
+
+REPO = pathlib.Path(__file__).resolve().parents[3]
+STATES = 1000
+TOL = 1e-10
+
+
+def erd_robots() -> pathlib.Path:
+    """The URDF folder of the installed example-robot-data."""
+    import site
+    import sys
+
+    for base in [*site.getsitepackages(), sys.prefix]:
+        p = pathlib.Path(base) / "cmeel.prefix" / "share" / "example-robot-data" / "robots"
+        if p.is_dir():
+            return p
+    if os.environ.get("CI"):
+        raise FileNotFoundError("example-robot-data is not installed")
+    pytest.skip("example-robot-data is not installed")
+
+
+ROBOTS = {
+    "ur5": ("ur_description/urdf/ur5_robot.urdf", "ur5/ur5_robot.urdf", "tool0", []),
+    "panda": (
+        "panda_description/urdf/panda.urdf",
+        "panda/panda.urdf",
+        "panda_hand_tcp",
+        ["panda_finger_joint1", "panda_finger_joint2"],
+    ),
+}
+
+
+def models(name: str):
+    package_path, shipped, tip, locked = ROBOTS[name]
+    urdf = erd_robots() / package_path
+    # The copy shipped under models/ (used by the Rust tests and scenarios) is the package's.
+    assert (REPO / "models" / shipped).read_bytes() == urdf.read_bytes()
+    model = pin.buildModelFromUrdf(str(urdf))
+    if locked:
+        ids = [model.getJointId(j) for j in locked]
+        model = pin.buildReducedModel(model, ids, pin.neutral(model))
+    robot = pvfc.Robot.from_urdf(str(urdf), tip=tip).with_gravity(model.gravity.linear)
+    assert robot.dof == model.nv == model.nq
+    assert robot.joint_names == [model.names[i] for i in range(1, model.njoints)]
+    assert sorted(robot.locked_joints) == sorted(locked)
+    return robot, model, model.getFrameId(tip)
+
+
+def rel(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.max(np.abs(a - b)) / max(1.0, float(np.max(np.abs(b)))))
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_dynamics_and_kinematics_match_pinocchio(name: str) -> None:
+    robot, model, frame = models(name)
+    data = model.createData()
+    rng = np.random.default_rng(7)
+    worst: dict = {}
+
+    def record(what: str, e: float) -> None:
+        worst[what] = max(worst.get(what, 0.0), e)
+
+    for _ in range(STATES):
+        q = rng.uniform(-np.pi, np.pi, model.nq)
+        v = rng.uniform(-2.0, 2.0, model.nv)
+        a = rng.uniform(-5.0, 5.0, model.nv)
+        m_pin = pin.crba(model, data, q).copy()
+        m_pin = np.triu(m_pin) + np.triu(m_pin, 1).T
+        record("M", rel(robot.inertia(q), m_pin))
+        c_pin = pin.computeCoriolisMatrix(model, data, q, v).copy()
+        c = robot.coriolis(q, v)
+        record("C", rel(c, c_pin))
+        record("g", rel(robot.gravity(q), pin.computeGeneralizedGravity(model, data, q)))
+        record("rnea", rel(robot.rnea(q, v, a), pin.rnea(model, data, q, v, a)))
+        pin.framesForwardKinematics(model, data, q)
+        record("tool pose", rel(robot.tool_pose(q), data.oMf[frame].homogeneous))
+        pin.computeJointJacobians(model, data, q)
+        for f, ref in [("world", pin.LOCAL_WORLD_ALIGNED), ("local", pin.LOCAL)]:
+            j_pin = pin.getFrameJacobian(model, data, frame, ref)
+            record(f"J {f}", rel(robot.jacobian(q, frame=f), j_pin))
+        # Ṁ = C + Cᵀ against a 4th-order central difference of Pinocchio's M along v.
+        h = 1e-3
+
+        def m_at(t: float) -> np.ndarray:
+            m = pin.crba(model, data, q + t * v).copy()
+            return np.triu(m) + np.triu(m, 1).T
+
+        m_dot = (m_at(-2 * h) - 8 * m_at(-h) + 8 * m_at(h) - m_at(2 * h)) / (12 * h)
+        record("Ṁ = C + Cᵀ (vs FD)", rel(c + c.T, m_dot))
+
+    print(name, {k: f"{e:.1e}" for k, e in worst.items()})
+    fd = worst.pop("Ṁ = C + Cᵀ (vs FD)")
+    assert fd < 1e-8, f"{name}: Ṁ = C + Cᵀ off by {fd:.2e} against finite differences"
+    bad = {k: e for k, e in worst.items() if e > TOL}
+    assert not bad, f"{name}: pvfc differs from Pinocchio: {bad}"
+
+
+def test_pinocchio_check_can_fail() -> None:
+    """The comparison is sensitive: a wrong gravity (9.80665 instead of Pinocchio's 9.81)
+    is seen."""
+    robot, model, _ = models("ur5")
+    data = model.createData()
+    q = np.full(model.nq, 0.4)
+    off = robot.with_gravity([0.0, 0.0, -9.80665])
+    assert rel(off.gravity(q), pin.computeGeneralizedGravity(model, data, q)) > 1e-5

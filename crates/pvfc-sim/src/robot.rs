@@ -1,0 +1,267 @@
+//! A serial chain whose number of joints is known at run time (from its URDF), dispatched into
+//! the core's const-generic [`SerialChain`] for `N = 1 … 8`.
+
+use crate::error::{Result, SimError};
+use crate::urdf::chain::{ChainDescription, MAX_JOINTS};
+use nalgebra::{DMatrix, DVector, Matrix3, SVector, Vector3};
+use pvfc_core::mechanics::{Pose, SerialChain};
+use std::path::Path;
+
+/// Runs `$body` with `$n` (a run-time number of joints, 1…8) as the const generic `$N`;
+/// evaluates `$otherwise` for any other number.
+#[macro_export]
+macro_rules! with_dof {
+    ($n:expr, $N:ident => $body:expr, otherwise $otherwise:expr) => {
+        match $n {
+            1 => {
+                #[allow(dead_code)]
+                const $N: usize = 1;
+                $body
+            }
+            2 => {
+                #[allow(dead_code)]
+                const $N: usize = 2;
+                $body
+            }
+            3 => {
+                #[allow(dead_code)]
+                const $N: usize = 3;
+                $body
+            }
+            4 => {
+                #[allow(dead_code)]
+                const $N: usize = 4;
+                $body
+            }
+            5 => {
+                #[allow(dead_code)]
+                const $N: usize = 5;
+                $body
+            }
+            6 => {
+                #[allow(dead_code)]
+                const $N: usize = 6;
+                $body
+            }
+            7 => {
+                #[allow(dead_code)]
+                const $N: usize = 7;
+                $body
+            }
+            8 => {
+                #[allow(dead_code)]
+                const $N: usize = 8;
+                $body
+            }
+            _ => $otherwise,
+        }
+    };
+}
+
+/// A serial chain of 1 to 8 joints.
+#[derive(Clone, Debug, PartialEq)]
+#[allow(missing_docs)]
+// One per robot, built once: boxing the larger chains would buy nothing.
+#[allow(clippy::large_enum_variant)]
+pub enum ChainModel {
+    J1(SerialChain<f64, 1>),
+    J2(SerialChain<f64, 2>),
+    J3(SerialChain<f64, 3>),
+    J4(SerialChain<f64, 4>),
+    J5(SerialChain<f64, 5>),
+    J6(SerialChain<f64, 6>),
+    J7(SerialChain<f64, 7>),
+    J8(SerialChain<f64, 8>),
+}
+
+macro_rules! on_chain {
+    ($self:expr, $c:ident, $N:ident => $body:expr) => {
+        match $self {
+            ChainModel::J1($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 1;
+                $body
+            }
+            ChainModel::J2($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 2;
+                $body
+            }
+            ChainModel::J3($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 3;
+                $body
+            }
+            ChainModel::J4($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 4;
+                $body
+            }
+            ChainModel::J5($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 5;
+                $body
+            }
+            ChainModel::J6($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 6;
+                $body
+            }
+            ChainModel::J7($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 7;
+                $body
+            }
+            ChainModel::J8($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 8;
+                $body
+            }
+        }
+    };
+}
+
+/// A robot: its URDF description (names, limits) and its dynamic model, with vectors and
+/// matrices sized at run time. Every vector argument is checked against [`Self::dof`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Robot {
+    description: ChainDescription,
+    model: ChainModel,
+}
+
+impl Robot {
+    /// Reads the chain from `base` (default: the URDF's root) to `tip` (default: its only
+    /// leaf) of a URDF file.
+    pub fn from_urdf(path: &Path, base: Option<&str>, tip: Option<&str>) -> Result<Self> {
+        Self::from_description(ChainDescription::from_file(path, base, tip)?)
+    }
+
+    /// The model of a chain description.
+    pub fn from_description(description: ChainDescription) -> Result<Self> {
+        let model = with_dof!(description.dof(), N => ChainModel::from(description.chain::<N>()?),
+        otherwise return Err(SimError::Setting(format!(
+            "robot {}: {} joints; pvfc supports 1 to {MAX_JOINTS}",
+            description.name, description.dof()
+        ))));
+        Ok(Robot { description, model })
+    }
+
+    /// The same robot under another gravity vector (world frame, m/s²).
+    pub fn with_gravity(mut self, g: Vector3<f64>) -> Result<Self> {
+        self.model = on_chain!(&self.model, c, N => ChainModel::from(c.with_gravity(g)?));
+        Ok(self)
+    }
+
+    /// The URDF description.
+    pub fn description(&self) -> &ChainDescription {
+        &self.description
+    }
+
+    /// The const-generic model.
+    pub fn model(&self) -> &ChainModel {
+        &self.model
+    }
+
+    /// The number of joints.
+    pub fn dof(&self) -> usize {
+        self.description.dof()
+    }
+
+    fn vector<const N: usize>(&self, x: &[f64], name: &str) -> Result<SVector<f64, N>> {
+        if x.len() != N {
+            return Err(SimError::Setting(format!(
+                "{name} has {} entries; robot {} has {N} joints",
+                x.len(),
+                self.description.name
+            )));
+        }
+        if !x.iter().all(|v| v.is_finite()) {
+            return Err(SimError::Core(pvfc_core::Error::new(
+                pvfc_core::ErrorKind::NonFinite,
+                "Robot: a state entry is NaN or infinite",
+            )));
+        }
+        Ok(SVector::from_column_slice(x))
+    }
+
+    /// `M(q)` (composite rigid body algorithm).
+    pub fn inertia(&self, q: &[f64]) -> Result<DMatrix<f64>> {
+        on_chain!(&self.model, c, N => {
+            let q = self.vector::<N>(q, "q")?;
+            Ok(dm(&c.dynamics(&q, &SVector::zeros()).0))
+        })
+    }
+
+    /// `C(q, v)` (Christoffel-consistent: `Ṁ = C + Cᵀ`).
+    pub fn coriolis(&self, q: &[f64], v: &[f64]) -> Result<DMatrix<f64>> {
+        on_chain!(&self.model, c, N => {
+            let (q, v) = (self.vector::<N>(q, "q")?, self.vector::<N>(v, "v")?);
+            Ok(dm(&c.dynamics(&q, &v).1))
+        })
+    }
+
+    /// `g(q)`.
+    pub fn gravity(&self, q: &[f64]) -> Result<DVector<f64>> {
+        on_chain!(&self.model, c, N => {
+            let q = self.vector::<N>(q, "q")?;
+            Ok(dv(&c.gravity_torque(&q)))
+        })
+    }
+
+    /// The recursive Newton–Euler algorithm: `M a + C v + g`.
+    pub fn rnea(&self, q: &[f64], v: &[f64], a: &[f64]) -> Result<DVector<f64>> {
+        on_chain!(&self.model, c, N => {
+            let q = self.vector::<N>(q, "q")?;
+            let v = self.vector::<N>(v, "v")?;
+            let a = self.vector::<N>(a, "a")?;
+            Ok(dv(&c.rnea(&q, &v, &a)))
+        })
+    }
+
+    /// The tool frame's pose in the world frame: `(R, p)`.
+    pub fn tool_pose(&self, q: &[f64]) -> Result<(Matrix3<f64>, Vector3<f64>)> {
+        on_chain!(&self.model, c, N => {
+            let p = c.tool_pose(&self.vector::<N>(q, "q")?);
+            Ok((p.rotation, p.translation))
+        })
+    }
+
+    /// Every link's pose (the frames of the moving links, base to tip), then the tool's.
+    pub fn link_poses(&self, q: &[f64]) -> Result<Vec<Pose<f64>>> {
+        on_chain!(&self.model, c, N => {
+            let k = c.kinematics(&self.vector::<N>(q, "q")?);
+            let mut out: Vec<Pose<f64>> = k.link_poses.to_vec();
+            out.push(k.link_poses[N - 1].compose(c.tool()));
+            Ok(out)
+        })
+    }
+
+    /// The tool's geometric Jacobian, rows `[linear; angular]`, in the world frame
+    /// (`world = true`, Pinocchio's `LOCAL_WORLD_ALIGNED`) or the tool frame (`LOCAL`).
+    pub fn jacobian(&self, q: &[f64], world: bool) -> Result<DMatrix<f64>> {
+        on_chain!(&self.model, c, N => {
+            let q = self.vector::<N>(q, "q")?;
+            let j = if world { c.tool_jacobian_world(&q) } else { c.tool_jacobian_body(&q) };
+            Ok(dm(&j))
+        })
+    }
+}
+
+macro_rules! from_chain {
+    ($($v:ident $n:literal),*) => {$(
+        impl From<SerialChain<f64, $n>> for ChainModel {
+            fn from(c: SerialChain<f64, $n>) -> Self {
+                ChainModel::$v(c)
+            }
+        }
+    )*};
+}
+from_chain!(J1 1, J2 2, J3 3, J4 4, J5 5, J6 6, J7 7, J8 8);
+
+fn dm<const R: usize, const C: usize>(m: &nalgebra::SMatrix<f64, R, C>) -> DMatrix<f64> {
+    DMatrix::from_column_slice(R, C, m.as_slice())
+}
+
+fn dv<const N: usize>(v: &SVector<f64, N>) -> DVector<f64> {
+    DVector::from_column_slice(v.as_slice())
+}
