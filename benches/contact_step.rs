@@ -21,8 +21,8 @@ fn contact_step(c: &mut Criterion) {
     let k = run.len() - 1;
     assert!(run.contact.as_ref().expect("contact columns").depth[k] > 0.0);
     let st = AugmentedState {
-        q: Torus::new(Vector2::from(run.q[k])),
-        v: Vector2::from(run.v[k]),
+        q: Torus::new(Vector2::from_column_slice(&run.q[k])),
+        v: Vector2::from_column_slice(&run.v[k]),
         tau: run.tau[k],
         tau_dot: run.tau_dot[k],
         flywheel_speed: run.flywheel_speed[k],

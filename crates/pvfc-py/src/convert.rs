@@ -78,3 +78,13 @@ pub fn dyn_vector(obj: &Bound<'_, PyAny>, name: &str, n: usize) -> PyResult<Vec<
 pub fn out_dmatrix<'py>(py: Python<'py>, m: &nalgebra::DMatrix<f64>) -> Bound<'py, PyArray2<f64>> {
     Array2::from_shape_fn((m.nrows(), m.ncols()), |(i, j)| m[(i, j)]).into_pyarray(py)
 }
+
+/// A fresh `(n, dof)` array from a joint series.
+pub fn out_series<'py>(
+    py: Python<'py>,
+    s: &pvfc_sim::series::JointSeries,
+) -> Bound<'py, PyArray2<f64>> {
+    Array2::from_shape_vec((s.len(), s.dof()), s.as_flat().to_vec())
+        .map(|a| a.into_pyarray(py))
+        .unwrap_or_else(|_| Array2::<f64>::zeros((0, s.dof())).into_pyarray(py))
+}

@@ -7,7 +7,7 @@ mod convert;
 mod errors;
 mod robots;
 
-use convert::{matrix, out1, out_matrix, out_rows, vector};
+use convert::{matrix, out1, out_matrix, out_rows, out_series, vector};
 use errors::{core_err, sim_err};
 use nalgebra::{Vector2, Vector3};
 use numpy::{PyArray1, PyArray2};
@@ -582,19 +582,19 @@ impl SimulationResult {
     /// Joint angles, shape (n, 2).
     #[getter]
     fn q<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        out_rows(py, &self.t.q)
+        out_series(py, &self.t.q)
     }
 
     /// Joint velocities, shape (n, 2).
     #[getter]
     fn qdot<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        out_rows(py, &self.t.v)
+        out_series(py, &self.t.v)
     }
 
     /// Motor torques, shape (n, 2).
     #[getter]
     fn torque<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        out_rows(py, &self.t.torque)
+        out_series(py, &self.t.torque)
     }
 
     /// The run's name.

@@ -24,6 +24,7 @@ pub mod report;
 pub mod reproduce;
 pub mod robot;
 pub mod scenario;
+pub mod series;
 pub mod simulate;
 pub mod urdf;
 

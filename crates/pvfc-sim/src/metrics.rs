@@ -72,9 +72,10 @@ pub fn contour_error(
     period: f64,
     range: std::ops::Range<usize>,
 ) -> (f64, f64) {
-    let d: Vec<f64> = trace.q[range]
-        .iter()
-        .map(|q| contour_distance(contour, period, &Vector2::from(*q)))
+    let d: Vec<f64> = trace
+        .q
+        .rows(range)
+        .map(|q| contour_distance(contour, period, &Vector2::from_column_slice(q)))
         .collect();
     let mean = d.iter().sum::<f64>() / d.len().max(1) as f64;
     (mean, d.iter().cloned().fold(0.0, f64::max))
@@ -85,9 +86,15 @@ pub fn contour_error(
 /// path travelled until then. 1 is a straight line.
 pub fn approach_straightness(trace: &Trace, reach_u: f64) -> Option<(f64, usize)> {
     let end = trace.potential.iter().position(|&u| u < reach_u)?;
-    let q = |i: usize| Vector2::from(trace.q[i]);
-    let length: f64 = (1..=end).map(|i| (q(i) - q(i - 1)).norm()).sum();
-    let chord = (q(end) - q(0)).norm();
+    let dist = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y) * (x - y))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let length: f64 = (1..=end).map(|i| dist(&trace.q[i], &trace.q[i - 1])).sum();
+    let chord = dist(&trace.q[end], &trace.q[0]);
     (length > 0.0).then(|| (chord / length, end))
 }
 

@@ -211,7 +211,7 @@ fn desired(runs: &Runs, name: &str) -> Result<Series> {
 }
 
 fn path_of(t: &crate::simulate::Trace, range: std::ops::Range<usize>) -> Vec<(f64, f64)> {
-    t.q[range].iter().map(|q| (q[0], q[1])).collect()
+    t.q.rows(range).map(|q| (q[0], q[1])).collect()
 }
 
 /// Figs. 8–10: contour traced, U against τ and τ̇ against τ over the last complete pass.

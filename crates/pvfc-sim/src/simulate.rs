@@ -6,6 +6,7 @@ use crate::friction::JointFriction;
 use crate::integrate::{ClosedLoop, Derivative, RK4_WEIGHTS};
 use crate::paper::PaperField;
 use crate::scenario::{BaselineSpec, Mode, Scenario};
+use crate::series::JointSeries;
 use nalgebra::Vector2;
 use pvfc_core::prelude::*;
 
@@ -16,10 +17,10 @@ pub struct Trace {
     pub name: String,
     /// Time (s).
     pub t: Vec<f64>,
-    /// Joint angles (rad).
-    pub q: Vec<[f64; 2]>,
-    /// Joint velocities (rad/s).
-    pub v: Vec<[f64; 2]>,
+    /// Joint positions (rad, or m for prismatic joints), one row per sample.
+    pub q: JointSeries,
+    /// Joint velocities (rad/s, m/s).
+    pub v: JointSeries,
     /// Contour parameter, unwrapped.
     pub tau: Vec<f64>,
     /// Its rate.
@@ -34,8 +35,8 @@ pub struct Trace {
     pub lambda1: Vec<f64>,
     /// Self-pacing gain `λ₂`.
     pub lambda2: Vec<f64>,
-    /// Motor torques (N·m).
-    pub torque: Vec<[f64; 2]>,
+    /// Motor torques (N·m, N).
+    pub torque: JointSeries,
     /// Augmented kinetic energy `κ_a` (J): arm + `½τ̇²` + flywheel.
     pub energy: Vec<f64>,
     /// Power of the plant's friction on the arm, `F_fᵀq̇ ≤ 0` (W).
@@ -135,13 +136,14 @@ impl Work {
 }
 
 impl Trace {
-    /// An empty trace named `name`, with room for `n` samples (no reallocation in the run).
-    fn with_capacity(name: String, n: usize) -> Self {
+    /// An empty trace of a `dof`-joint robot named `name`, with room for `n` samples (no
+    /// reallocation in the run).
+    pub(crate) fn with_capacity(name: String, dof: usize, n: usize) -> Self {
         Trace {
             name,
             t: Vec::with_capacity(n),
-            q: Vec::with_capacity(n),
-            v: Vec::with_capacity(n),
+            q: JointSeries::with_capacity(dof, n),
+            v: JointSeries::with_capacity(dof, n),
             tau: Vec::with_capacity(n),
             tau_dot: Vec::with_capacity(n),
             flywheel_speed: Vec::with_capacity(n),
@@ -149,7 +151,7 @@ impl Trace {
             potential: Vec::with_capacity(n),
             lambda1: Vec::with_capacity(n),
             lambda2: Vec::with_capacity(n),
-            torque: Vec::with_capacity(n),
+            torque: JointSeries::with_capacity(dof, n),
             energy: Vec::with_capacity(n),
             friction_power: Vec::with_capacity(n),
             contact: None,
@@ -158,8 +160,8 @@ impl Trace {
 
     fn push(&mut self, row: Row) {
         self.t.push(row.t);
-        self.q.push(row.q);
-        self.v.push(row.v);
+        self.q.push(&row.q);
+        self.v.push(&row.v);
         self.tau.push(row.tau);
         self.tau_dot.push(row.tau_dot);
         self.flywheel_speed.push(row.flywheel_speed);
@@ -167,7 +169,7 @@ impl Trace {
         self.potential.push(row.potential);
         self.lambda1.push(row.lambda1);
         self.lambda2.push(row.lambda2);
-        self.torque.push(row.torque);
+        self.torque.push(&row.torque);
         self.energy.push(row.energy);
         self.friction_power.push(row.friction_power);
     }
@@ -310,7 +312,7 @@ fn simulate_sampled<E: Environment + ?Sized>(
     let r0 = s.controller.nominal_speed.map(|n| n.r);
     let mut q = Torus::new(Vector2::from(s.initial.q));
     let mut v = Vector2::from(s.initial.v);
-    let mut trace = Trace::with_capacity(s.name.clone(), n + 1);
+    let mut trace = Trace::with_capacity(s.name.clone(), 2, n + 1);
     let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1));
     let mut work = Work::default();
     for k in 0..=n {
@@ -445,7 +447,7 @@ fn simulate_continuous<E: Environment + ?Sized>(
         tau_dot: i.tau_dot,
         flywheel_speed: i.flywheel_speed,
     };
-    let mut trace = Trace::with_capacity(s.name.clone(), n + 1);
+    let mut trace = Trace::with_capacity(s.name.clone(), 2, n + 1);
     let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1));
     let mut work = Work::default();
     for k in 0..=n {
@@ -553,7 +555,7 @@ pub fn simulate_timed_in(
     let mut q = Torus::new(Vector2::from(s.initial.q));
     let mut v = Vector2::from(s.initial.v);
     let kin = PlanarArm::from(&s.arm()?);
-    let mut trace = Trace::with_capacity(format!("{}-timed", s.name), n + 1);
+    let mut trace = Trace::with_capacity(format!("{}-timed", s.name), 2, n + 1);
     let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1));
     let mut work = Work::default();
     for k in 0..=n {

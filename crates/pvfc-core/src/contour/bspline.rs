@@ -8,15 +8,18 @@ use crate::scalar::cast;
 use crate::Real;
 use core::marker::PhantomData;
 
-/// A closed, C² curve on `G` through (or near) `K ≥ 3` key points, one every `spacing` units
-/// of `τ`, period `K·spacing`.
+/// A closed, C² curve on `G` through (or near) `n ≥ 3` key points, one every `spacing` units
+/// of `τ`, period `n·spacing`. `K` is the capacity: `n = K` for the array constructors
+/// ([`through`](Self::through)), `3 ≤ n ≤ K` for the slice ones
+/// ([`through_slice`](Self::through_slice)), so that a number of waypoints known at run time
+/// needs no allocation and no new type.
 ///
 /// On the segment `τ ∈ [i h, (i+1) h)`, `u = τ/h − i`, with control points `C_k` and
 /// `Ω_k = log(C_k⁻¹ C_{k+1})` (indices modulo `K`):
 ///
 /// `x_d(τ) = C_{i−1} · exp(B̃₁(u) Ω_{i−1}) · exp(B̃₂(u) Ω_i) · exp(B̃₃(u) Ω_{i+1})`
 ///
-/// with the cumulative cubic basis `B̃₁ = (5 + 3u − 3u² + u³)/6`, `B̃₂ = (1 + 3u + 3u² − 2u³)/6`,
+/// (indices modulo `n`) with the cumulative cubic basis `B̃₁ = (5 + 3u − 3u² + u³)/6`, `B̃₂ = (1 + 3u + 3u² − 2u³)/6`,
 /// `B̃₃ = u³/6`. Body velocity and its derivative follow by the recursion
 /// `ω_j = Ad_{A_j⁻¹} ω_{j−1} + B̃_j' Ω`, `ω̇_j = Ad_{A_j⁻¹} ω̇_{j−1} − B̃_j' [Ω, Ad_{A_j⁻¹} ω_{j−1}] + B̃_j'' Ω`.
 ///
@@ -38,6 +41,7 @@ use core::marker::PhantomData;
 pub struct PeriodicBSpline<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> {
     control: [G; K],
     delta: [Tangent<T, D>; K],
+    len: usize,
     spacing: T,
     _t: PhantomData<T>,
 }
@@ -45,12 +49,27 @@ pub struct PeriodicBSpline<T: Real, G: LieGroup<T, D>, const D: usize, const K: 
 impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline<T, G, D, K> {
     /// The spline with the given control points (the curve passes near, not through, them).
     pub fn from_control_points(control: [G; K], spacing: T) -> Result<Self> {
-        if K < 3 {
+        Self::from_control_slice(&control, spacing)
+    }
+
+    /// As [`from_control_points`](Self::from_control_points) with `3 ≤ n ≤ K` points.
+    pub fn from_control_slice(points: &[G], spacing: T) -> Result<Self> {
+        let n = points.len();
+        if n < 3 {
             return Err(Error::new(
                 ErrorKind::InvalidParameter,
                 "PeriodicBSpline: needs at least 3 points",
             ));
         }
+        if n > K {
+            return Err(Error::new(
+                ErrorKind::DimensionMismatch,
+                "PeriodicBSpline: more points than the spline's capacity K",
+            )
+            .with_value(n as f64));
+        }
+        let mut control = [G::identity(); K];
+        control[..n].copy_from_slice(points);
         check_period(spacing, "PeriodicBSpline: spacing must be finite and > 0")?;
         if !control.iter().all(|c| c.is_finite()) {
             return Err(Error::new(
@@ -59,12 +78,13 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
             ));
         }
         let mut delta = [Tangent::zeros(); K];
-        for (k, d) in delta.iter_mut().enumerate() {
-            *d = control[k].inverse().compose(&control[(k + 1) % K]).log();
+        for (k, d) in delta.iter_mut().enumerate().take(n) {
+            *d = control[k].inverse().compose(&control[(k + 1) % n]).log();
         }
         Ok(PeriodicBSpline {
             control,
             delta,
+            len: n,
             spacing,
             _t: PhantomData,
         })
@@ -77,12 +97,18 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
     /// (up to 3× on an alternating pattern), and must stay less than π apart on SO(3) and the
     /// torus, where the logarithm is discontinuous beyond.
     pub fn through(waypoints: [G; K], spacing: T) -> Result<Self> {
-        let mut spline = Self::from_control_points(waypoints, spacing)?;
+        Self::through_slice(&waypoints, spacing)
+    }
+
+    /// As [`through`](Self::through) with `3 ≤ n ≤ K` waypoints.
+    pub fn through_slice(waypoints: &[G], spacing: T) -> Result<Self> {
+        let mut spline = Self::from_control_slice(waypoints, spacing)?;
+        let n = spline.len;
         let tolerance = T::default_epsilon() * cast(64.0);
         for _ in 0..2000 {
             let mut worst = T::zero();
             let mut next = spline.control;
-            for (k, c) in next.iter_mut().enumerate() {
+            for (k, c) in next.iter_mut().enumerate().take(n) {
                 let at: T = spline.spacing * cast(k as f64);
                 let residual = spline.point(at).inverse().compose(&waypoints[k]).log();
                 worst = worst.max(residual.norm());
@@ -93,8 +119,8 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
             }
             // Neighbouring control points more than ~π apart make the logarithm jump: the
             // waypoints are too coarse for an interpolating spline on this group.
-            let spread = (0..K)
-                .map(|k| next[k].inverse().compose(&next[(k + 1) % K]).log().norm())
+            let spread = (0..n)
+                .map(|k| next[k].inverse().compose(&next[(k + 1) % n]).log().norm())
                 .fold(T::zero(), |a, b| a.max(b));
             if spread > cast::<T>(0.9 * core::f64::consts::PI) {
                 return Err(Error::new(
@@ -105,7 +131,7 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
             if worst <= tolerance {
                 return Ok(spline);
             }
-            spline = Self::from_control_points(next, spacing)?;
+            spline = Self::from_control_slice(&next[..n], spacing)?;
         }
         Err(Error::new(
             ErrorKind::NoConvergence,
@@ -114,8 +140,18 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
     }
 
     /// The control points.
-    pub fn control_points(&self) -> &[G; K] {
-        &self.control
+    pub fn control_points(&self) -> &[G] {
+        &self.control[..self.len]
+    }
+
+    /// The number of key points `n`.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Always `false`: a spline has at least 3 points.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
     }
 
     /// The spacing `h` of the knots in `τ`.
@@ -131,10 +167,11 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> Contour<T, G, D
         let s = tau / self.spacing;
         let floor = s.floor();
         let u = s - floor;
-        let kf: T = cast(K as f64);
-        // Segment index modulo K, for negative τ too.
+        let n = self.len;
+        let kf: T = cast(n as f64);
+        // Segment index modulo n, for negative τ too.
         let seg = floor - (floor / kf).floor() * kf;
-        let i = (nalgebra::try_convert::<T, f64>(seg).unwrap_or(0.0) as usize) % K;
+        let i = (nalgebra::try_convert::<T, f64>(seg).unwrap_or(0.0) as usize) % n;
         let (u2, u3) = (u * u, u * u * u);
         let sixth: T = cast(1.0 / 6.0);
         let (three, two, five, six): (T, T, T, T) = (cast(3.0), cast(2.0), cast(5.0), cast(6.0));
@@ -154,11 +191,11 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> Contour<T, G, D
             (T::one() - two * u) / (h * h),
             u / (h * h),
         ];
-        let mut point = self.control[(i + K - 1) % K];
+        let mut point = self.control[(i + n - 1) % n];
         let mut w = Tangent::<T, D>::zeros();
         let mut dw = Tangent::<T, D>::zeros();
         for j in 0..3 {
-            let omega = self.delta[(i + K - 1 + j) % K];
+            let omega = self.delta[(i + n - 1 + j) % n];
             let a = G::exp(&(omega * b[j]));
             let w_prev = a.adjoint_inverse_apply(&w);
             dw = a.adjoint_inverse_apply(&dw) - G::lie_bracket(&omega, &w_prev) * db[j]
@@ -174,6 +211,6 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> Contour<T, G, D
     }
 
     fn period(&self) -> Option<T> {
-        Some(self.spacing * cast(K as f64))
+        Some(self.spacing * cast(self.len as f64))
     }
 }

@@ -65,12 +65,13 @@ pub struct ChainKinematics<T: Real, const N: usize> {
 ///     axis: Vector3::y(),
 /// };
 /// let bob = RigidInertia { mass: 1.0, com: Vector3::new(0.0, 0.0, -0.5), inertia: Matrix3::identity() * 1e-6 };
-/// let chain = SerialChain::new([joint], [bob]).unwrap();
+/// let chain: SerialChain<f64, 1> = SerialChain::new([joint], [bob]).unwrap();
 /// let q = chain.configuration(Vector1::new(0.3));
 /// let m = chain.inertia(&q);
 /// assert!((m[(0, 0)] - (0.25 + 1e-6)).abs() < 1e-12);
 /// // g(q) = m g l sin q.
-/// assert!((chain.gravity(&q)[0] - 9.81 * 0.5 * 0.3f64.sin()).abs() < 1e-12);
+/// let g = pvfc_core::mechanics::STANDARD_GRAVITY;
+/// assert!((chain.gravity(&q)[0] - g * 0.5 * 0.3f64.sin()).abs() < 1e-12);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SerialChain<T: Real, const N: usize> {
