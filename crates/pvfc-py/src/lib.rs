@@ -3,6 +3,7 @@
 #![forbid(unsafe_code)]
 #![allow(missing_docs)] // The Python API is documented in the `.pyi` stubs and docstrings.
 
+mod arm;
 mod convert;
 mod errors;
 mod robots;
@@ -889,6 +890,7 @@ fn _pvfc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     m.add_class::<Scara>()?;
     m.add_class::<robots::Robot>()?;
+    m.add_class::<arm::ArmController>()?;
     m.add_class::<Lissajous>()?;
     m.add_class::<Ellipse>()?;
     m.add_class::<WaypointCurve>()?;

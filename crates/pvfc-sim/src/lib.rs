@@ -11,6 +11,7 @@
 // Library code never unwraps: bad input is an error value.
 #![warn(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+pub mod arm;
 pub mod contact;
 pub mod error;
 pub mod friction;

@@ -60,7 +60,9 @@ impl JointSeries {
 
     /// Column `j` (one joint over time).
     pub fn column(&self, j: usize) -> Vec<f64> {
-        self.iter().map(|r| r.get(j).copied().unwrap_or(f64::NAN)).collect()
+        self.iter()
+            .map(|r| r.get(j).copied().unwrap_or(f64::NAN))
+            .collect()
     }
 
     /// All the numbers, row after row.

@@ -10,6 +10,7 @@ with numpy arrays, MCAP logs, and the paper's figures (``pvfc.plot``, needs matp
 """
 
 from ._pvfc import (
+    ArmController,
     Controller,
     DimensionMismatchError,
     Ellipse,
@@ -41,6 +42,7 @@ from ._pvfc import (
 )
 
 __all__ = [
+    "ArmController",
     "Controller",
     "DimensionMismatchError",
     "Ellipse",

@@ -102,6 +102,36 @@ class Robot:
     def jacobian(self, q: _ArrayLike, frame: str = "world") -> _F64Array: ...
 
 @final
+class ArmController:
+    def __new__(
+        cls,
+        robot: Robot,
+        waypoints: _ArrayLike,
+        spacing: float,
+        *,
+        h: Optional[_ArrayLike] = None,
+        self_pacing: float = 0.0,
+        energy: float = 10.0,
+        flywheel_inertia: float = 1.0,
+        gamma: float = 1.0,
+        gravity_compensation: bool = True,
+        friction_compensation: Optional[_ArrayLike] = None,
+        friction_band: float = 0.0,
+        nominal_speed: Optional[Tuple[float, float]] = None,
+        tau0: float = 0.0,
+    ) -> ArmController: ...
+    @property
+    def dof(self) -> int: ...
+    def step(self, q: _ArrayLike, qdot: _ArrayLike, dt: float) -> _F64Array: ...
+    def evaluate(
+        self, q: _ArrayLike, qdot: _ArrayLike, tau: float, tau_dot: float, flywheel_speed: float
+    ) -> Dict[str, Any]: ...
+    def contour_point(self, tau: float) -> _F64Array: ...
+    @property
+    def state(self) -> Tuple[float, float, float, int]: ...
+    def reset(self) -> None: ...
+
+@final
 class Lissajous:
     def __new__(
         cls,

@@ -1,0 +1,259 @@
+//! PVFC for any serial arm whose number of joints is known at run time: a joint-space contour
+//! through waypoints, the mixed navigation function, self-pacing, the flywheel, and the
+//! add-ons (gravity, friction, nominal speed), dispatched into the const-generic core.
+
+use crate::error::{Result, SimError};
+use crate::robot::{ChainModel, Robot};
+use nalgebra::SVector;
+use pvfc_core::augmented::AugmentedState;
+use pvfc_core::prelude::*;
+
+/// The most waypoints a joint-space contour may have (the spline's capacity; no allocation).
+pub const MAX_WAYPOINTS: usize = 32;
+
+/// The field of an `N`-joint arm: a periodic spline through waypoints in its joint space, the
+/// mixed navigation function, exponential self-pacing (eq. 21).
+pub type ArmField<const N: usize> = SuspendedField<
+    f64,
+    JointSpace<f64, N>,
+    PeriodicBSpline<f64, JointSpace<f64, N>, N, MAX_WAYPOINTS>,
+    JointNavigation<f64, N>,
+    ExponentialPacing<f64>,
+    N,
+>;
+
+/// The controller of an `N`-joint arm.
+pub type ArmControllerN<const N: usize> =
+    Controller<f64, JointSpace<f64, N>, SerialChain<f64, N>, ArmField<N>, N>;
+
+/// The settings of an arm controller, as plain data (lengths checked against the robot).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ArmSettings {
+    /// Waypoints of the closed joint-space contour, 3 to [`MAX_WAYPOINTS`], one every
+    /// `spacing` of `τ`.
+    pub waypoints: Vec<Vec<f64>>,
+    /// `τ` between waypoints.
+    pub spacing: f64,
+    /// Navigation weights `h_i`, one per joint.
+    pub h: Vec<f64>,
+    /// Self-pacing `R` of eq. (21) (0: off).
+    pub self_pacing: f64,
+    /// The energy level `Ē`.
+    pub energy: f64,
+    /// The flywheel's inertia `M_F`.
+    pub flywheel_inertia: f64,
+    /// The coupling gain `γ`.
+    pub gamma: f64,
+    /// Add `g(q)` to the torque.
+    pub gravity_compensation: bool,
+    /// Coulomb levels of the friction compensation (eq. 35), one per joint.
+    pub friction_compensation: Option<Vec<f64>>,
+    /// The velocity band of the friction compensation's sign (0: a pure sign).
+    pub friction_band: f64,
+    /// Nominal-speed control (eq. 36): `(c, r)`.
+    pub nominal_speed: Option<(f64, f64)>,
+    /// The contour parameter to start at.
+    pub tau0: f64,
+}
+
+/// What one control step gives, with the numbers a log wants.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ArmStep {
+    /// Motor torques (N·m, N).
+    pub torque: Vec<f64>,
+    /// `U(E)`.
+    pub potential: f64,
+    /// `β`.
+    pub beta: f64,
+    /// `κ_a` at the state the torque was computed at.
+    pub kinetic_energy: f64,
+    /// `τ` (wrapped), `τ̇`, `q̇_F` before the step.
+    pub internal: (f64, f64, f64),
+}
+
+/// An arm controller for 1 to 8 joints.
+#[derive(Clone, Debug)]
+#[allow(missing_docs)]
+// One per controller, built once: boxing the larger variants would buy nothing.
+#[allow(clippy::large_enum_variant)]
+pub enum ArmController {
+    J1(ArmControllerN<1>),
+    J2(ArmControllerN<2>),
+    J3(ArmControllerN<3>),
+    J4(ArmControllerN<4>),
+    J5(ArmControllerN<5>),
+    J6(ArmControllerN<6>),
+    J7(ArmControllerN<7>),
+    J8(ArmControllerN<8>),
+}
+
+macro_rules! on_arm {
+    ($self:expr, $c:ident, $N:ident => $body:expr) => {
+        match $self {
+            ArmController::J1($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 1;
+                $body
+            }
+            ArmController::J2($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 2;
+                $body
+            }
+            ArmController::J3($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 3;
+                $body
+            }
+            ArmController::J4($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 4;
+                $body
+            }
+            ArmController::J5($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 5;
+                $body
+            }
+            ArmController::J6($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 6;
+                $body
+            }
+            ArmController::J7($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 7;
+                $body
+            }
+            ArmController::J8($c) => {
+                #[allow(dead_code)]
+                const $N: usize = 8;
+                $body
+            }
+        }
+    };
+}
+
+fn setting(message: String) -> SimError {
+    SimError::Setting(message)
+}
+
+fn fixed<const N: usize>(x: &[f64], name: &str) -> Result<SVector<f64, N>> {
+    if x.len() != N {
+        return Err(setting(format!(
+            "{name}: {} entries for a {N}-joint robot",
+            x.len()
+        )));
+    }
+    Ok(SVector::from_column_slice(x))
+}
+
+/// Builds the controller of an `N`-joint chain.
+pub fn arm_controller<const N: usize>(
+    chain: SerialChain<f64, N>,
+    s: &ArmSettings,
+) -> Result<ArmControllerN<N>> {
+    let kinds = chain.kinds();
+    if !(3..=MAX_WAYPOINTS).contains(&s.waypoints.len()) {
+        return Err(setting(format!(
+            "waypoints: 3 to {MAX_WAYPOINTS} are needed, got {}",
+            s.waypoints.len()
+        )));
+    }
+    let mut pts = [JointSpace::<f64, N>::identity(); MAX_WAYPOINTS];
+    for (k, w) in s.waypoints.iter().enumerate() {
+        pts[k] = JointSpace::new(fixed::<N>(w, &format!("waypoint {k}"))?, kinds);
+    }
+    let contour = PeriodicBSpline::through_slice(&pts[..s.waypoints.len()], s.spacing)?;
+    let field = SuspendedField::new(
+        contour,
+        JointNavigation::new(fixed::<N>(&s.h, "h")?, kinds)?,
+        ExponentialPacing::new(s.self_pacing)?,
+    );
+    let flywheel = Flywheel::new(s.flywheel_inertia, s.energy)?;
+    let law = PvfcLaw::new(chain, field, flywheel, s.gamma)?;
+    let mut ctl = Controller::new(law).starting_at_rest(s.tau0);
+    if s.gravity_compensation {
+        ctl = ctl.with_gravity_compensation();
+    }
+    if let Some(f) = &s.friction_compensation {
+        ctl = ctl.with_friction_compensation(
+            FrictionCompensation::new(fixed::<N>(f, "friction_compensation")?)?
+                .with_band(s.friction_band)?,
+        );
+    }
+    if let Some((c, r)) = s.nominal_speed {
+        ctl = ctl.with_nominal_speed(NominalSpeed::new(c, r)?);
+    }
+    Ok(ctl)
+}
+
+impl ArmController {
+    /// The controller of `robot` with the given settings.
+    pub fn new(robot: &Robot, s: &ArmSettings) -> Result<Self> {
+        macro_rules! build {
+            ($($v:ident),*) => {
+                match robot.model() {
+                    $(ChainModel::$v(c) => ArmController::$v(arm_controller(*c, s)?),)*
+                }
+            };
+        }
+        Ok(build!(J1, J2, J3, J4, J5, J6, J7, J8))
+    }
+
+    /// The number of joints.
+    pub fn dof(&self) -> usize {
+        on_arm!(self, _c, N => N)
+    }
+
+    /// One control step at the measured `(q, q̇)`: the torque, and the internal states advanced
+    /// over `dt`. On error the state is unchanged.
+    pub fn step(&mut self, q: &[f64], v: &[f64], dt: f64) -> Result<ArmStep> {
+        on_arm!(self, c, N => {
+            let kinds = c.law().system().kinds();
+            let q = JointSpace::new(fixed::<N>(q, "q")?, kinds);
+            let out = c.step(&q, &fixed::<N>(v, "v")?, dt)?;
+            Ok(ArmStep {
+                torque: out.torque.as_slice().to_vec(),
+                potential: out.diagnostics.potential,
+                beta: out.diagnostics.beta,
+                kinetic_energy: out.diagnostics.kinetic_energy,
+                internal: (out.state.tau, out.state.tau_dot, out.state.flywheel_speed),
+            })
+        })
+    }
+
+    /// The torque at a full augmented state (pure): `(T_robot, T_τ, T_F, U, β)`.
+    pub fn evaluate(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        internal: (f64, f64, f64),
+    ) -> Result<(Vec<f64>, f64, f64, f64, f64)> {
+        on_arm!(self, c, N => {
+            let kinds = c.law().system().kinds();
+            let s = AugmentedState {
+                q: JointSpace::new(fixed::<N>(q, "q")?, kinds),
+                v: fixed::<N>(v, "v")?,
+                tau: internal.0,
+                tau_dot: internal.1,
+                flywheel_speed: internal.2,
+            };
+            let (t, o) = c.evaluate(&s)?;
+            Ok((t.robot.as_slice().to_vec(), t.tau, t.flywheel, o.field.potential, o.beta))
+        })
+    }
+
+    /// `x_d(τ)`: the contour's point at `τ`.
+    pub fn contour_point(&self, tau: f64) -> Vec<f64> {
+        on_arm!(self, c, N => c.law().field().contour().point(tau).coords().as_slice().to_vec())
+    }
+
+    /// The internal states `(τ, τ̇, q̇_F, laps)`.
+    pub fn state(&self) -> (f64, f64, f64, i64) {
+        on_arm!(self, c, N => {
+            let s = c.state();
+            (s.tau, s.tau_dot, s.flywheel_speed, s.laps)
+        })
+    }
+}

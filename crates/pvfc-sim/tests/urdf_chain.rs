@@ -1,0 +1,150 @@
+//! The URDF reader for serial chains: the shipped arms load, every unsupported or malformed
+//! element is a typed `SimError::Urdf` naming it, and the SCARA's URDF read as a chain gives
+//! the closed form's M and C.
+
+use nalgebra::{SVector, Vector2};
+use pvfc_core::lie::Torus;
+use pvfc_core::mechanics::{MechanicalSystem, Scara};
+use pvfc_sim::urdf::{scara_from_urdf, ChainDescription};
+use pvfc_sim::SimError;
+use std::path::{Path, PathBuf};
+
+fn models() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models")
+}
+
+fn ur5_text() -> String {
+    std::fs::read_to_string(models().join("ur5/ur5_robot.urdf")).unwrap()
+}
+
+/// Reads mutated UR5 text; returns the error's element and message.
+fn error(text: &str, base: Option<&str>, tip: Option<&str>) -> (String, String) {
+    match ChainDescription::from_str(text, Path::new("test.urdf"), base, tip) {
+        Err(SimError::Urdf {
+            element, message, ..
+        }) => (element, message),
+        other => panic!("expected a URDF error, got {other:?}"),
+    }
+}
+
+#[test]
+fn the_shipped_arms_load_with_their_limits_and_names() {
+    let ur5 =
+        ChainDescription::from_file(&models().join("ur5/ur5_robot.urdf"), None, Some("tool0"))
+            .unwrap();
+    assert_eq!(ur5.dof(), 6);
+    assert_eq!(ur5.joints[0].limits.effort, Some(150.0));
+    assert_eq!(ur5.joints[0].limits.lower, Some(-6.28318530718));
+    // The mesh files are not there (package:// paths): loading does not need them.
+    assert!(ur5_text().contains("package://"));
+    let panda = ChainDescription::from_file(
+        &models().join("panda/panda.urdf"),
+        None,
+        Some("panda_link8"),
+    )
+    .unwrap();
+    assert_eq!(panda.dof(), 7);
+    // With panda_link8 as the tip, the hand and fingers are a side branch: locked and folded.
+    assert_eq!(panda.locked_joints.len(), 2);
+    panda.chain::<7>().unwrap();
+    assert!(panda.chain::<6>().is_err());
+}
+
+#[test]
+fn unsupported_joints_are_named() {
+    let t = ur5_text();
+    for (kind, what) in [("floating", "Floating"), ("planar", "Planar")] {
+        let bad = t.replace(
+            r#"<joint name="elbow_joint" type="revolute">"#,
+            &format!(r#"<joint name="elbow_joint" type="{kind}">"#),
+        );
+        let (element, message) = error(&bad, None, Some("tool0"));
+        assert_eq!(element, "joint elbow_joint");
+        assert!(message.contains(what), "{message}");
+    }
+    let mimic = t.replace(
+        r#"<dynamics damping="0.0" friction="0.0"/>
+  </joint>
+  <link name="forearm_link">"#,
+        r#"<dynamics damping="0.0" friction="0.0"/>
+    <mimic joint="shoulder_lift_joint"/>
+  </joint>
+  <link name="forearm_link">"#,
+    );
+    assert_ne!(mimic, t);
+    let (element, message) = error(&mimic, None, Some("tool0"));
+    assert_eq!(element, "joint elbow_joint");
+    assert!(message.contains("mimic"), "{message}");
+}
+
+#[test]
+fn bad_inertias_and_missing_inertials_are_named() {
+    let t = ur5_text();
+    let start = t.find(r#"<link name="upper_arm_link">"#).unwrap();
+    let (a, b) = (
+        start + t[start..].find("<inertial>").unwrap(),
+        start + t[start..].find("</inertial>").unwrap() + "</inertial>".len(),
+    );
+    let missing = format!("{}{}", &t[..a], &t[b..]);
+    let (element, message) = error(&missing, None, Some("tool0"));
+    assert_eq!(element, "link upper_arm_link");
+    assert!(message.contains("<inertial>"), "{message}");
+
+    let indefinite = t.replace(
+        r#"<inertia ixx="0.22689067591" ixy="0.0" ixz="0.0" iyy="0.22689067591" iyz="0.0" izz="0.0151074"/>"#,
+        r#"<inertia ixx="0.22689067591" ixy="0.0" ixz="0.0" iyy="-0.1" iyz="0.0" izz="0.0151074"/>"#,
+    );
+    assert_ne!(indefinite, t);
+    let (element, message) = error(&indefinite, None, Some("tool0"));
+    assert_eq!(element, "link upper_arm_link");
+    assert!(message.contains("positive definite"), "{message}");
+
+    let zero = t.replace(
+        r#"<inertia ixx="0.22689067591" ixy="0.0" ixz="0.0" iyy="0.22689067591" iyz="0.0" izz="0.0151074"/>"#,
+        r#"<inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>"#,
+    );
+    assert_eq!(error(&zero, None, Some("tool0")).0, "link upper_arm_link");
+}
+
+#[test]
+fn bad_base_and_tip_choices_are_named() {
+    let t = ur5_text();
+    let (element, message) = error(&t, Some("wrist_3_link"), Some("shoulder_link"));
+    assert_eq!(element, "link shoulder_link");
+    assert!(message.contains("not below"), "{message}");
+    let (element, _) = error(&t, None, Some("no_such_link"));
+    assert_eq!(element, "link no_such_link");
+    let (element, message) = error(&t, None, None);
+    assert_eq!(element, "robot");
+    assert!(message.contains("choose the tip"), "{message}");
+    let (element, message) = error("<robot name='x'><link name='a'/></robot>", None, None);
+    assert_eq!(element, "robot");
+    assert!(message.contains("no moving joint"), "{message}");
+    let (element, _) = error("<robot name='x'><link", None, None);
+    assert_eq!(element, "robot");
+}
+
+/// `models/scara.urdf` read as a serial chain gives the closed form's `M` and `C` to 1e-12.
+#[test]
+fn the_scara_urdf_as_a_chain_matches_the_closed_form() {
+    let path = models().join("scara.urdf");
+    let scara = Scara::new(scara_from_urdf(&path).unwrap()).unwrap();
+    let chain = ChainDescription::from_file(&path, None, Some("tool"))
+        .unwrap()
+        .chain::<2>()
+        .unwrap();
+    for k in 0..500 {
+        let t = k as f64 * 0.173;
+        let q = Torus::new(Vector2::new(3.0 * t.sin(), 3.0 * (0.7 * t).cos()));
+        let v = Vector2::new(2.0 * (1.3 * t).cos(), 4.0 * t.sin());
+        let (m1, c1) = scara.inertia_and_coriolis(&q, &v);
+        let (m2, c2) = chain.inertia_and_coriolis(&q, &v);
+        assert!((m1 - m2).amax() <= 1e-12 * m1.amax(), "M: {m1} vs {m2}");
+        assert!(
+            (c1 - c2).amax() <= 1e-12 * (1.0 + c1.amax()),
+            "C: {c1} vs {c2}"
+        );
+        // Vertical axes: gravity does no work on this arm.
+        assert!(chain.gravity_torque(&SVector::from(*q.angles())).amax() < 1e-12);
+    }
+}
