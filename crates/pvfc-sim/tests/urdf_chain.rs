@@ -34,7 +34,7 @@ fn the_shipped_arms_load_with_their_limits_and_names() {
             .unwrap();
     assert_eq!(ur5.dof(), 6);
     assert_eq!(ur5.joints[0].limits.effort, Some(150.0));
-    assert_eq!(ur5.joints[0].limits.lower, Some(-6.28318530718));
+    assert_eq!(ur5.joints[0].limits.velocity, Some(3.15));
     // The mesh files are not there (package:// paths): loading does not need them.
     assert!(ur5_text().contains("package://"));
     let panda = ChainDescription::from_file(

@@ -12,6 +12,7 @@ _F64Array: TypeAlias = npt.NDArray[np.float64]
 _PathLike: TypeAlias = Union[str, "os.PathLike[str]"]
 
 __all__ = [
+    "ArmController",
     "Controller",
     "DimensionMismatchError",
     "Ellipse",
@@ -24,6 +25,7 @@ __all__ = [
     "NonFiniteError",
     "PvfcError",
     "PvfcIOError",
+    "Robot",
     "Scara",
     "Scenario",
     "ScenarioError",
