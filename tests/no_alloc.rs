@@ -109,3 +109,94 @@ fn a_control_step_does_not_allocate() {
     }
     assert_eq!(allocations() - before, 0, "control steps allocated");
 }
+
+/// The UR5 (6 joints) and the Panda (7), f64 and f32: a control step allocates nothing.
+#[test]
+fn a_serial_arm_control_step_does_not_allocate() {
+    use nalgebra::SVector;
+    use pvfc_sim::urdf::ChainDescription;
+    let models = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models");
+    let ur5 = ChainDescription::from_file(&models.join("ur5/ur5_robot.urdf"), None, Some("tool0"))
+        .unwrap()
+        .chain::<6>()
+        .unwrap();
+    let panda = ChainDescription::from_file(
+        &models.join("panda/panda.urdf"),
+        None,
+        Some("panda_hand_tcp"),
+    )
+    .unwrap()
+    .chain::<7>()
+    .unwrap();
+
+    fn controller<T: Real, const N: usize>(
+        chain: SerialChain<T, N>,
+    ) -> Controller<
+        T,
+        JointSpace<T, N>,
+        SerialChain<T, N>,
+        SuspendedField<
+            T,
+            JointSpace<T, N>,
+            PeriodicBSpline<T, JointSpace<T, N>, N, 8>,
+            JointNavigation<T, N>,
+            ExponentialPacing<T>,
+            N,
+        >,
+        N,
+    > {
+        let kinds = chain.kinds();
+        let pts: [JointSpace<T, N>; 5] = core::array::from_fn(|k| {
+            JointSpace::new(
+                SVector::from_fn(|i, _| pvfc_core::scalar::cast((0.3 * (k + i) as f64).sin())),
+                kinds,
+            )
+        });
+        let field = SuspendedField::new(
+            PeriodicBSpline::through_slice(&pts, T::one()).unwrap(),
+            JointNavigation::new(SVector::repeat(pvfc_core::scalar::cast(2.0)), kinds).unwrap(),
+            ExponentialPacing::new(pvfc_core::scalar::cast(20.0)).unwrap(),
+        );
+        let law = PvfcLaw::new(
+            chain,
+            field,
+            Flywheel::new(T::one(), pvfc_core::scalar::cast(40.0)).unwrap(),
+            T::one(),
+        )
+        .unwrap();
+        Controller::new(law)
+            .starting_at_rest(T::zero())
+            .with_gravity_compensation()
+            .with_friction_compensation(
+                FrictionCompensation::new(SVector::repeat(pvfc_core::scalar::cast(0.5)))
+                    .unwrap()
+                    .with_band(pvfc_core::scalar::cast(0.01))
+                    .unwrap(),
+            )
+    }
+    let mut c6 = controller(ur5);
+    let mut c7 = controller(panda);
+    let mut c6f = controller(ur5.cast::<f32>());
+    let mut c7f = controller(panda.cast::<f32>());
+    let (k6, k7) = (ur5.kinds(), panda.kinds());
+    let before = allocations();
+    for i in 0..1000 {
+        let x = 0.001 * i as f64;
+        let q6 = JointSpace::new(SVector::repeat(x), k6);
+        let q7 = JointSpace::new(SVector::repeat(x), k7);
+        std::hint::black_box(c6.step(&q6, &SVector::repeat(0.1), 1e-3).unwrap());
+        std::hint::black_box(c7.step(&q7, &SVector::repeat(0.1), 1e-3).unwrap());
+        let q6f = JointSpace::new(SVector::repeat(x as f32), k6);
+        let q7f = JointSpace::new(SVector::repeat(x as f32), k7);
+        std::hint::black_box(c6f.step(&q6f, &SVector::repeat(0.1f32), 1e-3).unwrap());
+        std::hint::black_box(c7f.step(&q7f, &SVector::repeat(0.1f32), 1e-3).unwrap());
+        // The error path does not allocate either.
+        let nan = JointSpace::new(SVector::repeat(f64::NAN), k6);
+        std::hint::black_box(c6.step(&nan, &SVector::zeros(), 1e-3).unwrap_err());
+    }
+    assert_eq!(
+        allocations() - before,
+        0,
+        "serial-arm control steps allocated"
+    );
+}

@@ -206,6 +206,31 @@ where
     /// allocation. Errors: `NonFinite` for a NaN/∞ state, `EnergyTooLow` (eq. 6).
     #[inline]
     pub fn evaluate(&self, s: &AugmentedState<T, G, D>) -> Result<CouplingOutput<T, G, D>> {
+        self.evaluate_using(s, |q, v| self.system.inertia_and_coriolis(q, v))
+    }
+
+    /// [`evaluate`](Self::evaluate), and the plant model's gravity torque `g(q)` (written to
+    /// `gravity`) from the same pass over the model, for gravity compensation.
+    #[inline]
+    pub fn evaluate_with_gravity(
+        &self,
+        s: &AugmentedState<T, G, D>,
+        gravity: &mut Tangent<T, D>,
+    ) -> Result<CouplingOutput<T, G, D>> {
+        self.evaluate_using(s, |q, v| {
+            let (m, c, g) = self.system.inertia_coriolis_gravity(q, v);
+            *gravity = g;
+            (m, c)
+        })
+    }
+
+    /// The law with `M` and `C` from `model` (which may compute more in the same pass).
+    #[inline(always)]
+    fn evaluate_using(
+        &self,
+        s: &AugmentedState<T, G, D>,
+        model: impl FnOnce(&G, &Tangent<T, D>) -> (SMatrix<T, D, D>, SMatrix<T, D, D>),
+    ) -> Result<CouplingOutput<T, G, D>> {
         if !s.is_finite() {
             return Err(Error::new(
                 ErrorKind::NonFinite,
@@ -214,7 +239,7 @@ where
         }
         let half = cast::<T>(0.5);
         let fs = self.field.sample(&s.q, &s.v, s.tau, s.tau_dot);
-        let (m, c) = self.system.inertia_and_coriolis(&s.q, &s.v);
+        let (m, c) = model(&s.q, &s.v);
         let mv = m * fs.velocity;
         let field_energy = (mv.dot(&fs.velocity) + fs.velocity_tau * fs.velocity_tau) * half;
         let vf = self.flywheel.field_speed(field_energy)?;

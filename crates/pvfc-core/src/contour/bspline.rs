@@ -120,7 +120,7 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
             // Neighbouring control points more than ~π apart make the logarithm jump: the
             // waypoints are too coarse for an interpolating spline on this group.
             let spread = (0..n)
-                .map(|k| next[k].inverse().compose(&next[(k + 1) % n]).log().norm())
+                .map(|k| G::chart_extent(&next[k].inverse().compose(&next[(k + 1) % n]).log()))
                 .fold(T::zero(), |a, b| a.max(b));
             if spread > cast::<T>(0.9 * core::f64::consts::PI) {
                 return Err(Error::new(

@@ -149,6 +149,10 @@ impl<T: Real, const N: usize> LieGroup<T, N> for JointSpace<T, N> {
         SVector::zeros()
     }
     #[inline]
+    fn chart_extent(v: &Tangent<T, N>) -> T {
+        v.amax()
+    }
+    #[inline]
     fn is_finite(&self) -> bool {
         self.coords.iter().all(|x| x.is_finite())
     }

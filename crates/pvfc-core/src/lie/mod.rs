@@ -84,6 +84,15 @@ pub trait LieGroup<T: Real, const D: usize>: Copy + core::fmt::Debug + PartialEq
     /// `true` when every stored number is finite.
     fn is_finite(&self) -> bool;
 
+    /// How far the algebra element `v` reaches towards the discontinuity of [`log`](Self::log)
+    /// (curves built from logarithms, such as splines, must keep it below about π): the norm
+    /// by default (SO(3), where `log` jumps at rotation angle π), the largest component on a
+    /// torus (it wraps coordinate by coordinate), 0 on a vector space (no discontinuity).
+    #[inline]
+    fn chart_extent(v: &Tangent<T, D>) -> T {
+        v.norm()
+    }
+
     /// The same element with rounding drift off the group removed (integrators call it after
     /// every step). A no-op for groups stored in coordinates (torus, `ℝⁿ`).
     #[inline]

@@ -73,6 +73,10 @@ impl<T: Real, const N: usize> LieGroup<T, N> for Rn<T, N> {
         SVector::zeros()
     }
     #[inline]
+    fn chart_extent(_v: &Tangent<T, N>) -> T {
+        T::zero()
+    }
+    #[inline]
     fn is_finite(&self) -> bool {
         self.coords.iter().all(|x| x.is_finite())
     }

@@ -57,6 +57,17 @@ pub trait MechanicalSystem<T: Real, G: LieGroup<T, D>, const D: usize> {
         Tangent::zeros()
     }
 
+    /// `M(q)`, `C(q, v)` and `g(q)` together (a serial chain computes them in one pass).
+    #[inline]
+    fn inertia_coriolis_gravity(
+        &self,
+        q: &G,
+        v: &Tangent<T, D>,
+    ) -> (SMatrix<T, D, D>, SMatrix<T, D, D>, Tangent<T, D>) {
+        let (m, c) = self.inertia_and_coriolis(q, v);
+        (m, c, self.gravity(q))
+    }
+
     /// `½ vᵀ M(q) v`.
     #[inline]
     fn kinetic_energy(&self, q: &G, v: &Tangent<T, D>) -> T {

@@ -151,6 +151,31 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         Ok(self)
     }
 
+    /// The same chain in another scalar type (e.g. an `f32` model for a microcontroller from
+    /// an `f64` one read on a host).
+    pub fn cast<U: Real>(&self) -> SerialChain<U, N> {
+        let c = |x: &T| cast::<U>(nalgebra::try_convert::<T, f64>(*x).unwrap_or(f64::NAN));
+        let pose = |p: &Pose<T>| Pose {
+            rotation: p.rotation.map(|x| c(&x)),
+            translation: p.translation.map(|x| c(&x)),
+        };
+        SerialChain {
+            joints: self.joints.map(|j| ChainJoint {
+                kind: j.kind,
+                origin: pose(&j.origin),
+                axis: j.axis.map(|x| c(&x)),
+            }),
+            links: self.links.map(|l| RigidInertia {
+                mass: c(&l.mass),
+                com: l.com.map(|x| c(&x)),
+                inertia: l.inertia.map(|x| c(&x)),
+            }),
+            base: pose(&self.base),
+            tool: pose(&self.tool),
+            gravity: self.gravity.map(|x| c(&x)),
+        }
+    }
+
     /// The joints.
     pub fn joints(&self) -> &[ChainJoint<T>; N] {
         &self.joints
@@ -301,11 +326,11 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         let mut vel = Spatial::zeros();
         for i in 0..N {
             vel += k.axes[i] * v[i];
-            let vx = motion_cross(&vel);
-            axis_rates[i] = vx * k.axes[i];
+            axis_rates[i] = motion_cross_apply(&vel, &k.axes[i]);
             let iv = inertias[i] * vel;
-            b[i] = (vx.transpose() * inertias[i] + inertias[i] * vx) * (-half)
-                + force_cross_bar(&iv) * half;
+            // B_i = ½(v×* I − I v×) + ½(I v)×̄*, and v×* I = −(v×)ᵀ I = −(I v×)ᵀ (I symmetric).
+            let ivx = inertia_times_motion_cross(&inertias[i], &vel);
+            b[i] = (ivx + ivx.transpose()) * (-half) + force_cross_bar(&iv) * half;
         }
         // Backward: composite inertias I^c_i = Σ_{l ≥ i} I_l and B^c_i likewise.
         let mut m = SMatrix::<T, N, N>::zeros();
@@ -377,6 +402,41 @@ impl<T: Real, G: VectorGroup<T, N>, const N: usize> MechanicalSystem<T, G, N>
     fn gravity(&self, q: &G) -> Tangent<T, N> {
         self.gravity_torque(&q.coordinates())
     }
+
+    #[inline]
+    fn inertia_coriolis_gravity(
+        &self,
+        q: &G,
+        v: &Tangent<T, N>,
+    ) -> (SMatrix<T, N, N>, SMatrix<T, N, N>, Tangent<T, N>) {
+        self.dynamics(&q.coordinates(), v)
+    }
+}
+
+/// `v × m` for spatial motion vectors (Featherstone eq. 2.31), without forming `v×`.
+#[inline]
+fn motion_cross_apply<T: Real>(v: &Spatial<T>, m: &Spatial<T>) -> Spatial<T> {
+    let (w, u) = (v.fixed_rows::<3>(0), v.fixed_rows::<3>(3));
+    let (mw, mu) = (m.fixed_rows::<3>(0), m.fixed_rows::<3>(3));
+    spatial(w.cross(&mw), w.cross(&mu) + u.cross(&mw))
+}
+
+/// `I (v×)` for a spatial inertia `I = [[A, B], [C, D]]` and `v× = [[W, 0], [U, W]]`:
+/// `[[A W + B U, B W], [C W + D U, D W]]`, four 3×3 products instead of a 6×6 one.
+#[inline]
+fn inertia_times_motion_cross<T: Real>(inertia: &Spatial6<T>, v: &Spatial<T>) -> Spatial6<T> {
+    let w = Vector3::new(v[0], v[1], v[2]).cross_matrix();
+    let u = Vector3::new(v[3], v[4], v[5]).cross_matrix();
+    let a = inertia.fixed_view::<3, 3>(0, 0);
+    let b = inertia.fixed_view::<3, 3>(0, 3);
+    let c = inertia.fixed_view::<3, 3>(3, 0);
+    let d = inertia.fixed_view::<3, 3>(3, 3);
+    let mut out = Spatial6::zeros();
+    out.fixed_view_mut::<3, 3>(0, 0).copy_from(&(a * w + b * u));
+    out.fixed_view_mut::<3, 3>(0, 3).copy_from(&(b * w));
+    out.fixed_view_mut::<3, 3>(3, 0).copy_from(&(c * w + d * u));
+    out.fixed_view_mut::<3, 3>(3, 3).copy_from(&(d * w));
+    out
 }
 
 #[inline]

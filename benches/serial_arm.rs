@@ -1,0 +1,200 @@
+//! One control step of the UR5 (6 joints) and the Franka Panda (7), f64 and f32, as in a
+//! 1 kHz loop: a fresh controller steps through 1000 states recorded from a closed-loop run
+//! (gravity compensation, waypoint contour, self-pacing). Criterion reports the 1000 steps;
+//! divide by 1000. The paper's SCARA step runs in the same group as the baseline of the ratio.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use nalgebra::{SVector, Vector2};
+use pvfc::paper::{controller, PaperSettings};
+use pvfc::prelude::*;
+use pvfc::sim::arm::{arm_controller, ArmControllerN, ArmSettings};
+use pvfc::sim::urdf::ChainDescription;
+use pvfc::sim::ClosedLoop;
+use pvfc_core::augmented::AugmentedState;
+use std::hint::black_box;
+use std::path::Path;
+
+const STEPS: usize = 1000;
+const DT: f64 = 1e-3;
+
+fn settings(waypoints: Vec<Vec<f64>>, n: usize) -> ArmSettings {
+    ArmSettings {
+        waypoints,
+        spacing: 1.0,
+        h: vec![4.0; n],
+        self_pacing: 50.0,
+        energy: 40.0,
+        flywheel_inertia: 1.0,
+        gamma: 1.0,
+        gravity_compensation: true,
+        friction_compensation: None,
+        friction_band: 0.0,
+        nominal_speed: None,
+        tau0: 0.0,
+    }
+}
+
+/// The controller and 1000 (q, q̇) recorded along its closed loop from off the contour.
+fn arm<const N: usize>(
+    file: &str,
+    tip: &str,
+    waypoints: Vec<Vec<f64>>,
+) -> (
+    ArmControllerN<N>,
+    Vec<(JointSpace<f64, N>, SVector<f64, N>)>,
+) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("models")
+        .join(file);
+    let chain = ChainDescription::from_file(&path, None, Some(tip))
+        .expect("shipped URDF")
+        .chain::<N>()
+        .expect("dof");
+    let first = SVector::<f64, N>::from_column_slice(&waypoints[0]);
+    let ctl = arm_controller(chain, &settings(waypoints, N)).expect("valid settings");
+    let sys = ClosedLoop::matched(ctl);
+    let i = *ctl.state();
+    let mut s = AugmentedState {
+        q: chain.configuration(first + SVector::repeat(0.2)),
+        v: SVector::zeros(),
+        tau: i.tau,
+        tau_dot: i.tau_dot,
+        flywheel_speed: i.flywheel_speed,
+    };
+    let samples = (0..STEPS)
+        .map(|_| {
+            let x = (s.q, s.v);
+            s = sys.rk4_step(&s, DT, &SVector::zeros()).expect("valid run");
+            x
+        })
+        .collect();
+    (ctl, samples)
+}
+
+fn bench_arm<T: Real, const N: usize>(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    name: &str,
+    ctl: ArmControllerN<N>,
+    samples: &[(JointSpace<f64, N>, SVector<f64, N>)],
+) {
+    g.bench_function(name, |b| {
+        b.iter(|| {
+            let mut c = ctl;
+            for (q, v) in samples {
+                black_box(c.step(black_box(q), black_box(v), DT).expect("valid"));
+            }
+        })
+    });
+}
+
+fn serial_arm(c: &mut Criterion) {
+    let mut g = c.benchmark_group("control_step_x1000");
+    g.throughput(Throughput::Elements(STEPS as u64));
+
+    // The baseline of the ratio: the paper's SCARA step.
+    let scara = controller(&PaperSettings::default()).expect("paper settings");
+    let q = Torus::new(Vector2::new(0.1, 0.2));
+    g.bench_function("scara_lissajous_f64_baseline", |b| {
+        b.iter(|| {
+            let mut ctl = scara;
+            for k in 0..STEPS {
+                let v = Vector2::new(0.3, 0.001 * k as f64);
+                black_box(ctl.step(black_box(&q), black_box(&v), DT).expect("valid"));
+            }
+        })
+    });
+
+    let (ur5, ur5_samples) = arm::<6>(
+        "ur5/ur5_robot.urdf",
+        "tool0",
+        vec![
+            vec![0.0, -1.2, 1.4, -1.8, -1.57, 0.0],
+            vec![0.5, -1.0, 1.2, -1.7, -1.4, 0.3],
+            vec![0.8, -1.4, 1.6, -1.6, -1.2, 0.6],
+            vec![0.3, -1.7, 1.9, -1.9, -1.5, 0.2],
+            vec![-0.3, -1.5, 1.7, -2.0, -1.8, -0.3],
+        ],
+    );
+    bench_arm::<f64, 6>(&mut g, "ur5_f64", ur5, &ur5_samples);
+    // The rigid-body part alone: M, C and g (what Pinocchio's crba + computeCoriolisMatrix +
+    // computeGeneralizedGravity compute).
+    let chain = *ur5.law().system();
+    g.bench_function("ur5_dynamics_f64", |b| {
+        b.iter(|| {
+            for (q, v) in &ur5_samples {
+                black_box(chain.dynamics(black_box(q.coords()), black_box(v)));
+            }
+        })
+    });
+    let (panda, panda_samples) = arm::<7>(
+        "panda/panda.urdf",
+        "panda_hand_tcp",
+        vec![
+            vec![0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8],
+            vec![0.4, -0.1, 0.2, -2.0, 0.2, 2.1, 1.0],
+            vec![0.7, -0.4, 0.3, -1.8, 0.1, 1.8, 1.2],
+            vec![0.3, -0.7, 0.1, -2.3, -0.2, 1.7, 0.9],
+            vec![-0.3, -0.5, -0.2, -2.5, -0.1, 2.0, 0.6],
+        ],
+    );
+    bench_arm::<f64, 7>(&mut g, "panda_f64", panda, &panda_samples);
+
+    // f32: the same chains and contours in single precision.
+    f32_arm(&mut g, "ur5_f32", &ur5, &ur5_samples);
+    f32_arm(&mut g, "panda_f32", &panda, &panda_samples);
+    g.finish();
+}
+
+fn f32_arm<const N: usize>(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    name: &str,
+    ctl: &ArmControllerN<N>,
+    samples: &[(JointSpace<f64, N>, SVector<f64, N>)],
+) {
+    let law = ctl.law();
+    let chain = law.system().cast::<f32>();
+    let kinds = chain.kinds();
+    let pts: Vec<JointSpace<f32, N>> = law
+        .field()
+        .contour()
+        .control_points()
+        .iter()
+        .map(|p| JointSpace::new(p.coords().map(|x| x as f32), kinds))
+        .collect();
+    let field = SuspendedField::new(
+        PeriodicBSpline::<f32, JointSpace<f32, N>, N, 8>::from_control_slice(&pts, 1.0)
+            .expect("valid"),
+        JointNavigation::new(SVector::repeat(4.0f32), kinds).expect("valid"),
+        ExponentialPacing::new(50.0f32).expect("valid"),
+    );
+    let law32 = PvfcLaw::new(
+        chain,
+        field,
+        Flywheel::new(1.0f32, 40.0).expect("valid"),
+        1.0,
+    )
+    .expect("valid");
+    let ctl32 = Controller::new(law32)
+        .starting_at_rest(0.0)
+        .with_gravity_compensation();
+    let s32: Vec<_> = samples
+        .iter()
+        .map(|(q, v)| {
+            (
+                JointSpace::new(q.coords().map(|x| x as f32), kinds),
+                v.map(|x| x as f32),
+            )
+        })
+        .collect();
+    g.bench_function(name, |b| {
+        b.iter(|| {
+            let mut c = ctl32;
+            for (q, v) in &s32 {
+                black_box(c.step(black_box(q), black_box(v), 1e-3).expect("valid"));
+            }
+        })
+    });
+}
+
+criterion_group!(benches, serial_arm);
+criterion_main!(benches);
