@@ -15,6 +15,9 @@ use std::hint::black_box;
 use std::path::Path;
 
 const STEPS: usize = 1000;
+
+/// Recorded measurements `(q, q̇)` of an `N`-joint arm.
+type Samples<const N: usize> = Vec<(JointSpace<f64, N>, SVector<f64, N>)>;
 const DT: f64 = 1e-3;
 
 fn settings(waypoints: Vec<Vec<f64>>, n: usize) -> ArmSettings {
@@ -39,10 +42,7 @@ fn arm<const N: usize>(
     file: &str,
     tip: &str,
     waypoints: Vec<Vec<f64>>,
-) -> (
-    ArmControllerN<N>,
-    Vec<(JointSpace<f64, N>, SVector<f64, N>)>,
-) {
+) -> (ArmControllerN<N>, Samples<N>) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("models")
         .join(file);

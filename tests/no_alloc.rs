@@ -129,9 +129,7 @@ fn a_serial_arm_control_step_does_not_allocate() {
     .chain::<7>()
     .unwrap();
 
-    fn controller<T: Real, const N: usize>(
-        chain: SerialChain<T, N>,
-    ) -> Controller<
+    type Arm<T, const N: usize> = Controller<
         T,
         JointSpace<T, N>,
         SerialChain<T, N>,
@@ -144,7 +142,8 @@ fn a_serial_arm_control_step_does_not_allocate() {
             N,
         >,
         N,
-    > {
+    >;
+    fn controller<T: Real, const N: usize>(chain: SerialChain<T, N>) -> Arm<T, N> {
         let kinds = chain.kinds();
         let pts: [JointSpace<T, N>; 5] = core::array::from_fn(|k| {
             JointSpace::new(
