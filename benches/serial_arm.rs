@@ -71,7 +71,7 @@ fn arm<const N: usize>(
     (ctl, samples)
 }
 
-fn bench_arm<T: Real, const N: usize>(
+fn bench_arm<const N: usize>(
     g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
     name: &str,
     ctl: ArmControllerN<N>,
@@ -115,7 +115,7 @@ fn serial_arm(c: &mut Criterion) {
             vec![-0.3, -1.5, 1.7, -2.0, -1.8, -0.3],
         ],
     );
-    bench_arm::<f64, 6>(&mut g, "ur5_f64", ur5, &ur5_samples);
+    bench_arm::<6>(&mut g, "ur5_f64", ur5, &ur5_samples);
     // The rigid-body part alone: M, C and g (what Pinocchio's crba + computeCoriolisMatrix +
     // computeGeneralizedGravity compute).
     let chain = *ur5.law().system();
@@ -137,7 +137,7 @@ fn serial_arm(c: &mut Criterion) {
             vec![-0.3, -0.5, -0.2, -2.5, -0.1, 2.0, 0.6],
         ],
     );
-    bench_arm::<f64, 7>(&mut g, "panda_f64", panda, &panda_samples);
+    bench_arm::<7>(&mut g, "panda_f64", panda, &panda_samples);
 
     // f32: the same chains and contours in single precision.
     f32_arm(&mut g, "ur5_f32", &ur5, &ur5_samples);
