@@ -95,6 +95,14 @@ fn identities<const N: usize>(d: &mut Draw, prismatic: bool) -> Result<(), Strin
     let chain = random_chain::<N>(d, prismatic);
     let (q, v) = state::<N>(d);
     let (m, c, g) = chain.dynamics(&q, &v);
+    // CRBA alone gives the same M as the combined pass.
+    close(
+        rel(&chain.crba(&q), &m),
+        0.0,
+        1e-14,
+        1.0,
+        "crba = dynamics' M",
+    )?;
     // M symmetric positive definite.
     close(rel(&m, &m.transpose()), 0.0, 1e-14, 1.0, "M symmetric")?;
     if m.cholesky().is_none() {

@@ -188,7 +188,7 @@ impl Robot {
     pub fn inertia(&self, q: &[f64]) -> Result<DMatrix<f64>> {
         on_chain!(&self.model, c, N => {
             let q = self.vector::<N>(q, "q")?;
-            Ok(dm(&c.dynamics(&q, &SVector::zeros()).0))
+            Ok(dm(&c.crba(&q)))
         })
     }
 

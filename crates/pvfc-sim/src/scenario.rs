@@ -301,6 +301,53 @@ pub struct Scenario {
     pub base_dir: PathBuf,
 }
 
+/// The largest controller rate a scenario may ask for (Hz).
+pub const MAX_RATE: f64 = 1.0e6;
+/// The most samples (controller periods) one run may log: about 1.5 GB of trace for a
+/// two-joint arm.
+pub const MAX_SAMPLES: f64 = 1.0e7;
+/// The most plant substeps per controller period.
+pub const MAX_SUBSTEPS: usize = 10_000;
+/// The most plant steps one run may take (about ten minutes of RK4 on this machine).
+pub const MAX_PLANT_STEPS: f64 = 1.0e9;
+
+/// Checks the numbers that size a run against [`MAX_RATE`], [`MAX_SAMPLES`],
+/// [`MAX_SUBSTEPS`] and [`MAX_PLANT_STEPS`]; gives the number of controller periods.
+pub fn run_size(duration: f64, rate: f64, substeps: usize) -> Result<usize> {
+    let bad = |what: String| Err(SimError::Setting(what));
+    if !(rate.is_finite() && rate > 0.0 && rate <= MAX_RATE) {
+        return bad(format!(
+            "controller.rate = {rate}: must be in (0, {MAX_RATE:e}] Hz"
+        ));
+    }
+    if !(duration.is_finite() && duration > 0.0) {
+        return bad(format!("duration = {duration}: must be finite and > 0"));
+    }
+    if substeps == 0 || substeps > MAX_SUBSTEPS {
+        return bad(format!(
+            "simulation.plant_substeps = {substeps}: must be in 1..={MAX_SUBSTEPS}"
+        ));
+    }
+    let n = (duration * rate).round();
+    if n < 1.0 {
+        return bad(format!(
+            "duration = {duration} s is shorter than one controller period (1/{rate} s)"
+        ));
+    }
+    if n > MAX_SAMPLES {
+        return bad(format!(
+            "duration × controller.rate = {n:e} samples: at most {MAX_SAMPLES:e} per run"
+        ));
+    }
+    if n * substeps as f64 > MAX_PLANT_STEPS {
+        return bad(format!(
+            "duration × controller.rate × simulation.plant_substeps = {:e} plant steps: at most {MAX_PLANT_STEPS:e} per run",
+            n * substeps as f64
+        ));
+    }
+    Ok(n as usize)
+}
+
 impl Scenario {
     /// Reads and validates a scenario file. Errors name the field and the line; relative
     /// paths in it (a URDF) are relative to the file.
@@ -343,9 +390,12 @@ impl Scenario {
         if !(self.controller.rate.is_finite() && self.controller.rate > 0.0) {
             return bad("controller.rate must be finite and > 0");
         }
-        if self.simulation.plant_substeps == 0 {
-            return bad("simulation.plant_substeps must be ≥ 1");
-        }
+        // Every number that sizes work or memory is checked before anything is allocated.
+        run_size(
+            self.duration,
+            self.controller.rate,
+            self.simulation.plant_substeps,
+        )?;
         self.plant.friction.validate()?;
         let init = &self.initial;
         if !init

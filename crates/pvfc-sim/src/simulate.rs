@@ -228,13 +228,10 @@ fn plant_rk4(
 
 /// Timing of a run: controller period, plant step, number of controller periods.
 fn timing(s: &Scenario) -> Result<(f64, f64, usize)> {
+    // Checked again here: a Scenario's fields are public and may have changed since it was
+    // validated, and the trace is sized from them.
+    let n = crate::scenario::run_size(s.duration, s.controller.rate, s.simulation.plant_substeps)?;
     let dt = 1.0 / s.controller.rate;
-    let n = (s.duration * s.controller.rate).round() as usize;
-    if n == 0 {
-        return Err(SimError::Setting(
-            "duration shorter than one controller period".into(),
-        ));
-    }
     Ok((dt, dt / s.simulation.plant_substeps as f64, n))
 }
 

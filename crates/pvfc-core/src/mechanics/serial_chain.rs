@@ -363,6 +363,24 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         (m, c, g)
     }
 
+    /// `M(q)` alone, by the composite-rigid-body algorithm (CRBA):
+    /// `M_ij = S_iᵀ I^c_j S_j` for `i ≤ j`.
+    pub fn crba(&self, q: &SVector<T, N>) -> SMatrix<T, N, N> {
+        let k = self.kinematics(q);
+        let mut m = SMatrix::<T, N, N>::zeros();
+        let mut ic = Spatial6::zeros();
+        for j in (0..N).rev() {
+            ic += self.links[j].transformed(&k.link_poses[j]).spatial();
+            let ics = ic * k.axes[j];
+            for i in 0..=j {
+                let mij = k.axes[i].dot(&ics);
+                m[(i, j)] = mij;
+                m[(j, i)] = mij;
+            }
+        }
+        m
+    }
+
     /// `g(q)`, the torques that hold the chain still against gravity.
     pub fn gravity_torque(&self, q: &SVector<T, N>) -> SVector<T, N> {
         let k = self.kinematics(q);
@@ -382,7 +400,7 @@ impl<T: Real, G: VectorGroup<T, N>, const N: usize> MechanicalSystem<T, G, N>
     for SerialChain<T, N>
 {
     fn inertia(&self, q: &G) -> SMatrix<T, N, N> {
-        self.dynamics(&q.coordinates(), &SVector::zeros()).0
+        self.crba(&q.coordinates())
     }
 
     fn coriolis(&self, q: &G, v: &Tangent<T, N>) -> SMatrix<T, N, N> {
