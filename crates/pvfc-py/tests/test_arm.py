@@ -129,3 +129,16 @@ def test_bad_inputs_raise_documented_errors(tmp_path: pathlib.Path) -> None:
     f.write_text(floating)
     with pytest.raises(pvfc.UrdfError, match="joint shoulder_pan_joint"):
         pvfc.Robot.from_urdf(f, tip="tool0")
+
+
+
+def test_a_urdf_scenario_runs_from_python(repo) -> None:
+    d = pvfc.Scenario.from_file(repo / "scenarios" / "ur5_waypoints.toml").to_dict()
+    d["plant"]["urdf"] = str(UR5)  # from a dict, relative paths are relative to the cwd
+    d["duration"] = 1.0
+    r = pvfc.simulate(pvfc.Scenario.from_dict(d))
+    assert r.q.shape == (1001, 6) and r.torque.shape == (1001, 6)
+    assert r.potential[-1] < r.potential[0]
+    d["initial"]["q"] = [0.0, 0.0]
+    with pytest.raises(pvfc.PvfcError, match="initial.q"):
+        pvfc.Scenario.from_dict(d)

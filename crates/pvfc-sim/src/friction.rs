@@ -1,7 +1,7 @@
 //! Joint friction of the simulated plant: Coulomb + viscous, with a regularised sign.
 
 use crate::error::{Result, SimError};
-use nalgebra::Vector2;
+use nalgebra::SVector;
 use serde::{Deserialize, Serialize};
 
 /// Friction torque on each joint, opposing its velocity:
@@ -15,15 +15,15 @@ use serde::{Deserialize, Serialize};
 /// (0.1 ms for `v_s = 0.01 rad/s`). A Karnopp model with its switching logic was the
 /// alternative; the smooth sign keeps the energy audit exact (the friction power is a plain
 /// function of the state).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct JointFriction {
-    /// Coulomb levels `f_i` (N·m).
+    /// Coulomb levels `f_i` (N·m), one per joint.
     #[serde(default)]
-    pub coulomb: [f64; 2],
-    /// Viscous coefficients `b_i` (N·m·s/rad).
+    pub coulomb: Vec<f64>,
+    /// Viscous coefficients `b_i` (N·m·s/rad), one per joint.
     #[serde(default)]
-    pub viscous: [f64; 2],
+    pub viscous: Vec<f64>,
     /// Stiction velocity `v_s` of the regularised sign (rad/s).
     #[serde(default = "default_stiction_velocity")]
     pub stiction_velocity: f64,
@@ -36,14 +36,28 @@ fn default_stiction_velocity() -> f64 {
 impl Default for JointFriction {
     fn default() -> Self {
         JointFriction {
-            coulomb: [0.0; 2],
-            viscous: [0.0; 2],
+            coulomb: vec![0.0; 2],
+            viscous: vec![0.0; 2],
             stiction_velocity: default_stiction_velocity(),
         }
     }
 }
 
 impl JointFriction {
+    /// Checks the levels against a robot of `dof` joints: one per joint (a list of zeros of
+    /// any length means no friction), finite, `≥ 0`, and `v_s > 0`.
+    pub fn validate_for(&self, dof: usize) -> Result<()> {
+        for (name, x) in [("coulomb", &self.coulomb), ("viscous", &self.viscous)] {
+            if x.len() != dof && x.iter().any(|v| *v != 0.0) {
+                return Err(SimError::Setting(format!(
+                    "plant.friction.{name}: {} entries for a {dof}-joint robot",
+                    x.len()
+                )));
+            }
+        }
+        self.validate()
+    }
+
     /// Checks the levels: finite, `≥ 0`, and `v_s > 0`.
     pub fn validate(&self) -> Result<()> {
         let ok = self
@@ -62,11 +76,13 @@ impl JointFriction {
         }
     }
 
-    /// The friction torque at joint velocity `v`.
+    /// The friction torque at joint velocity `v` (a joint without a level has none).
     #[inline]
-    pub fn torque(&self, v: &Vector2<f64>) -> Vector2<f64> {
-        Vector2::from_fn(|i, _| {
-            -(self.viscous[i] * v[i] + self.coulomb[i] * (v[i] / self.stiction_velocity).tanh())
+    pub fn torque<const N: usize>(&self, v: &SVector<f64, N>) -> SVector<f64, N> {
+        SVector::from_fn(|i, _| {
+            let b = self.viscous.get(i).copied().unwrap_or(0.0);
+            let f = self.coulomb.get(i).copied().unwrap_or(0.0);
+            -(b * v[i] + f * (v[i] / self.stiction_velocity).tanh())
         })
     }
 

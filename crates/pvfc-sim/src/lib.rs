@@ -12,6 +12,8 @@
 #![warn(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 pub mod arm;
+pub mod chain_plot;
+pub mod chain_run;
 pub mod contact;
 pub mod error;
 pub mod friction;

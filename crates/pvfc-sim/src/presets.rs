@@ -19,8 +19,8 @@ use crate::scenario::*;
 /// The plant friction of every preset.
 pub fn plant_friction() -> JointFriction {
     JointFriction {
-        coulomb: [2.5, 3.5],
-        viscous: [0.1, 0.1],
+        coulomb: vec![2.5, 3.5],
+        viscous: vec![0.1, 0.1],
         stiction_velocity: 0.01,
     }
 }
@@ -37,17 +37,19 @@ fn forced(name: &str, description: &str, r_pacing: f64, compensation: bool, r: f
         plant: PlantSpec {
             arm: ArmSpec::DirectDrive,
             friction: plant_friction(),
+            ..PlantSpec::default()
         },
         contour: ContourSpec::default(),
         controller: ControllerSpec {
             self_pacing: r_pacing,
-            h: [1.0, 1.0],
+            h: vec![1.0, 1.0],
             energy,
             flywheel_inertia: 1.0,
             gamma: 50.0 / energy,
             rate: 1000.0,
-            friction_compensation: compensation.then_some(PAPER_COMPENSATION),
+            friction_compensation: compensation.then(|| PAPER_COMPENSATION.to_vec()),
             nominal_speed: Some(NominalSpeedSpec { c: 0.01, r }),
+            ..ControllerSpec::default()
         },
         initial: InitialSpec::default(),
         simulation: SimulationSpec::default(),
@@ -85,7 +87,7 @@ pub fn fig7(r_pacing: f64) -> Scenario {
         1.0,
     );
     s.duration = 15.0;
-    s.initial.q = [0.0, 0.0];
+    s.initial.q = vec![0.0, 0.0];
     s
 }
 
@@ -153,7 +155,7 @@ pub fn energy_check(mode: Mode) -> Scenario {
     s.plant.friction = JointFriction::default();
     s.controller.friction_compensation = None;
     s.controller.nominal_speed = None;
-    s.initial.q = [0.0, 0.0];
+    s.initial.q = vec![0.0, 0.0];
     s.simulation.mode = mode;
     s.simulation.plant_substeps = match mode {
         Mode::Continuous => 1,
@@ -297,7 +299,7 @@ pub fn contact_deburr() -> Scenario {
     );
     s.duration = 20.0;
     s.plant.friction = plant_friction();
-    s.controller.friction_compensation = Some(PAPER_COMPENSATION);
+    s.controller.friction_compensation = Some(PAPER_COMPENSATION.to_vec());
     s.controller.nominal_speed = Some(NominalSpeedSpec { c: 5.0, r: 1.0 });
     s
 }

@@ -86,6 +86,19 @@ pub struct PlantSpec {
     /// Joint friction of the simulated plant.
     #[serde(default)]
     pub friction: JointFriction,
+    /// A serial arm read from this URDF file (relative to the scenario file) instead of the
+    /// planar `arm`: any number of joints, gravity, the generic run loop.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub urdf: Option<PathBuf>,
+    /// The URDF's tip link (needed when the URDF is a tree).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tip: Option<String>,
+    /// The URDF's base link (default: its root).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base: Option<String>,
+    /// Gravity in the base frame (m/s²; default `(0, 0, −9.80665)` for a URDF arm).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gravity: Option<[f64; 3]>,
 }
 
 fn default_arm() -> ArmSpec {
@@ -97,6 +110,10 @@ impl Default for PlantSpec {
         PlantSpec {
             arm: default_arm(),
             friction: JointFriction::default(),
+            urdf: None,
+            tip: None,
+            base: None,
+            gravity: None,
         }
     }
 }
@@ -116,6 +133,13 @@ pub struct ContourSpec {
     pub offset: [f64; 2],
     /// The common period of the curve in `τ`.
     pub period: f64,
+    /// For a URDF arm: the waypoints of a closed C² joint-space contour (3 to 32, one every
+    /// `spacing` of `τ`); the Lissajous fields above are then unused.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub waypoints: Option<Vec<Vec<f64>>>,
+    /// `τ` between waypoints (the period is `spacing × waypoints`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spacing: Option<f64>,
 }
 
 impl Default for ContourSpec {
@@ -126,6 +150,8 @@ impl Default for ContourSpec {
             phase: [0.0, std::f64::consts::FRAC_PI_2],
             offset: [0.0, 0.0],
             period: 6.0,
+            waypoints: None,
+            spacing: None,
         }
     }
 }
@@ -147,7 +173,7 @@ pub struct ControllerSpec {
     /// Self-pacing parameter `R` of eq. (21).
     pub self_pacing: f64,
     /// Navigation weights `h_i` of eq. (17).
-    pub h: [f64; 2],
+    pub h: Vec<f64>,
     /// Energy level `Ē` of eq. (6).
     pub energy: f64,
     /// Flywheel inertia `M_F`.
@@ -158,7 +184,13 @@ pub struct ControllerSpec {
     pub rate: f64,
     /// Friction compensation levels of eq. (35), if any (N·m).
     #[serde(default)]
-    pub friction_compensation: Option<[f64; 2]>,
+    pub friction_compensation: Option<Vec<f64>>,
+    /// The velocity band of the compensation's sign (0: a pure sign).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction_band: Option<f64>,
+    /// Gravity compensation `T += g(q)` (URDF arms; default on).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gravity_compensation: Option<bool>,
     /// Nominal-speed control of eq. (36), if any.
     #[serde(default)]
     pub nominal_speed: Option<NominalSpeedSpec>,
@@ -168,12 +200,14 @@ impl Default for ControllerSpec {
     fn default() -> Self {
         ControllerSpec {
             self_pacing: 100.0,
-            h: [1.0, 1.0],
+            h: vec![1.0, 1.0],
             energy: 50.0,
             flywheel_inertia: 1.0,
             gamma: 0.05,
             rate: 1000.0,
             friction_compensation: None,
+            friction_band: None,
+            gravity_compensation: None,
             nominal_speed: None,
         }
     }
@@ -183,12 +217,12 @@ impl Default for ControllerSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct InitialSpec {
-    /// Joint angles (rad).
+    /// Joint positions (rad, m).
     #[serde(default)]
-    pub q: [f64; 2],
-    /// Joint velocities (rad/s).
+    pub q: Vec<f64>,
+    /// Joint velocities (rad/s, m/s).
     #[serde(default)]
-    pub v: [f64; 2],
+    pub v: Vec<f64>,
     /// Contour parameter.
     #[serde(default)]
     pub tau: f64,
@@ -203,8 +237,8 @@ pub struct InitialSpec {
 impl Default for InitialSpec {
     fn default() -> Self {
         InitialSpec {
-            q: [0.0, 1.5],
-            v: [0.0, 0.0],
+            q: vec![0.0, 1.5],
+            v: vec![0.0, 0.0],
             tau: 0.0,
             tau_dot: 0.0,
             flywheel_speed: None,
@@ -299,6 +333,21 @@ pub struct Scenario {
     /// Directory that relative paths in the scenario are resolved against (not in the file).
     #[serde(skip)]
     pub base_dir: PathBuf,
+}
+
+/// A per-joint list of a scenario as a vector of the robot's dimension (an empty or omitted
+/// list is zeros), or an error naming the field.
+pub fn joint_vector<const N: usize>(x: &[f64], field: &str) -> Result<nalgebra::SVector<f64, N>> {
+    if x.is_empty() {
+        return Ok(nalgebra::SVector::zeros());
+    }
+    if x.len() != N {
+        return Err(SimError::Setting(format!(
+            "{field}: {} entries for a {N}-joint robot",
+            x.len()
+        )));
+    }
+    Ok(nalgebra::SVector::from_column_slice(x))
 }
 
 /// The largest controller rate a scenario may ask for (Hz).
@@ -423,7 +472,115 @@ impl Scenario {
                 return bad("contact.force_schedule needs controller.nominal_speed (eq. 36)");
             }
         }
+        if self.is_chain() {
+            return self.validate_chain();
+        }
+        for (x, field) in [
+            (&self.initial.q, "initial.q"),
+            (&self.initial.v, "initial.v"),
+        ] {
+            joint_vector::<2>(x, field)?;
+        }
+        if let Some(b) = &self.baseline {
+            joint_vector::<2>(&b.kp, "baseline.kp")?;
+            joint_vector::<2>(&b.kd, "baseline.kd")?;
+        }
+        self.plant.friction.validate_for(2)?;
         self.controller()?;
+        Ok(())
+    }
+
+    /// `true` for a serial arm read from a URDF (`[plant] urdf = …`).
+    pub fn is_chain(&self) -> bool {
+        self.plant.urdf.is_some()
+    }
+
+    /// The number of joints: the URDF's, or 2 for the planar arm.
+    pub fn dof(&self) -> Result<usize> {
+        Ok(if self.is_chain() {
+            self.robot()?.dof()
+        } else {
+            2
+        })
+    }
+
+    /// The contour's period in `τ`: `spacing × waypoints` for a URDF arm's waypoint contour,
+    /// `contour.period` for the Lissajous curve.
+    pub fn period(&self) -> f64 {
+        match (&self.contour.waypoints, self.contour.spacing) {
+            (Some(w), Some(h)) if self.is_chain() => h * w.len() as f64,
+            _ => self.contour.period,
+        }
+    }
+
+    /// The URDF arm (`[plant] urdf`, `tip`, `base`, `gravity`).
+    pub fn robot(&self) -> Result<crate::robot::Robot> {
+        let path = self
+            .plant
+            .urdf
+            .as_ref()
+            .ok_or_else(|| SimError::Setting("plant.urdf is not set".into()))?;
+        let robot = crate::robot::Robot::from_urdf(
+            &self.base_dir.join(path),
+            self.plant.base.as_deref(),
+            self.plant.tip.as_deref(),
+        )?;
+        match self.plant.gravity {
+            Some(g) => robot.with_gravity(nalgebra::Vector3::from(g)),
+            None => Ok(robot),
+        }
+    }
+
+    /// The settings of a URDF arm's controller.
+    pub fn arm_settings(&self) -> Result<crate::arm::ArmSettings> {
+        let c = &self.controller;
+        let waypoints = self.contour.waypoints.clone().ok_or_else(|| {
+            SimError::Setting("contour.waypoints: a URDF arm follows a waypoint contour".into())
+        })?;
+        let spacing = self
+            .contour
+            .spacing
+            .ok_or_else(|| SimError::Setting("contour.spacing is needed with waypoints".into()))?;
+        Ok(crate::arm::ArmSettings {
+            waypoints,
+            spacing,
+            h: c.h.clone(),
+            self_pacing: c.self_pacing,
+            energy: c.energy,
+            flywheel_inertia: c.flywheel_inertia,
+            gamma: c.gamma,
+            gravity_compensation: c.gravity_compensation.unwrap_or(true),
+            friction_compensation: c.friction_compensation.clone(),
+            friction_band: c.friction_band.unwrap_or(0.0),
+            nominal_speed: c.nominal_speed.map(|n| (n.c, n.r)),
+            tau0: self.initial.tau,
+        })
+    }
+
+    fn validate_chain(&self) -> Result<()> {
+        let bad = |what: &str| Err(SimError::Setting(what.to_string()));
+        if self.contact.is_some() {
+            return bad("contact: 3-D contact for URDF arms is not implemented yet (planar contact is for the SCARA)");
+        }
+        if self.baseline.is_some() {
+            return bad("baseline: the timed baseline is not implemented for URDF arms yet");
+        }
+        let robot = self.robot()?;
+        let n = robot.dof();
+        for (x, field) in [
+            (&self.initial.q, "initial.q"),
+            (&self.initial.v, "initial.v"),
+        ] {
+            if !x.is_empty() && x.len() != n {
+                return Err(SimError::Setting(format!(
+                    "{field}: {} entries for the {n}-joint robot {}",
+                    x.len(),
+                    robot.description().name
+                )));
+            }
+        }
+        self.plant.friction.validate_for(n)?;
+        crate::arm::ArmController::new(&robot, &self.arm_settings()?)?;
         Ok(())
     }
 
@@ -453,7 +610,7 @@ impl Scenario {
     pub fn field(&self) -> Result<PaperField> {
         Ok(SuspendedField::new(
             self.contour()?,
-            TorusNavigation::paper(Vector2::from(self.controller.h))?,
+            TorusNavigation::paper(joint_vector::<2>(&self.controller.h, "controller.h")?)?,
             ExponentialPacing::new(self.controller.self_pacing)?,
         ))
     }
@@ -473,8 +630,13 @@ impl Scenario {
                 .unwrap_or_else(|| flywheel.speed_for_unit_beta()),
             laps: 0,
         });
-        if let Some(f) = c.friction_compensation {
-            ctl = ctl.with_friction_compensation(FrictionCompensation::new(Vector2::from(f))?);
+        if let Some(f) = &c.friction_compensation {
+            let f = joint_vector::<2>(f, "controller.friction_compensation")?;
+            let mut comp = FrictionCompensation::new(f)?;
+            if let Some(band) = c.friction_band {
+                comp = comp.with_band(band)?;
+            }
+            ctl = ctl.with_friction_compensation(comp);
         }
         if let Some(n) = c.nominal_speed {
             ctl = ctl.with_nominal_speed(NominalSpeed::new(n.c, n.r)?);

@@ -5,9 +5,9 @@ use crate::error::{Result, SimError};
 use crate::friction::JointFriction;
 use crate::integrate::{ClosedLoop, Derivative, RK4_WEIGHTS};
 use crate::paper::PaperField;
-use crate::scenario::{BaselineSpec, Mode, Scenario};
+use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
 use crate::series::JointSeries;
-use nalgebra::Vector2;
+use nalgebra::{SVector, Vector2};
 use pvfc_core::prelude::*;
 
 /// The time series of one run, sampled at the controller's rate.
@@ -158,10 +158,10 @@ impl Trace {
         }
     }
 
-    fn push(&mut self, row: Row) {
+    pub(crate) fn push(&mut self, row: Row<'_>) {
         self.t.push(row.t);
-        self.q.push(&row.q);
-        self.v.push(&row.v);
+        self.q.push(row.q);
+        self.v.push(row.v);
         self.tau.push(row.tau);
         self.tau_dot.push(row.tau_dot);
         self.flywheel_speed.push(row.flywheel_speed);
@@ -169,7 +169,7 @@ impl Trace {
         self.potential.push(row.potential);
         self.lambda1.push(row.lambda1);
         self.lambda2.push(row.lambda2);
-        self.torque.push(&row.torque);
+        self.torque.push(row.torque);
         self.energy.push(row.energy);
         self.friction_power.push(row.friction_power);
     }
@@ -185,32 +185,37 @@ impl Trace {
     }
 }
 
-struct Row {
-    t: f64,
-    q: [f64; 2],
-    v: [f64; 2],
-    tau: f64,
-    tau_dot: f64,
-    flywheel_speed: f64,
-    beta: f64,
-    potential: f64,
-    lambda1: f64,
-    lambda2: f64,
-    torque: [f64; 2],
-    energy: f64,
-    friction_power: f64,
+/// One sample of a [`Trace`] (the joint columns as slices of the robot's dimension).
+pub(crate) struct Row<'a> {
+    pub(crate) t: f64,
+    pub(crate) q: &'a [f64],
+    pub(crate) v: &'a [f64],
+    pub(crate) tau: f64,
+    pub(crate) tau_dot: f64,
+    pub(crate) flywheel_speed: f64,
+    pub(crate) beta: f64,
+    pub(crate) potential: f64,
+    pub(crate) lambda1: f64,
+    pub(crate) lambda2: f64,
+    pub(crate) torque: &'a [f64],
+    pub(crate) energy: f64,
+    pub(crate) friction_power: f64,
 }
 
 /// One RK4 step of the arm alone under the generalized force `force(i, c, q, q̇)` at the
 /// stages `i = 0..4` (time offsets `c = 0, h/2, h/2, h`): motor torque, friction, contact.
-fn plant_rk4(
-    arm: &Scara<f64>,
-    q: &Torus<f64, 2>,
-    v: &Vector2<f64>,
+pub(crate) fn plant_rk4<G, Sys, const N: usize>(
+    arm: &Sys,
+    q: &G,
+    v: &SVector<f64, N>,
     h: f64,
-    mut force: impl FnMut(usize, f64, &Torus<f64, 2>, &Vector2<f64>) -> Result<Vector2<f64>>,
-) -> Result<(Torus<f64, 2>, Vector2<f64>)> {
-    let mut f = |i: usize, c: f64, q: &Torus<f64, 2>, v: &Vector2<f64>| -> Result<Vector2<f64>> {
+    mut force: impl FnMut(usize, f64, &G, &SVector<f64, N>) -> Result<SVector<f64, N>>,
+) -> Result<(G, SVector<f64, N>)>
+where
+    G: LieGroup<f64, N>,
+    Sys: MechanicalSystem<f64, G, N>,
+{
+    let mut f = |i: usize, c: f64, q: &G, v: &SVector<f64, N>| -> Result<SVector<f64, N>> {
         let u = force(i, c, q, v)?;
         Ok(arm.acceleration(q, v, &u)?)
     };
@@ -227,7 +232,7 @@ fn plant_rk4(
 }
 
 /// Timing of a run: controller period, plant step, number of controller periods.
-fn timing(s: &Scenario) -> Result<(f64, f64, usize)> {
+pub(crate) fn timing(s: &Scenario) -> Result<(f64, f64, usize)> {
     // Checked again here: a Scenario's fields are public and may have changed since it was
     // validated, and the trace is sized from them.
     let n = crate::scenario::run_size(s.duration, s.controller.rate, s.simulation.plant_substeps)?;
@@ -238,6 +243,9 @@ fn timing(s: &Scenario) -> Result<(f64, f64, usize)> {
 /// Runs the PVFC loop of a scenario (with its `[contact]` world, if it has one). `progress`
 /// is called with the fraction done.
 pub fn simulate(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
+    if s.is_chain() {
+        return crate::chain_run::simulate_chain(s, progress);
+    }
     match (s.simulation.mode, environment(s)?) {
         (Mode::Sampled, None) => simulate_sampled(s, &mut Free, false, progress),
         (Mode::Sampled, Some(mut env)) => simulate_sampled(s, &mut *env, true, progress),
@@ -301,14 +309,14 @@ fn simulate_sampled<E: Environment + ?Sized>(
     let mut ctl = s.controller()?;
     let arm = Scara::new(s.arm()?)?;
     let kin = PlanarArm::from(&s.arm()?);
-    let friction = s.plant.friction;
+    let friction = s.plant.friction.clone();
     let (dt, h, n) = timing(s)?;
     let period = s.contour.period;
     let mf = s.controller.flywheel_inertia;
     let schedule = s.contact.as_ref().and_then(|c| c.force_schedule);
     let r0 = s.controller.nominal_speed.map(|n| n.r);
-    let mut q = Torus::new(Vector2::from(s.initial.q));
-    let mut v = Vector2::from(s.initial.v);
+    let mut q = Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?);
+    let mut v = joint_vector::<2>(&s.initial.v, "initial.v")?;
     let mut trace = Trace::with_capacity(s.name.clone(), 2, n + 1);
     let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1));
     let mut work = Work::default();
@@ -324,8 +332,8 @@ fn simulate_sampled<E: Environment + ?Sized>(
         let out = ctl.step(&q, &v, dt)?;
         trace.push(Row {
             t,
-            q: [q.angles()[0], q.angles()[1]],
-            v: [v[0], v[1]],
+            q: q.angles().as_slice(),
+            v: v.as_slice(),
             tau: pre.unwrapped_tau(Some(period)),
             tau_dot: pre.tau_dot,
             flywheel_speed: pre.flywheel_speed,
@@ -333,7 +341,7 @@ fn simulate_sampled<E: Environment + ?Sized>(
             potential: out.diagnostics.potential,
             lambda1: out.diagnostics.lambda1,
             lambda2: out.diagnostics.lambda2,
-            torque: [out.torque[0], out.torque[1]],
+            torque: out.torque.as_slice(),
             energy: arm.kinetic_energy(&q, &v)
                 + 0.5 * (pre.tau_dot * pre.tau_dot + mf * pre.flywheel_speed * pre.flywheel_speed),
             friction_power: friction.torque(&v).dot(&v),
@@ -428,7 +436,7 @@ fn simulate_continuous<E: Environment + ?Sized>(
     let ctl = s.controller()?;
     let arm = Scara::new(s.arm()?)?;
     let kin = PlanarArm::from(&s.arm()?);
-    let friction = s.plant.friction;
+    let friction = s.plant.friction.clone();
     let (dt, h, n) = timing(s)?;
     let mut sys = ClosedLoop {
         plant: arm,
@@ -438,8 +446,8 @@ fn simulate_continuous<E: Environment + ?Sized>(
     let r0 = s.controller.nominal_speed.map(|n| n.r);
     let i = ctl.state();
     let mut st = AugmentedState {
-        q: Torus::new(Vector2::from(s.initial.q)),
-        v: Vector2::from(s.initial.v),
+        q: Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?),
+        v: joint_vector::<2>(&s.initial.v, "initial.v")?,
         tau: i.tau,
         tau_dot: i.tau_dot,
         flywheel_speed: i.flywheel_speed,
@@ -458,8 +466,8 @@ fn simulate_continuous<E: Environment + ?Sized>(
         }
         trace.push(Row {
             t,
-            q: [st.q.angles()[0], st.q.angles()[1]],
-            v: [st.v[0], st.v[1]],
+            q: st.q.angles().as_slice(),
+            v: st.v.as_slice(),
             tau: st.tau,
             tau_dot: st.tau_dot,
             flywheel_speed: st.flywheel_speed,
@@ -467,7 +475,7 @@ fn simulate_continuous<E: Environment + ?Sized>(
             potential: first.potential,
             lambda1: first.lambda1,
             lambda2: first.lambda2,
-            torque: [first.torque[0], first.torque[1]],
+            torque: first.torque.as_slice(),
             energy: sys.kinetic_energy(&st),
             friction_power: first.friction.dot(&st.v),
         });
@@ -539,18 +547,23 @@ pub fn simulate_timed_in(
         return Err(SimError::Setting("baseline: τ rate must be finite".into()));
     }
     let arm = Scara::new(s.arm()?)?;
-    let friction = s.plant.friction;
+    let friction = s.plant.friction.clone();
     let contour = s.contour()?;
-    let nav = TorusNavigation::paper(Vector2::from(s.controller.h))?;
-    let comp = s
-        .controller
-        .friction_compensation
-        .map(|f| FrictionCompensation::new(Vector2::from(f)))
-        .transpose()?;
+    let nav = TorusNavigation::paper(joint_vector::<2>(&s.controller.h, "controller.h")?)?;
+    let comp = match &s.controller.friction_compensation {
+        Some(f) => Some(FrictionCompensation::new(joint_vector::<2>(
+            f,
+            "controller.friction_compensation",
+        )?)?),
+        None => None,
+    };
     let (dt, h, n) = timing(s)?;
-    let (kp, kd) = (Vector2::from(b.kp), Vector2::from(b.kd));
-    let mut q = Torus::new(Vector2::from(s.initial.q));
-    let mut v = Vector2::from(s.initial.v);
+    let (kp, kd) = (
+        joint_vector::<2>(&b.kp, "baseline.kp")?,
+        joint_vector::<2>(&b.kd, "baseline.kd")?,
+    );
+    let mut q = Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?);
+    let mut v = joint_vector::<2>(&s.initial.v, "initial.v")?;
     let kin = PlanarArm::from(&s.arm()?);
     let mut trace = Trace::with_capacity(format!("{}-timed", s.name), 2, n + 1);
     let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1));
@@ -569,8 +582,8 @@ pub fn simulate_timed_in(
         let err = q.compose(&Torus::new(xd).inverse());
         trace.push(Row {
             t,
-            q: [q.angles()[0], q.angles()[1]],
-            v: [v[0], v[1]],
+            q: q.angles().as_slice(),
+            v: v.as_slice(),
             tau,
             tau_dot: tau_rate,
             flywheel_speed: 0.0,
@@ -578,7 +591,7 @@ pub fn simulate_timed_in(
             potential: nav.value(&err),
             lambda1: 1.0,
             lambda2: 1.0,
-            torque: [u[0], u[1]],
+            torque: u.as_slice(),
             energy: arm.kinetic_energy(&q, &v),
             friction_power: friction.torque(&v).dot(&v),
         });

@@ -131,7 +131,7 @@ fn run(path: &Path, out: &Path) -> Result<(), SimError> {
             t.potential[n],
             t.beta[n],
             t.energy[n],
-            pvfc_sim::metrics::mean_potential_over_pass(t, s.contour.period)
+            pvfc_sim::metrics::mean_potential_over_pass(t, s.period())
                 .map(|u| format!("{u:.3e}"))
                 .unwrap_or_else(|| "(no complete pass)".into())
         );
@@ -146,6 +146,13 @@ fn run(path: &Path, out: &Path) -> Result<(), SimError> {
         let p = out.join(format!("{}.png", s.name));
         plot::contact_figure(&runs, &s.name, &p)?;
         println!("wrote {}", p.display());
+    }
+    if s.is_chain() {
+        let p = out.join(format!("{}.png", s.name));
+        if let Some((_, t)) = runs.runs.get(&s.name) {
+            pvfc_sim::chain_plot::chain_figure(&s, t, &p)?;
+            println!("wrote {}", p.display());
+        }
     }
     Ok(())
 }

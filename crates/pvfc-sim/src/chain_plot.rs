@@ -1,0 +1,120 @@
+//! The figure of a URDF arm's run: joint errors, `U`, `τ̇`, `κ_a`, and the tool's path in 3-D
+//! projected on two planes, against the desired contour's.
+
+use crate::arm::ArmController;
+use crate::error::Result;
+use crate::plot::{figure, panel, Series};
+use crate::scenario::Scenario;
+use crate::simulate::Trace;
+use std::path::Path;
+
+/// Draws the figure of a URDF arm's run `t` of scenario `s` into `path` (PNG).
+pub fn chain_figure(s: &Scenario, t: &Trace, path: &Path) -> Result<()> {
+    let robot = s.robot()?;
+    let ctl = ArmController::new(&robot, &s.arm_settings()?)?;
+    let n = t.len();
+    let every = (n / 2000).max(1);
+    let samples: Vec<usize> = (0..n).step_by(every).collect();
+    let series = |label: String, f: &dyn Fn(usize) -> f64| Series {
+        label,
+        points: samples.iter().map(|&i| (t.t[i], f(i))).collect(),
+        reference: false,
+    };
+    let dof = t.q.dof();
+    let desired: Vec<Vec<f64>> = samples
+        .iter()
+        .map(|&i| ctl.contour_point(t.tau[i]))
+        .collect();
+    let errors: Vec<Series> = (0..dof)
+        .map(|j| Series {
+            label: format!("q{} − x_d{}", j + 1, j + 1),
+            points: samples
+                .iter()
+                .zip(&desired)
+                .map(|(&i, xd)| (t.t[i], t.q[i][j] - xd[j]))
+                .collect(),
+            reference: false,
+        })
+        .collect();
+    // The tool's path, and the desired contour's image under forward kinematics.
+    let tool = |q: &[f64]| robot.tool_pose(q).map(|(_, p)| p);
+    let actual = samples
+        .iter()
+        .map(|&i| tool(&t.q[i]))
+        .collect::<Result<Vec<_>>>()?;
+    let period = s.period();
+    let reference = (0..=400)
+        .map(|k| tool(&ctl.contour_point(period * k as f64 / 400.0)))
+        .collect::<Result<Vec<_>>>()?;
+    let projection = |a: usize, b: usize, label: &str| {
+        vec![
+            Series {
+                label: "x_d(τ)".into(),
+                points: reference.iter().map(|p| (p[a], p[b])).collect(),
+                reference: true,
+            },
+            Series {
+                label: label.into(),
+                points: actual.iter().map(|p| (p[a], p[b])).collect(),
+                reference: false,
+            },
+        ]
+    };
+    let title = format!("{} ({} joints)", s.name, dof);
+    figure(path, 6, |i, a| match i {
+        0 => panel(
+            a,
+            path,
+            &format!("{title}: joint errors"),
+            "t [s]",
+            "q − x_d(τ) [rad, m]",
+            &errors,
+            false,
+        ),
+        1 => panel(
+            a,
+            path,
+            "navigation function",
+            "t [s]",
+            "U(E)",
+            &[series("U".into(), &|i| t.potential[i])],
+            true,
+        ),
+        2 => panel(
+            a,
+            path,
+            "self-paced contour speed",
+            "t [s]",
+            "dτ/dt",
+            &[series("τ̇".into(), &|i| t.tau_dot[i])],
+            false,
+        ),
+        3 => panel(
+            a,
+            path,
+            "augmented kinetic energy",
+            "t [s]",
+            "κ_a [J]",
+            &[series("κ_a".into(), &|i| t.energy[i])],
+            false,
+        ),
+        4 => panel(
+            a,
+            path,
+            "tool path, top view",
+            "x [m]",
+            "y [m]",
+            &projection(0, 1, "tool"),
+            false,
+        ),
+        _ => panel(
+            a,
+            path,
+            "tool path, side view",
+            "x [m]",
+            "z [m]",
+            &projection(0, 2, "tool"),
+            false,
+        ),
+    })
+}

@@ -1,0 +1,136 @@
+//! Running a scenario of a serial arm read from a URDF (`[plant] urdf = …`): the sampled-data
+//! or continuous PVFC loop for any number of joints (1 to 8), with gravity in the plant,
+//! joint friction, and the controller's gravity and friction compensation.
+
+use crate::arm::{arm_controller, ArmControllerN, ArmSettings};
+use crate::error::{Result, SimError};
+use crate::integrate::ClosedLoop;
+use crate::scenario::{joint_vector, Mode, Scenario};
+use crate::simulate::{plant_rk4, timing, Row, Trace};
+use crate::with_dof;
+use pvfc_core::augmented::AugmentedState;
+use pvfc_core::prelude::*;
+
+/// Runs the PVFC loop of a URDF arm's scenario. `progress` is called with the fraction done.
+pub fn simulate_chain(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
+    let robot = s.robot()?;
+    let settings = s.arm_settings()?;
+    let g = s.plant.gravity.map(nalgebra::Vector3::from);
+    with_dof!(robot.dof(), N => {
+        let mut chain = robot.description().chain::<N>()?;
+        if let Some(g) = g {
+            chain = chain.with_gravity(g)?;
+        }
+        run::<N>(s, chain, &settings, progress)
+    }, otherwise Err(SimError::Setting(format!(
+        "robot {}: {} joints; pvfc supports 1 to 8", robot.description().name, robot.dof()
+    ))))
+}
+
+fn run<const N: usize>(
+    s: &Scenario,
+    chain: SerialChain<f64, N>,
+    settings: &ArmSettings,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
+    let base: ArmControllerN<N> = arm_controller(chain, settings)?;
+    let flywheel = *base.law().flywheel();
+    let mut ctl = base.with_state(InternalState {
+        tau: s.initial.tau,
+        tau_dot: s.initial.tau_dot,
+        flywheel_speed: s
+            .initial
+            .flywheel_speed
+            .unwrap_or_else(|| flywheel.speed_for_unit_beta()),
+        laps: 0,
+    });
+    let friction = s.plant.friction.clone();
+    let (dt, h, n) = timing(s)?;
+    let period = s.period();
+    let mf = flywheel.inertia();
+    let kinds = chain.kinds();
+    let mut q = JointSpace::new(joint_vector::<N>(&s.initial.q, "initial.q")?, kinds);
+    let mut v = joint_vector::<N>(&s.initial.v, "initial.v")?;
+    let mut trace = Trace::with_capacity(s.name.clone(), N, n + 1);
+    match s.simulation.mode {
+        Mode::Sampled => {
+            for k in 0..=n {
+                let t = k as f64 * dt;
+                let pre = *ctl.state();
+                let out = ctl.step(&q, &v, dt)?;
+                trace.push(Row {
+                    t,
+                    q: q.coords().as_slice(),
+                    v: v.as_slice(),
+                    tau: pre.unwrapped_tau(Some(period)),
+                    tau_dot: pre.tau_dot,
+                    flywheel_speed: pre.flywheel_speed,
+                    beta: out.diagnostics.beta,
+                    potential: out.diagnostics.potential,
+                    lambda1: out.diagnostics.lambda1,
+                    lambda2: out.diagnostics.lambda2,
+                    torque: out.torque.as_slice(),
+                    energy: chain.kinetic_energy(&q, &v)
+                        + 0.5
+                            * (pre.tau_dot * pre.tau_dot
+                                + mf * pre.flywheel_speed * pre.flywheel_speed),
+                    friction_power: friction.torque(&v).dot(&v),
+                });
+                if k == n {
+                    break;
+                }
+                // Zero-order hold: the torque of the sample over the period; the plant (with
+                // gravity and friction) in RK4 substeps.
+                for _ in 0..s.simulation.plant_substeps {
+                    (q, v) = plant_rk4(&chain, &q, &v, h, |_, _, _, v| {
+                        Ok(out.torque + friction.torque(v))
+                    })?;
+                }
+                if k % 1000 == 0 {
+                    progress(k as f64 / n as f64);
+                }
+            }
+        }
+        Mode::Continuous => {
+            let sys = ClosedLoop::matched(ctl);
+            let i = *sys.controller.state();
+            let mut st = AugmentedState {
+                q,
+                v,
+                tau: i.tau,
+                tau_dot: i.tau_dot,
+                flywheel_speed: i.flywheel_speed,
+            };
+            for k in 0..=n {
+                let t = k as f64 * dt;
+                let (torque, c) = sys.controller.evaluate(&st)?;
+                trace.push(Row {
+                    t,
+                    q: st.q.coords().as_slice(),
+                    v: st.v.as_slice(),
+                    tau: st.tau,
+                    tau_dot: st.tau_dot,
+                    flywheel_speed: st.flywheel_speed,
+                    beta: c.beta,
+                    potential: c.field.potential,
+                    lambda1: c.field.lambda1,
+                    lambda2: c.field.lambda2,
+                    torque: torque.robot.as_slice(),
+                    energy: sys.kinetic_energy(&st),
+                    friction_power: friction.torque(&st.v).dot(&st.v),
+                });
+                if k == n {
+                    break;
+                }
+                for _ in 0..s.simulation.plant_substeps {
+                    st = sys.rk4_step_with(&st, h, |x| friction.torque(&x.v))?;
+                }
+                if k % 1000 == 0 {
+                    progress(k as f64 / n as f64);
+                }
+            }
+        }
+    }
+    progress(1.0);
+    Ok(trace)
+}

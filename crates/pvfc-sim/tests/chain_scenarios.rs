@@ -1,0 +1,109 @@
+//! Scenarios of URDF arms (`[plant] urdf = …`) through the generic run loop: the shipped
+//! UR5 and Panda files parse and run, the frictionless continuous loop keeps κ_a, the
+//! sampled one converges, and bad settings are errors that name the field.
+
+use pvfc_sim::scenario::{Mode, Scenario};
+use pvfc_sim::simulate::simulate;
+use std::path::{Path, PathBuf};
+
+fn file(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios")
+        .join(name)
+}
+
+fn ur5() -> Scenario {
+    Scenario::from_file(&file("ur5_waypoints.toml")).unwrap()
+}
+
+#[test]
+fn the_shipped_arm_scenarios_parse_and_have_their_dimensions() {
+    let s = ur5();
+    assert!(s.is_chain());
+    assert_eq!(s.dof().unwrap(), 6);
+    assert_eq!(s.period(), 9.0);
+    let p = Scenario::from_file(&file("panda_waypoints.toml")).unwrap();
+    assert_eq!(p.dof().unwrap(), 7);
+    // The scenario round-trips through TOML (written beside the original, so that the
+    // URDF's relative path resolves the same way).
+    let p = file("roundtrip_check.toml");
+    std::fs::write(&p, s.to_toml().unwrap()).unwrap();
+    let again = Scenario::from_file(&p);
+    let _ = std::fs::remove_file(&p);
+    let again = again.unwrap();
+    assert_eq!(again.controller, s.controller);
+    assert_eq!(again.contour, s.contour);
+    assert_eq!(again.plant, s.plant);
+    assert_eq!(again.initial, s.initial);
+}
+
+#[test]
+fn frictionless_continuous_run_keeps_the_augmented_energy() {
+    let mut s = ur5();
+    s.duration = 3.0;
+    s.plant.friction = Default::default();
+    s.controller.friction_compensation = None;
+    s.controller.nominal_speed = None;
+    s.simulation.mode = Mode::Continuous;
+    s.simulation.plant_substeps = 4;
+    let t = simulate(&s, &mut |_| {}).unwrap();
+    assert_eq!(t.q.dof(), 6);
+    let e0 = t.energy[0];
+    let drift = t.energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max) / e0;
+    assert!(drift < 1e-8, "κ_a drift {drift:e}");
+    let u_end = *t.potential.last().unwrap();
+    assert!(
+        u_end < 1e-3 * t.potential[0],
+        "U {} -> {u_end}",
+        t.potential[0]
+    );
+}
+
+#[test]
+fn sampled_run_with_friction_follows_the_contour() {
+    let mut s = ur5();
+    s.duration = 6.0;
+    let t = simulate(&s, &mut |_| {}).unwrap();
+    let u_end = *t.potential.last().unwrap();
+    assert!(
+        u_end < 1e-2 * t.potential[0],
+        "U {} -> {u_end}",
+        t.potential[0]
+    );
+    assert!(
+        *t.tau.last().unwrap() > 3.0,
+        "τ advanced {}",
+        t.tau.last().unwrap()
+    );
+}
+
+#[test]
+fn bad_arm_settings_name_the_field() {
+    let text = std::fs::read_to_string(file("ur5_waypoints.toml")).unwrap();
+    let base = file("");
+    let parse = |t: &str| {
+        let p = base.join("bad.toml");
+        std::fs::write(&p, t).unwrap();
+        let r = Scenario::from_file(&p)
+            .map(|_| ())
+            .map_err(|e| e.to_string());
+        let _ = std::fs::remove_file(&p);
+        r
+    };
+    let e = parse(&text.replace("q = [0.3, -0.9, 1.7, -1.5, -1.3, 0.3]", "q = [0.3, -0.9]"))
+        .unwrap_err();
+    assert!(e.contains("initial.q"), "{e}");
+    let e =
+        parse(&text.replace("h = [4.0, 4.0, 4.0, 4.0, 4.0, 4.0]", "h = [4.0, 4.0]")).unwrap_err();
+    assert!(e.contains("h:"), "{e}");
+    let e = parse(&text.replace("tip = \"tool0\"", "tip = \"nowhere\"")).unwrap_err();
+    assert!(e.contains("link nowhere"), "{e}");
+    let e = parse(&text.replace("spacing = 1.5\n", "")).unwrap_err();
+    assert!(e.contains("contour.spacing"), "{e}");
+    let e = parse(&text.replace(
+        "coulomb = [3.0, 3.0, 2.0, 0.8, 0.8, 0.8]",
+        "coulomb = [3.0, 3.0]",
+    ))
+    .unwrap_err();
+    assert!(e.contains("plant.friction.coulomb"), "{e}");
+}
