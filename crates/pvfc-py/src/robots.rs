@@ -249,3 +249,76 @@ impl Robot {
         )
     }
 }
+
+#[pymethods]
+impl Robot {
+    /// A robot from plain arrays, one row per joint (no URDF): `kinds` ("revolute" or
+    /// "prismatic"), each joint's origin in the previous link's frame (`origins_xyz`,
+    /// `origins_rpy`, shape (n, 3), URDF conventions), its axis (n, 3), and the inertia of the
+    /// link it moves in that link's frame: `masses` (n,), `coms` (n, 3), `inertias` (n, 3, 3)
+    /// about the centre of mass. The tool frame is optional (in the last link's frame).
+    #[staticmethod]
+    #[pyo3(signature = (kinds, origins_xyz, origins_rpy, axes, masses, coms, inertias, *,
+        tool_xyz=None, tool_rpy=None, name="robot"))]
+    #[allow(clippy::too_many_arguments)]
+    fn from_arrays(
+        kinds: Vec<String>,
+        origins_xyz: &Bound<'_, PyAny>,
+        origins_rpy: &Bound<'_, PyAny>,
+        axes: &Bound<'_, PyAny>,
+        masses: &Bound<'_, PyAny>,
+        coms: &Bound<'_, PyAny>,
+        inertias: &Bound<'_, PyAny>,
+        tool_xyz: Option<&Bound<'_, PyAny>>,
+        tool_rpy: Option<&Bound<'_, PyAny>>,
+        name: &str,
+    ) -> PyResult<Self> {
+        use pvfc_core::mechanics::{ChainJoint, RigidInertia};
+        let n = kinds.len();
+        let xyz = array(origins_xyz, "origins_xyz", &[n, 3])?;
+        let rpy = array(origins_rpy, "origins_rpy", &[n, 3])?;
+        let ax = array(axes, "axes", &[n, 3])?;
+        let m = array(masses, "masses", &[n])?;
+        let c = array(coms, "coms", &[n, 3])?;
+        let i3 = array(inertias, "inertias", &[n, 3, 3])?;
+        let three = |v: &[f64], k: usize| [v[3 * k], v[3 * k + 1], v[3 * k + 2]];
+        let mut joints = Vec::with_capacity(n);
+        let mut links = Vec::with_capacity(n);
+        for (k, kind) in kinds.iter().enumerate() {
+            let kind = match kind.as_str() {
+                "revolute" | "continuous" => JointKind::Circular,
+                "prismatic" => JointKind::Linear,
+                other => {
+                    return Err(PyValueError::new_err(format!(
+                        "kinds[{k}]: expected 'revolute' or 'prismatic', got {other:?}"
+                    )))
+                }
+            };
+            joints.push(ChainJoint {
+                kind,
+                origin: Pose::from_xyz_rpy(three(&xyz, k), three(&rpy, k)),
+                axis: nalgebra::Vector3::from(three(&ax, k)),
+            });
+            links.push(RigidInertia {
+                mass: m[k],
+                com: nalgebra::Vector3::from(three(&c, k)),
+                inertia: nalgebra::Matrix3::from_row_slice(&i3[9 * k..9 * k + 9]),
+            });
+        }
+        let tool = Pose::from_xyz_rpy(
+            tool_xyz
+                .map(|t| array(t, "tool_xyz", &[3]))
+                .transpose()?
+                .map_or([0.0; 3], |v| three(&v, 0)),
+            tool_rpy
+                .map(|t| array(t, "tool_rpy", &[3]))
+                .transpose()?
+                .map_or([0.0; 3], |v| three(&v, 0)),
+        );
+        let d = pvfc_sim::urdf::ChainDescription::from_parts(name, joints, links, tool)
+            .map_err(sim_err)?;
+        Ok(Robot {
+            robot: SimRobot::from_description(d).map_err(sim_err)?,
+        })
+    }
+}

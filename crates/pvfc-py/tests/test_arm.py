@@ -142,3 +142,29 @@ def test_a_urdf_scenario_runs_from_python(repo) -> None:
     d["initial"]["q"] = [0.0, 0.0]
     with pytest.raises(pvfc.PvfcError, match="initial.q"):
         pvfc.Scenario.from_dict(d)
+
+
+def test_robot_from_arrays_matches_the_scara_closed_form() -> None:
+    """The Pelican SCARA given as arrays equals pvfc.Scara's closed-form M and C."""
+    p = pvfc.Scara.pelican().parameters()
+    robot = pvfc.Robot.from_arrays(
+        ["revolute", "revolute"],
+        [[0, 0, 0], [p["l1"], 0, 0]],
+        np.zeros((2, 3)),
+        [[0, 0, 1], [0, 0, 1]],
+        [p["m1"], p["m2"]],
+        [[p["lc1"], 0, 0], [p["lc2"], 0, 0]],
+        [np.diag([0.1, 0.1, p["i1"]]), np.diag([0.1, 0.1, p["i2"]])],
+    )
+    scara = pvfc.Scara.pelican()
+    rng = np.random.default_rng(1)
+    for _ in range(50):
+        q, v = rng.uniform(-3, 3, 2), rng.uniform(-2, 2, 2)
+        assert np.allclose(robot.inertia(q), scara.inertia(q), rtol=1e-12, atol=1e-14)
+        assert np.allclose(robot.coriolis(q, v), scara.coriolis(q, v), rtol=1e-12, atol=1e-14)
+    with pytest.raises(pvfc.PvfcError):
+        pvfc.Robot.from_arrays(["revolute"], [[0, 0, 0]], [[0, 0, 0]], [[0, 0, 1]], [-1.0], [[0, 0, 0]], [np.eye(3)])
+    with pytest.raises(ValueError, match="kinds"):
+        pvfc.Robot.from_arrays(["spherical"], [[0, 0, 0]], [[0, 0, 0]], [[0, 0, 1]], [1.0], [[0, 0, 0]], [np.eye(3)])
+    with pytest.raises(ValueError, match="inertias"):
+        pvfc.Robot.from_arrays(["revolute"], [[0, 0, 0]], [[0, 0, 0]], [[0, 0, 1]], [1.0], [[0, 0, 0]], np.eye(3))

@@ -78,6 +78,20 @@ class Scara:
 class Robot:
     @staticmethod
     def from_urdf(path: _PathLike, tip: Optional[str] = None, base: Optional[str] = None) -> Robot: ...
+    @staticmethod
+    def from_arrays(
+        kinds: Sequence[str],
+        origins_xyz: _ArrayLike,
+        origins_rpy: _ArrayLike,
+        axes: _ArrayLike,
+        masses: _ArrayLike,
+        coms: _ArrayLike,
+        inertias: _ArrayLike,
+        *,
+        tool_xyz: Optional[_ArrayLike] = None,
+        tool_rpy: Optional[_ArrayLike] = None,
+        name: str = "robot",
+    ) -> Robot: ...
     def with_gravity(self, g: _ArrayLike) -> Robot: ...
     @property
     def dof(self) -> int: ...

@@ -91,6 +91,48 @@ impl ChainDescription {
         Reader::new(&robot, path)?.read(base, tip)
     }
 
+    /// A chain from plain data (no URDF): joints named `joint1…`, links `link1…`, the tip
+    /// `tool`; the joints' origins are relative to the previous link's frame, the tool's to the
+    /// last link's. Checked when the model is built ([`Self::chain`]).
+    pub fn from_parts(
+        name: &str,
+        joints: Vec<ChainJoint<f64>>,
+        links: Vec<RigidInertia<f64>>,
+        tool: Pose<f64>,
+    ) -> Result<Self> {
+        if joints.len() != links.len() {
+            return Err(SimError::Setting(format!(
+                "{} joints but {} links: one link per joint",
+                joints.len(),
+                links.len()
+            )));
+        }
+        let unlimited = JointLimits {
+            lower: None,
+            upper: None,
+            effort: None,
+            velocity: None,
+        };
+        Ok(ChainDescription {
+            name: name.to_string(),
+            base_link: "base".into(),
+            tip_link: "tool".into(),
+            joints: joints
+                .into_iter()
+                .enumerate()
+                .map(|(i, joint)| JointDescription {
+                    name: format!("joint{}", i + 1),
+                    child_link: format!("link{}", i + 1),
+                    joint,
+                    limits: unlimited,
+                })
+                .collect(),
+            links,
+            tool,
+            locked_joints: vec![],
+        })
+    }
+
     /// The number of joints.
     pub fn dof(&self) -> usize {
         self.joints.len()
