@@ -3,7 +3,7 @@
 
 use super::{wrap_angle, LieGroup, Tangent};
 use crate::Real;
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SVector;
 
 /// What one coordinate of a [`JointSpace`] is: an angle on a circle or a length on a line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -132,22 +132,7 @@ impl<T: Real, const N: usize> LieGroup<T, N> for JointSpace<T, N> {
         }
         v
     }
-    #[inline]
-    fn adjoint(&self) -> SMatrix<T, N, N> {
-        SMatrix::identity()
-    }
-    #[inline]
-    fn adjoint_apply(&self, v: &Tangent<T, N>) -> Tangent<T, N> {
-        *v
-    }
-    #[inline]
-    fn adjoint_inverse_apply(&self, v: &Tangent<T, N>) -> Tangent<T, N> {
-        *v
-    }
-    #[inline]
-    fn lie_bracket(_a: &Tangent<T, N>, _b: &Tangent<T, N>) -> Tangent<T, N> {
-        SVector::zeros()
-    }
+    abelian_group_algebra!();
     #[inline]
     fn chart_extent(v: &Tangent<T, N>) -> T {
         v.amax()

@@ -17,6 +17,29 @@
 //! (a vector space, for linear stages) and [`JointSpace`] (`T^r × ℝ^p`, serial chains with
 //! revolute and prismatic joints).
 
+/// The adjoint and the bracket of an abelian group of dimension `N` (`Ad = I`, `[a, b] = 0`):
+/// the methods [`Torus`], [`Rn`] and [`JointSpace`] share.
+macro_rules! abelian_group_algebra {
+    () => {
+        #[inline]
+        fn adjoint(&self) -> nalgebra::SMatrix<T, N, N> {
+            nalgebra::SMatrix::identity()
+        }
+        #[inline]
+        fn adjoint_apply(&self, v: &Tangent<T, N>) -> Tangent<T, N> {
+            *v
+        }
+        #[inline]
+        fn adjoint_inverse_apply(&self, v: &Tangent<T, N>) -> Tangent<T, N> {
+            *v
+        }
+        #[inline]
+        fn lie_bracket(_a: &Tangent<T, N>, _b: &Tangent<T, N>) -> Tangent<T, N> {
+            nalgebra::SVector::zeros()
+        }
+    };
+}
+
 mod joint_space;
 mod rn;
 mod so3;

@@ -2,7 +2,7 @@
 
 use super::{LieGroup, Tangent};
 use crate::Real;
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SVector;
 
 /// An element of the vector space `ℝⁿ`, seen as a (non-compact, abelian) Lie group under
 /// addition; also known as the translation group `T(n)`.
@@ -56,22 +56,7 @@ impl<T: Real, const N: usize> LieGroup<T, N> for Rn<T, N> {
     fn log(&self) -> Tangent<T, N> {
         self.coords
     }
-    #[inline]
-    fn adjoint(&self) -> SMatrix<T, N, N> {
-        SMatrix::identity()
-    }
-    #[inline]
-    fn adjoint_apply(&self, v: &Tangent<T, N>) -> Tangent<T, N> {
-        *v
-    }
-    #[inline]
-    fn adjoint_inverse_apply(&self, v: &Tangent<T, N>) -> Tangent<T, N> {
-        *v
-    }
-    #[inline]
-    fn lie_bracket(_a: &Tangent<T, N>, _b: &Tangent<T, N>) -> Tangent<T, N> {
-        SVector::zeros()
-    }
+    abelian_group_algebra!();
     #[inline]
     fn chart_extent(_v: &Tangent<T, N>) -> T {
         T::zero()

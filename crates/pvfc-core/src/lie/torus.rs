@@ -2,7 +2,7 @@
 
 use super::{LieGroup, Tangent};
 use crate::Real;
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SVector;
 
 /// Wraps an angle into `(−π, π]`.
 ///
@@ -83,22 +83,7 @@ impl<T: Real, const N: usize> LieGroup<T, N> for Torus<T, N> {
     fn log(&self) -> Tangent<T, N> {
         self.wrapped()
     }
-    #[inline]
-    fn adjoint(&self) -> SMatrix<T, N, N> {
-        SMatrix::identity()
-    }
-    #[inline]
-    fn adjoint_apply(&self, v: &Tangent<T, N>) -> Tangent<T, N> {
-        *v
-    }
-    #[inline]
-    fn adjoint_inverse_apply(&self, v: &Tangent<T, N>) -> Tangent<T, N> {
-        *v
-    }
-    #[inline]
-    fn lie_bracket(_a: &Tangent<T, N>, _b: &Tangent<T, N>) -> Tangent<T, N> {
-        SVector::zeros()
-    }
+    abelian_group_algebra!();
     #[inline]
     fn chart_extent(v: &Tangent<T, N>) -> T {
         v.amax()
