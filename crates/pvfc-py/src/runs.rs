@@ -1,0 +1,331 @@
+//! Scenarios and runs: `pvfc.Scenario`, `SimulationResult`, `simulate`, `simulate_many`,
+//! `simulate_timed`, `read_mcap`.
+
+use crate::convert::{out1, out_rows, out_series, vector};
+use crate::errors::sim_err;
+use numpy::{PyArray1, PyArray2};
+use pvfc_sim::scenario::Scenario as SimScenario;
+use pvfc_sim::simulate::Trace;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rayon::prelude::*;
+use std::path::PathBuf;
+
+/// Everything one run needs: plant, contour, controller, initial state, duration, rates.
+#[pyclass(module = "pvfc", frozen, from_py_object)]
+#[derive(Clone)]
+pub(crate) struct Scenario {
+    pub(crate) s: SimScenario,
+}
+
+#[pymethods]
+impl Scenario {
+    /// Reads a TOML scenario file.
+    #[staticmethod]
+    fn from_file(path: PathBuf) -> PyResult<Self> {
+        Ok(Scenario {
+            s: SimScenario::from_file(&path).map_err(sim_err)?,
+        })
+    }
+
+    /// Parses TOML text.
+    #[staticmethod]
+    fn from_toml(text: &str) -> PyResult<Self> {
+        Ok(Scenario {
+            s: SimScenario::from_toml(text, std::path::Path::new("<string>")).map_err(sim_err)?,
+        })
+    }
+
+    /// Builds a scenario from a dict with the layout of the TOML files (see `to_dict`).
+    #[staticmethod]
+    fn from_dict(py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<Self> {
+        let text: String = py.import("json")?.call_method1("dumps", (d,))?.extract()?;
+        let mut s: SimScenario = serde_json::from_str(&text)
+            .map_err(|e| crate::errors::ScenarioError::new_err(format!("scenario dict: {e}")))?;
+        s.base_dir = PathBuf::new();
+        s.validate()
+            .map_err(|e| crate::errors::ScenarioError::new_err(format!("scenario dict: {e}")))?;
+        Ok(Scenario { s })
+    }
+
+    /// A built-in scenario of the paper's section V by name (see `presets()`).
+    #[staticmethod]
+    fn preset(name: &str) -> PyResult<Self> {
+        pvfc_sim::presets::all()
+            .into_iter()
+            .find(|s| s.name == name)
+            .map(|s| Scenario { s })
+            .ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "name: no preset {name:?}; see pvfc.Scenario.presets()"
+                ))
+            })
+    }
+
+    /// The names of the built-in scenarios.
+    #[staticmethod]
+    fn presets() -> Vec<String> {
+        pvfc_sim::presets::all()
+            .into_iter()
+            .map(|s| s.name)
+            .collect()
+    }
+
+    /// The scenario as a dict (edit it and pass it to `from_dict`).
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let text = serde_json::to_string(&self.s)
+            .map_err(|e| crate::errors::ScenarioError::new_err(e.to_string()))?;
+        py.import("json")?.call_method1("loads", (text,))
+    }
+
+    /// The scenario as TOML text.
+    fn to_toml(&self) -> PyResult<String> {
+        self.s.to_toml().map_err(sim_err)
+    }
+
+    #[getter]
+    fn name(&self) -> String {
+        self.s.name.clone()
+    }
+
+    #[getter]
+    fn duration(&self) -> f64 {
+        self.s.duration
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Scenario({:?}, duration={})", self.s.name, self.s.duration)
+    }
+}
+
+/// The time series of a run, as fresh numpy arrays (sampled at the controller's rate).
+#[pyclass(module = "pvfc", frozen)]
+pub(crate) struct SimulationResult {
+    t: Trace,
+    period: f64,
+}
+
+macro_rules! series {
+    ($($name:ident => $field:ident, $doc:literal;)*) => {
+        #[pymethods]
+        impl SimulationResult {
+            $(
+                #[doc = $doc]
+                #[getter]
+                fn $name<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+                    out1(py, self.t.$field.clone())
+                }
+            )*
+        }
+    };
+}
+
+series! {
+    t => t, "Time (s).";
+    tau => tau, "Contour parameter τ (unwrapped).";
+    tau_dot => tau_dot, "dτ/dt.";
+    flywheel_speed => flywheel_speed, "Flywheel speed q̇_F (rad/s).";
+    beta => beta, "β = √(κ_a/Ē).";
+    potential => potential, "U(E), eq. (17).";
+    lambda1 => lambda1, "Self-pacing gain λ₁.";
+    lambda2 => lambda2, "Self-pacing gain λ₂.";
+    energy => energy, "Augmented kinetic energy κ_a (J).";
+    friction_power => friction_power, "Power of the plant's friction (W, ≤ 0).";
+}
+
+#[pymethods]
+impl SimulationResult {
+    /// Joint angles, shape (n, 2).
+    #[getter]
+    fn q<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        out_series(py, &self.t.q)
+    }
+
+    /// Joint velocities, shape (n, 2).
+    #[getter]
+    fn qdot<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        out_series(py, &self.t.v)
+    }
+
+    /// Motor torques, shape (n, 2).
+    #[getter]
+    fn torque<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        out_series(py, &self.t.torque)
+    }
+
+    /// The run's name.
+    #[getter]
+    fn name(&self) -> String {
+        self.t.name.clone()
+    }
+
+    /// The contour's period in τ.
+    #[getter]
+    fn period(&self) -> f64 {
+        self.period
+    }
+
+    /// The contact columns of a run with a `[contact]` world, or None: a dict of fresh
+    /// arrays `force` (n, 2), `normal_force`, `depth`, `torque` (n, 2, `F_e = Jᵀf`), `tool`
+    /// (n, 2), `work_contact` (∫F_eᵀq̇ dt), `work_friction`, `work_controller` (the
+    /// add-ons' work), `nominal_speed`, and `audit_residual` (energy − energy[0] − the works).
+    #[getter]
+    fn contact<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(c) = &self.t.contact else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("force", out_rows(py, &c.force))?;
+        d.set_item("normal_force", out1(py, c.normal_force.clone()))?;
+        d.set_item("depth", out1(py, c.depth.clone()))?;
+        d.set_item("torque", out_rows(py, &c.torque))?;
+        d.set_item("tool", out_rows(py, &c.tool))?;
+        d.set_item("work_contact", out1(py, c.work_contact.clone()))?;
+        d.set_item("work_friction", out1(py, c.work_friction.clone()))?;
+        d.set_item("work_controller", out1(py, c.work_controller.clone()))?;
+        d.set_item("nominal_speed", out1(py, c.nominal_speed.clone()))?;
+        d.set_item("audit_residual", out1(py, c.audit_residual(&self.t.energy)))?;
+        Ok(Some(d))
+    }
+
+    /// For a run with contact, a dict: `peak_force` (N), `energy_pumped` (J, the most the
+    /// arm had put into the contact), `work_contact` (J), `energy_scale` (J), `audit`
+    /// (relative), `passivity_margin` and `energy_bound_margin` (J, ≥ 0 when passivity
+    /// holds), `last_contact` (s or None). None without contact.
+    fn contact_summary<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(c) = pvfc_sim::metrics::contact_summary(&self.t) else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        for (k, v) in [
+            ("peak_force", c.peak_force),
+            ("energy_pumped", c.energy_pumped),
+            ("work_contact", c.work_contact),
+            ("energy_scale", c.energy_scale),
+            ("audit", c.audit),
+            ("passivity_margin", c.passivity_margin),
+            ("energy_bound_margin", c.energy_bound_margin),
+        ] {
+            d.set_item(k, v)?;
+        }
+        d.set_item("last_contact", c.last_contact)?;
+        Ok(Some(d))
+    }
+
+    /// The mean of U over the last complete pass of the contour, or None.
+    fn mean_potential_over_pass(&self) -> Option<f64> {
+        pvfc_sim::metrics::mean_potential_over_pass(&self.t, self.period)
+    }
+
+    /// Writes the run as an MCAP log.
+    fn write_mcap(&self, path: PathBuf) -> PyResult<()> {
+        pvfc_sim::log::write_mcap(&self.t, &path).map_err(sim_err)
+    }
+
+    fn __len__(&self) -> usize {
+        self.t.len()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "SimulationResult({:?}, {} samples)",
+            self.t.name,
+            self.t.len()
+        )
+    }
+}
+
+/// Runs a scenario (the GIL is released while it runs).
+#[pyfunction]
+pub(crate) fn simulate(py: Python<'_>, scenario: &Scenario) -> PyResult<SimulationResult> {
+    let s = scenario.s.clone();
+    let t = py
+        .detach(move || pvfc_sim::simulate::simulate(&s, &mut |_| {}))
+        .map_err(sim_err)?;
+    Ok(SimulationResult {
+        t,
+        period: scenario.s.contour.period,
+    })
+}
+
+/// Runs many scenarios in parallel in Rust (rayon), with the GIL released; the results are
+/// in the order of the scenarios.
+#[pyfunction]
+#[pyo3(signature = (scenarios, threads=None))]
+pub(crate) fn simulate_many(
+    py: Python<'_>,
+    scenarios: Vec<Scenario>,
+    threads: Option<usize>,
+) -> PyResult<Vec<SimulationResult>> {
+    let ss: Vec<SimScenario> = scenarios.into_iter().map(|s| s.s).collect();
+    let periods: Vec<f64> = ss.iter().map(|s| s.contour.period).collect();
+    let run = move || -> Vec<pvfc_sim::Result<Trace>> {
+        ss.par_iter()
+            .map(|s| pvfc_sim::simulate::simulate(s, &mut |_| {}))
+            .collect()
+    };
+    let traces = py.detach(move || match threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n.max(1))
+            .build()
+            .map(|p| p.install(run))
+            .map_err(|e| e.to_string()),
+        None => Ok(run()),
+    });
+    let traces = traces.map_err(crate::errors::PvfcError::new_err)?;
+    traces
+        .into_iter()
+        .zip(periods)
+        .map(|(t, period)| {
+            Ok(SimulationResult {
+                t: t.map_err(sim_err)?,
+                period,
+            })
+        })
+        .collect()
+}
+
+/// The timed-trajectory baseline of a scenario (computed torque + PD) at a τ rate.
+#[pyfunction]
+#[pyo3(signature = (scenario, kp, kd, tau_rate))]
+pub(crate) fn simulate_timed(
+    py: Python<'_>,
+    scenario: &Scenario,
+    kp: &Bound<'_, PyAny>,
+    kd: &Bound<'_, PyAny>,
+    tau_rate: f64,
+) -> PyResult<SimulationResult> {
+    let b = pvfc_sim::scenario::BaselineSpec {
+        kp: vector::<2>(kp, "kp")?,
+        kd: vector::<2>(kd, "kd")?,
+        tau_rate: Some(tau_rate),
+    };
+    let s = scenario.s.clone();
+    let t = py
+        .detach(move || pvfc_sim::simulate::simulate_timed(&s, &b, tau_rate, &mut |_| {}))
+        .map_err(sim_err)?;
+    Ok(SimulationResult {
+        t,
+        period: scenario.s.contour.period,
+    })
+}
+
+/// Reads an MCAP log; returns a list of (topic, log_time_ns, message dict).
+#[pyfunction]
+pub(crate) fn read_mcap(
+    py: Python<'_>,
+    path: PathBuf,
+) -> PyResult<Vec<(String, u64, Bound<'_, PyAny>)>> {
+    let msgs = pvfc_sim::log::read_mcap(&path).map_err(sim_err)?;
+    let json = py.import("json")?;
+    msgs.into_iter()
+        .map(|m| {
+            Ok((
+                m.topic,
+                m.log_time,
+                json.call_method1("loads", (m.data.to_string(),))?,
+            ))
+        })
+        .collect()
+}
