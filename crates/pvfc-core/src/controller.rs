@@ -311,3 +311,22 @@ where
         })
     }
 }
+
+/// The paper's setting as one concrete type (the SCARA on a Lissajous contour, the torus
+/// navigation function of eq. 17, exponential self-pacing), so that firmware can name the
+/// controller it keeps in a `static` without spelling ten generic parameters:
+/// `static CTL: Mutex<RefCell<Option<ScaraLissajousController<f32>>>>`.
+pub type ScaraLissajousController<T> = Controller<
+    T,
+    crate::lie::Torus<T, 2>,
+    crate::mechanics::Scara<T>,
+    crate::field::SuspendedField<
+        T,
+        crate::lie::Torus<T, 2>,
+        crate::contour::Lissajous<T, 2>,
+        crate::navigation::TorusNavigation<T, 2>,
+        crate::pacing::ExponentialPacing<T>,
+        2,
+    >,
+    2,
+>;

@@ -61,6 +61,9 @@ pub mod pacing;
 pub mod scalar;
 
 pub use error::{Error, ErrorKind, Result};
+/// The linear-algebra crate of pvfc's types (vectors, matrices), re-exported so that a user
+/// names the same version.
+pub use nalgebra;
 pub use scalar::Real;
 
 /// The types most programs need, in one import.
@@ -69,7 +72,9 @@ pub mod prelude {
     pub use crate::contour::{
         ConstantRate, Contour, ContourSample, Ellipse, Lissajous, PeriodicBSpline, VectorGroup,
     };
-    pub use crate::controller::{Controller, Diagnostics, InternalState, StepOutput};
+    pub use crate::controller::{
+        Controller, Diagnostics, InternalState, ScaraLissajousController, StepOutput,
+    };
     pub use crate::coupling::{
         CouplingOutput, Flywheel, FrictionCompensation, NominalSpeed, PvfcLaw,
     };

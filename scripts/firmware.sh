@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# The firmware of examples/firmware in QEMU (netduinoplus2, Cortex-M4F): build it, report its
+# flash and RAM, run it (10,000 control steps at 1 kHz, its exit code says whether the
+# controller faulted), compare its trace with the host twin (tests/firmware_twin.rs), and count
+# the instructions of a control step from an execution trace.
+# Needs: rustup target thumbv7em-none-eabihf, qemu-system-arm, binutils-arm-none-eabi.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+fw=examples/firmware
+elf=$fw/target/thumbv7em-none-eabihf/release/pvfc-firmware
+out=${PVFC_FIRMWARE_OUT:-target/firmware}
+mkdir -p "$out"
+
+echo "--- build"
+(cd $fw && cargo build --locked --release)
+echo "--- size (text = flash code, data = flash + RAM, bss = RAM)"
+arm-none-eabi-size "$elf" | tee "$out/size.txt"
+
+echo "--- run in QEMU"
+status=0
+(cd $fw && timeout 300 cargo run --locked --release) > "$out/trace.txt" || status=$?
+tail -n 3 "$out/trace.txt"
+if [ "$status" -ne 0 ]; then
+  echo "the firmware exited with $status (a controller fault, or QEMU failed)" >&2
+  exit 1
+fi
+grep -q "pvfc: done, 10000 steps, no fault" "$out/trace.txt"
+
+echo "--- the trace against the host twin"
+PVFC_FIRMWARE_TRACE="$out/trace.txt" cargo test --locked --test firmware_twin -- --ignored --nocapture \
+  2>&1 | grep -E "firmware vs|host f32 vs|test result|panicked|assert" | tee "$out/twin.txt"
+grep -q "test result: ok. 1 passed" "$out/twin.txt"
+
+echo "--- instructions per control step (QEMU execution trace)"
+python3 scripts/firmware_instructions.py "$elf" --steps 1000 | tee "$out/instructions.txt"

@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""Counts the instructions of the firmware's control step on the target, from QEMU's
+execution trace (QEMU models no cycle counter): QEMU runs the firmware one instruction per
+translation block (`-singlestep -d exec,nochain`), its log goes through a FIFO, and every
+instruction from the entry of `pvfc_control_step` to its return address (callees included:
+libm, soft-float routines) is counted, for the first N control steps.
+
+Cycles are estimated from the executed mnemonics with the Cortex-M4 technical reference
+manual's timings (ARM DDI 0439B, table 3-1, and the FPU's table 7-1): 1 cycle by default;
+loads and stores 2 (LDM/STM/PUSH/POP 1 + registers); taken branches and calls 1 + 2 (pipeline
+refill; conditional branches counted as taken); VDIV.F32 and VSQRT.F32 14; VLDR/VSTR 2;
+VFMA/VFMS/VMLA/VMLS 3; SDIV/UDIV 7 (2-12); the rest 1. No wait states (flash at the core
+clock, as QEMU models it). An estimate, not a measurement.
+
+Usage: firmware_instructions.py ELF [--steps N]
+"""
+
+import argparse
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+
+CYCLES = {
+    "vdiv.f32": 14, "vsqrt.f32": 14, "vldr": 2, "vstr": 2, "vfma.f32": 3, "vfms.f32": 3,
+    "vmla.f32": 3, "vmls.f32": 3, "sdiv": 7, "udiv": 7, "b": 3, "bl": 3, "blx": 3, "bx": 3,
+    "ldr": 2, "ldrb": 2, "ldrh": 2, "ldrd": 3, "str": 2, "strb": 2, "strh": 2, "strd": 3,
+    "ldrsb": 2, "ldrsh": 2, "tbb": 3, "tbh": 3, "cbz": 2, "cbnz": 2,
+}
+
+
+def cycles_of(mnemonic: str, operands: str) -> int:
+    m = mnemonic.split(".")[0] if not mnemonic.startswith("v") else mnemonic
+    base = re.sub(r"(eq|ne|cs|cc|mi|pl|vs|vc|hi|ls|ge|lt|gt|le|al)$", "", m.split(".")[0])
+    if base in ("push", "pop", "ldmia", "stmia", "ldm", "stm", "stmdb", "ldmdb", "vpush", "vpop", "vldmia", "vstmia", "vstmdb"):
+        return 1 + max(1, operands.count(",") + 1)
+    if base.startswith("b") and base not in ("bic", "bics", "bfi", "bfc"):
+        return 3
+    return CYCLES.get(mnemonic, CYCLES.get(base, 1))
+
+
+def disassembly(elf: str) -> dict:
+    out = subprocess.run(["arm-none-eabi-objdump", "-d", elf], capture_output=True, text=True, check=True).stdout
+    table = {}
+    for line in out.splitlines():
+        m = re.match(r"^\s*([0-9a-f]+):\s+(?:[0-9a-f]{4}\s?){1,2}\s+(\S+)\s*(.*)$", line)
+        if m:
+            table[int(m.group(1), 16)] = (m.group(2), m.group(3))
+    return table
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("elf")
+    ap.add_argument("--steps", type=int, default=1000)
+    args = ap.parse_args()
+    nm = subprocess.run(["arm-none-eabi-nm", args.elf], capture_output=True, text=True, check=True).stdout
+    entry = next(int(l.split()[0], 16) for l in nm.splitlines() if l.endswith(" pvfc_control_step"))
+    code = disassembly(args.elf)
+    calls = [a for a, (mn, ops) in code.items() if mn.startswith("bl") and f"{entry:x} <pvfc_control_step>" in ops]
+    if len(calls) != 1:
+        print(f"expected one call of pvfc_control_step, found {len(calls)}", file=sys.stderr)
+        return 1
+    ret = calls[0] + 4
+    fifo = os.path.join(tempfile.mkdtemp(), "trace")
+    os.mkfifo(fifo)
+    qemu = subprocess.Popen(
+        ["qemu-system-arm", "-machine", "netduinoplus2", "-nographic", "-semihosting-config",
+         "enable=on,target=native", "-singlestep", "-d", "exec,nochain", "-D", fifo, "-kernel", args.elf],
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+    )
+    counts, cycles = [], []
+    inside, n, c = False, 0, 0
+    pc_re = re.compile(rb"\[[0-9a-f]+/([0-9a-f]+)/")
+    with open(fifo, "rb") as log:
+        for line in log:
+            m = pc_re.search(line)
+            if not m:
+                continue
+            pc = int(m.group(1), 16)
+            if not inside:
+                if pc == entry:
+                    inside, n, c = True, 0, 0
+                else:
+                    continue
+            if pc == ret:
+                inside = False
+                counts.append(n)
+                cycles.append(c)
+                if len(counts) >= args.steps:
+                    break
+                continue
+            n += 1
+            mn, ops = code.get(pc, ("?", ""))
+            c += cycles_of(mn, ops)
+    qemu.kill()
+    qemu.wait()
+    if not counts:
+        print("no control step seen in the trace", file=sys.stderr)
+        return 1
+    worst = max(range(len(counts)), key=lambda i: counts[i])
+    print(f"control steps traced: {len(counts)}")
+    print(f"instructions per step: median {statistics.median(counts):.0f}, min {min(counts)}, max {counts[worst]} (step {worst})")
+    print(f"estimated cycles per step (Cortex-M4 timings, no wait states): median {statistics.median(cycles):.0f}, max {max(cycles)}")
+    print(f"at 168 MHz: median {statistics.median(cycles) / 168:.1f} µs, worst {max(cycles) / 168:.1f} µs per step")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
