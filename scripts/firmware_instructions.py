@@ -55,6 +55,7 @@ def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("elf")
     ap.add_argument("--steps", type=int, default=1000)
+    ap.add_argument("--by-function", action="store_true", help="also tally the instructions per function")
     args = ap.parse_args()
     nm = subprocess.run(["arm-none-eabi-nm", args.elf], capture_output=True, text=True, check=True).stdout
     entry = next(int(l.split()[0], 16) for l in nm.splitlines() if l.endswith(" pvfc_control_step"))
@@ -73,6 +74,7 @@ def main() -> int:
     )
     counts, cycles = [], []
     inside, n, c = False, 0, 0
+    per_function: dict = {}
     pc_re = re.compile(rb"\[[0-9a-f]+/([0-9a-f]+)/")
     with open(fifo, "rb") as log:
         for line in log:
@@ -93,6 +95,9 @@ def main() -> int:
                     break
                 continue
             n += 1
+            if args.by_function:
+                name = line.rsplit(b"]", 1)[-1].strip().decode(errors="replace") or "?"
+                per_function[name] = per_function.get(name, 0) + 1
             mn, ops = code.get(pc, ("?", ""))
             c += cycles_of(mn, ops)
     qemu.kill()
@@ -104,6 +109,9 @@ def main() -> int:
     print(f"control steps traced: {len(counts)}")
     print(f"instructions per step: median {statistics.median(counts):.0f}, min {min(counts)}, max {counts[worst]} (step {worst})")
     print(f"estimated cycles per step (Cortex-M4 timings, no wait states): median {statistics.median(cycles):.0f}, max {max(cycles)}")
+    if args.by_function:
+        for name, k in sorted(per_function.items(), key=lambda kv: -kv[1])[:15]:
+            print(f"  {k / len(counts):8.1f} per step in {name}")
     print(f"at 168 MHz: median {statistics.median(cycles) / 168:.1f} µs, worst {max(cycles) / 168:.1f} µs per step")
     return 0
 

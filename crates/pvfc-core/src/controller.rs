@@ -284,18 +284,28 @@ where
         }
         let mut laps = before.laps;
         if let Some(period) = self.law.field().period() {
-            // One floor division (a loop of subtractions would never end for a huge τ).
-            let k = (tau / period).floor();
-            let whole = nalgebra::try_convert::<T, f64>(k).unwrap_or(f64::NAN);
-            if whole.is_nan() || whole.abs() >= 1e15 {
-                return Err(overflow);
+            if tau >= period && tau < period + period {
+                // The usual case: one period crossed forwards (no division, no floor).
+                tau -= period;
+                laps = laps.saturating_add(1);
+            } else if tau < T::zero() && tau >= -period {
+                tau += period;
+                laps = laps.saturating_sub(1);
+            } else if !(tau >= T::zero() && tau < period) {
+                // Several periods at once (a huge dt): one floor division, in T (no f64 on an
+                // f32 target).
+                let k = (tau / period).floor();
+                let whole = k.to_i64_checked().ok_or(overflow)?;
+                if whole.unsigned_abs() >= 1_000_000_000_000_000 {
+                    return Err(overflow);
+                }
+                tau -= k * period;
+                laps = laps.saturating_add(whole);
             }
-            tau -= k * period;
             if tau >= period || tau < T::zero() {
                 // Rounding at the boundary of a period.
                 tau = T::zero();
             }
-            laps = laps.saturating_add(whole as i64);
         }
         self.state = InternalState {
             tau,

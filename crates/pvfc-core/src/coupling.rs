@@ -66,7 +66,7 @@ impl<T: Real> Flywheel<T> {
     /// The flywheel speed that gives the robot at rest `β = 1`: `√(2Ē/M_F)`
     /// (control-law.md §5: with everything at rest nothing ever moves).
     pub fn speed_for_unit_beta(&self) -> T {
-        (self.energy * cast::<T>(2.0) / self.inertia).sqrt()
+        (self.energy * cast::<T>(2.0) / self.inertia).sqrt_fast()
     }
 
     /// Eq. (6): `V_F = +√((2/M_F)(Ē − κ̄))` for the kinetic energy `κ̄ = ½ V̄ᵀM̄V̄` of the
@@ -75,7 +75,7 @@ impl<T: Real> Flywheel<T> {
     pub fn field_speed(&self, field_energy: T) -> Result<T> {
         let margin = self.energy - field_energy;
         if margin > T::zero() {
-            Ok((margin * self.two_over_inertia).sqrt())
+            Ok((margin * self.two_over_inertia).sqrt_fast())
         } else {
             Err(Error::new(
                 ErrorKind::EnergyTooLow,
@@ -268,7 +268,7 @@ where
             momentum: p,
             w,
             kinetic_energy,
-            beta: (kappa2 * self.flywheel.inv_two_energy).sqrt(),
+            beta: (kappa2 * self.flywheel.inv_two_energy).sqrt_fast(),
             energy_level: e_bar,
             field: fs,
         })

@@ -26,6 +26,18 @@ pub trait Real: RealField + Copy + sealed::Sealed {
     /// assert!((s - 0.5f64.sin()).abs() < 1e-16 && (c - 0.5f64.cos()).abs() < 1e-16);
     /// ```
     fn sin_cos_fast(self) -> (Self, Self);
+
+    /// `√x` as cheap as the platform allows. `f64`, and `f32` with the `std` feature: the
+    /// standard (hardware) square root. `f32` without `std` (microcontrollers): a Cortex-M4F
+    /// has a `VSQRT.F32` instruction but neither `core` nor `libm` emits it on stable Rust, and
+    /// libm's bitwise `sqrtf` costs ~50 instructions; this is the reciprocal square root's
+    /// bit-level estimate refined by three Newton steps in `f32` (≤ 2 ulp, tested against the
+    /// correctly rounded root; 0 for 0, NaN for negative or NaN, ∞ for ∞).
+    fn sqrt_fast(self) -> Self;
+
+    /// `self` rounded towards zero as an `i64` when it is finite and `|self| < 2⁶³`, computed
+    /// in the type itself (no `f64` on an `f32` target).
+    fn to_i64_checked(self) -> Option<i64>;
 }
 
 /// Maps the reduced argument's kernel values to the quadrant `n mod 4`.
@@ -42,6 +54,16 @@ fn quadrant<T: core::ops::Neg<Output = T>>(q: u32, s: T, c: T) -> (T, T) {
 // The constants are fdlibm's and Cephes' as published; each parses to the intended value.
 #[allow(clippy::excessive_precision)]
 impl Real for f64 {
+    #[inline]
+    fn sqrt_fast(self) -> f64 {
+        ComplexField::sqrt(self)
+    }
+
+    #[inline]
+    fn to_i64_checked(self) -> Option<i64> {
+        (self.is_finite() && self.abs() < 9.223_372_036_854_775e18).then_some(self as i64)
+    }
+
     #[inline]
     fn sin_cos_fast(self) -> (f64, f64) {
         let x = self;
@@ -87,10 +109,39 @@ impl Real for f64 {
 #[allow(clippy::excessive_precision)]
 impl Real for f32 {
     #[inline]
+    fn sqrt_fast(self) -> f32 {
+        #[cfg(feature = "std")]
+        {
+            ComplexField::sqrt(self)
+        }
+        #[cfg(not(feature = "std"))]
+        {
+            sqrt_newton_f32(self)
+        }
+    }
+
+    #[inline]
+    fn to_i64_checked(self) -> Option<i64> {
+        (self.is_finite() && self.abs() < 9.223_372e18).then_some(self as i64)
+    }
+
+    #[inline]
     fn sin_cos_fast(self) -> (f32, f32) {
-        let x = self;
-        if x.is_nan() || x.abs() > 1.0e3 {
-            return (ComplexField::sin(x), ComplexField::cos(x));
+        let mut x = self;
+        if !x.is_finite() {
+            return (f32::NAN, f32::NAN);
+        }
+        if x.abs() > 1.0e3 {
+            // Reduced by whole turns in f32 (2π in three parts of 8, 12 and 24 bits,
+            // Cody–Waite), so that an f32 target never links libm's f64-based sinf/cosf. The
+            // first two products are exact while |k| < 2¹² (|x| < 2.5·10⁴); beyond, accuracy
+            // degrades slowly with |x| (measured ≤ 1e-5 up to 10⁵; by 2²⁴ x has no fractional
+            // digits left, and no f32 evaluation means much).
+            const TURN_1: f32 = 6.281_25;
+            const TURN_2: f32 = 1.935_005_187_988_281_2e-3;
+            const TURN_3: f32 = 3.019_916_050_561_733e-7;
+            let k = (x * core::f32::consts::FRAC_1_PI * 0.5).round();
+            x = ((x - k * TURN_1) - k * TURN_2) - k * TURN_3;
         }
         const SHIFT: f32 = 12_582_912.0;
         const FRAC_2_PI: f32 = core::f32::consts::FRAC_2_PI;
@@ -114,6 +165,33 @@ impl Real for f32 {
             + 1.0;
         quadrant(q, s, c)
     }
+}
+
+/// `√x` for `f32` without hardware support reachable from stable Rust: the bit-level estimate
+/// of `1/√x`, three Newton steps, then `x·(1/√x)` with one correction step.
+#[inline]
+pub fn sqrt_newton_f32(x: f32) -> f32 {
+    // Negative or NaN → NaN; 0 → 0; ∞ → ∞.
+    if x.is_nan() || x < 0.0 {
+        return f32::NAN;
+    }
+    if x == 0.0 || x == f32::INFINITY {
+        return x;
+    }
+    // Subnormals: scale into the normal range first (√(2²⁴ x) = 2¹² √x).
+    let (x, scale) = if x < f32::MIN_POSITIVE {
+        (x * 16_777_216.0, 1.0 / 4096.0)
+    } else {
+        (x, 1.0)
+    };
+    let half = 0.5 * x;
+    let mut y = f32::from_bits(0x5f37_5a86 - (x.to_bits() >> 1));
+    y *= 1.5 - half * y * y;
+    y *= 1.5 - half * y * y;
+    y *= 1.5 - half * y * y;
+    let r = x * y;
+    // One Newton step on the root itself: r ← r + (x − r²)·y/2.
+    (r + 0.5 * y * (x - r * r)) * scale
 }
 
 /// Converts an `f64` constant into the scalar type `T` (exact for `f64`, rounded for `f32`).

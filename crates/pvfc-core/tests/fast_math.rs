@@ -32,9 +32,15 @@ proptest! {
 
     #[test]
     fn outside_the_fast_range_it_falls_back(x in 1.0e5..1.0e12f64) {
+        // f64: the standard library's sin and cos.
         prop_assert_eq!(x.sin_cos_fast(), (x.sin(), x.cos()));
-        let y = (x * 1e-2) as f32;
-        prop_assert_eq!(y.sin_cos_fast(), (y.sin(), y.cos()));
+        // f32: reduced in f32 (no libm fallback): on the circle, and close to the f64 values
+        // of the same f32 argument while |y| ≤ 10⁵.
+        let y = (x * 1e-7) as f32;
+        let (s, c) = y.sin_cos_fast();
+        prop_assert!((s * s + c * c - 1.0).abs() < 1e-5);
+        let yd = y as f64;
+        prop_assert!((s as f64 - yd.sin()).abs() < 1e-5 && (c as f64 - yd.cos()).abs() < 1e-5, "{y}");
     }
 }
 
@@ -51,4 +57,52 @@ fn special_values() {
     assert_eq!(0.0f64.sin_cos_fast(), (0.0, 1.0));
     let (s, c) = std::f64::consts::FRAC_PI_2.sin_cos_fast();
     assert!((s - 1.0).abs() < 1e-16 && c.abs() < 1e-16);
+}
+
+/// The `f32` square root of `no_std` targets against the correctly rounded one: within 2 ulp
+/// over random normal and subnormal arguments, exact special values.
+#[test]
+fn sqrt_newton_f32_is_within_two_ulp() {
+    use pvfc_core::scalar::sqrt_newton_f32;
+    let ulps = |a: f32, b: f32| (a.to_bits() as i64 - b.to_bits() as i64).abs();
+    let mut worst = 0;
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    for _ in 0..200_000 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let x = f32::from_bits((state as u32) & 0x7f7f_ffff); // finite, positive
+        worst = worst.max(ulps(sqrt_newton_f32(x), x.sqrt()));
+    }
+    for x in [
+        1e-45f32,
+        1e-40,
+        1.0,
+        2.0,
+        4.0,
+        0.25,
+        f32::MAX,
+        f32::MIN_POSITIVE,
+    ] {
+        worst = worst.max(ulps(sqrt_newton_f32(x), x.sqrt()));
+    }
+    assert!(worst <= 2, "worst {worst} ulp");
+    assert_eq!(sqrt_newton_f32(0.0), 0.0);
+    assert!(sqrt_newton_f32(-1.0).is_nan() && sqrt_newton_f32(f32::NAN).is_nan());
+    assert_eq!(sqrt_newton_f32(f32::INFINITY), f32::INFINITY);
+}
+
+/// Large `f32` arguments are reduced in `f32` (no libm fallback): close to the f64 reference.
+#[test]
+fn f32_sin_cos_of_large_arguments_stay_accurate() {
+    use pvfc_core::Real;
+    for k in 0..20_000 {
+        let x = 1.0e3f32 + k as f32 * 1.2345;
+        let (s, c) = x.sin_cos_fast();
+        let xd = x as f64;
+        assert!((s as f64 - xd.sin()).abs() < 2e-6, "sin({x})");
+        assert!((c as f64 - xd.cos()).abs() < 2e-6, "cos({x})");
+    }
+    let (s, c) = f32::INFINITY.sin_cos_fast();
+    assert!(s.is_nan() && c.is_nan());
 }

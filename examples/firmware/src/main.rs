@@ -136,8 +136,8 @@ fn main() -> ! {
     }
 }
 
-/// Prints the trace (scaled integers: q in µrad, torque in mN·m, τ in 1e-6, U in 1e-9,
-/// κ_a in µJ) and the final line, then exits: 0, or 1 after a controller error.
+/// Prints the trace (scaled 32-bit integers, so that no 64-bit division is linked: q in µrad,
+/// torque in mN·m, τ in 1e-6, U in 1e-9 (U ≤ 2.1), κ_a in µJ (κ_a ≤ 2.1 kJ)) and the final line, then exits: 0, or 1 after a controller error.
 fn report() -> ! {
     let (trace, fault) = free(|cs| {
         let cell = LOOP.borrow(cs).borrow();
@@ -156,8 +156,8 @@ fn report() -> ! {
             (s.torque[0] * 1e3) as i32,
             (s.torque[1] * 1e3) as i32,
             (s.tau * 1e6) as i32,
-            (s.potential * 1e9) as i64,
-            (s.kinetic_energy * 1e6) as i64
+            (s.potential * 1e9) as i32,
+            (s.kinetic_energy * 1e6) as i32
         );
     }
     match fault {

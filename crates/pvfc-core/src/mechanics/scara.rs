@@ -140,14 +140,15 @@ impl<T: Real> Scara<T> {
 impl<T: Real> MechanicalSystem<T, Torus<T, 2>, 2> for Scara<T> {
     #[inline]
     fn inertia(&self, q: &Torus<T, 2>) -> Matrix2<T> {
-        let c2 = q.angles()[1].cos();
+        let (_, c2) = q.angles()[1].sin_cos_fast();
         let m12 = self.a2 + self.a3 * c2;
         Matrix2::new(self.a1 + (self.a3 + self.a3) * c2, m12, m12, self.a2)
     }
 
     #[inline]
     fn coriolis(&self, q: &Torus<T, 2>, v: &Tangent<T, 2>) -> Matrix2<T> {
-        let h = self.a3 * q.angles()[1].sin();
+        let (s2, _) = q.angles()[1].sin_cos_fast();
+        let h = self.a3 * s2;
         Matrix2::new(-h * v[1], -h * (v[0] + v[1]), h * v[0], T::zero())
     }
 
