@@ -38,10 +38,22 @@ struct Loop {
     plant: Plant<f32>,
     steps: usize,
     fault: Option<ErrorKind>,
-    trace: [Sample<f32>; STEPS / TRACE_EVERY],
 }
 
 static LOOP: Mutex<RefCell<Option<Loop>>> = Mutex::new(RefCell::new(None));
+
+/// The trace, apart from `LOOP` so that its all-zero initial value lands in `.bss` (RAM
+/// cleared at reset) rather than in `.data` (an initial image kept in flash).
+static TRACE: Mutex<RefCell<[Sample<f32>; STEPS / TRACE_EVERY]>> = Mutex::new(RefCell::new(
+    [Sample {
+        step: 0,
+        q: [0.0; 2],
+        torque: [0.0; 2],
+        tau: 0.0,
+        potential: 0.0,
+        kinetic_energy: 0.0,
+    }; STEPS / TRACE_EVERY],
+));
 
 /// One control step, out of line so that its instructions can be counted from an execution
 /// trace (`scripts/firmware_instructions.py`).
@@ -78,7 +90,7 @@ fn SysTick() {
         if lp.steps % TRACE_EVERY == 0 {
             let s = lp.controller.state();
             let mf = lp.controller.law().flywheel().inertia();
-            lp.trace[lp.steps / TRACE_EVERY] = Sample {
+            TRACE.borrow(cs).borrow_mut()[lp.steps / TRACE_EVERY] = Sample {
                 step: lp.steps,
                 q: [q[0], q[1]],
                 torque: [torque[0], torque[1]],
@@ -109,7 +121,6 @@ fn main() -> ! {
             plant: Plant::default(),
             steps: 0,
             fault: None,
-            trace: [Sample::default(); STEPS / TRACE_EVERY],
         }))
     });
     let mut cp = match cortex_m::Peripherals::take() {
@@ -140,11 +151,8 @@ fn main() -> ! {
 /// torque in mN·m, τ in 1e-6, U in 1e-9 (U ≤ 2.1), κ_a in µJ (κ_a ≤ 2.1 kJ)) and the final line, then exits: 0, or 1 after a controller error.
 fn report() -> ! {
     let (trace, fault) = free(|cs| {
-        let cell = LOOP.borrow(cs).borrow();
-        match cell.as_ref() {
-            Some(lp) => (lp.trace, lp.fault),
-            None => ([Sample::default(); STEPS / TRACE_EVERY], None),
-        }
+        let fault = LOOP.borrow(cs).borrow().as_ref().and_then(|lp| lp.fault);
+        (*TRACE.borrow(cs).borrow(), fault)
     });
     hprintln!("# step q1_urad q2_urad t1_mNm t2_mNm tau_e6 U_e9 kappa_uJ");
     for s in trace.iter() {

@@ -25,6 +25,11 @@ use nalgebra::SMatrix;
 /// Coriolis matrix `C(q, v)` such that `Ṁ − 2C` is skew-symmetric (the Christoffel form),
 /// both in the body coordinates of [`crate::lie`].
 pub trait MechanicalSystem<T: Real, G: LieGroup<T, D>, const D: usize> {
+    /// `true` when [`gravity`](Self::gravity) may be non-zero. `false` (the default) lets a
+    /// controller leave out its gravity-compensation path entirely (code size on a
+    /// microcontroller).
+    const HAS_GRAVITY: bool = false;
+
     /// `M(q)`, symmetric positive definite.
     fn inertia(&self, q: &G) -> SMatrix<T, D, D>;
 

@@ -399,6 +399,8 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
 impl<T: Real, G: VectorGroup<T, N>, const N: usize> MechanicalSystem<T, G, N>
     for SerialChain<T, N>
 {
+    const HAS_GRAVITY: bool = true;
+
     fn inertia(&self, q: &G) -> SMatrix<T, N, N> {
         self.crba(&q.coordinates())
     }
