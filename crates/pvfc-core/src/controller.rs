@@ -10,6 +10,7 @@ use crate::Real;
 
 /// The controller's internal states (section III-B): `τ`, `τ̇` and the flywheel speed `q̇_F`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct InternalState<T: Real> {
     /// Contour parameter `τ`.
     pub tau: T,
@@ -34,6 +35,7 @@ impl<T: Real> InternalState<T> {
 
 /// The quantities a user logs or monitors at every step (section V's figures plot them).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Diagnostics<T: Real> {
     /// The contour error `U(E)`.
     pub potential: T,
@@ -75,6 +77,25 @@ pub struct StepOutput<T: Real, const D: usize> {
     pub state: InternalState<T>,
     /// `U`, `λ₁`, `λ₂`, `β`, `κ_a`, `V_F` at the state the torque was computed at.
     pub diagnostics: Diagnostics<T>,
+}
+
+#[cfg(feature = "defmt")]
+impl<T: Real + defmt::Format, const D: usize> defmt::Format for StepOutput<T, D> {
+    fn format(&self, f: defmt::Formatter<'_>) {
+        defmt::write!(f, "StepOutput {{ torque: [");
+        for (i, t) in self.torque.iter().enumerate() {
+            if i > 0 {
+                defmt::write!(f, ", ");
+            }
+            defmt::write!(f, "{}", t);
+        }
+        defmt::write!(
+            f,
+            "], state: {}, diagnostics: {} }}",
+            self.state,
+            self.diagnostics
+        );
+    }
 }
 
 /// PVFC for a sampled-data loop: a [`PvfcLaw`] plus the optional add-ons of section V and

@@ -6,6 +6,7 @@ use core::fmt;
 ///
 /// The enum is non-exhaustive: new kinds may be added without a breaking change.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum ErrorKind {
     /// An input (state, parameter or gain) was NaN or infinite.
@@ -50,6 +51,7 @@ impl ErrorKind {
 /// assert!(format!("{e}").contains("flywheel"));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Error {
     kind: ErrorKind,
     context: &'static str,

@@ -18,6 +18,8 @@
 //!
 //! ## Features
 //! * `std` (off by default): use the standard library's math functions instead of `libm`.
+//! * `defmt` (off by default): `defmt::Format` for [`Error`], [`ErrorKind`] and the
+//!   controller's step output, diagnostics and internal states (embedded logging).
 //!
 //! ```
 //! use pvfc_core::prelude::*;
