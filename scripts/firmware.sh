@@ -12,7 +12,7 @@ out=${PVFC_FIRMWARE_OUT:-target/firmware}
 mkdir -p "$out"
 
 echo "--- build"
-(cd $fw && cargo build --locked --release)
+(cd $fw && cargo build --locked --release --bins)
 echo "--- size (text = flash code, data = flash + RAM, bss = RAM)"
 arm-none-eabi-size "$elf" | tee "$out/size.txt"
 
@@ -33,3 +33,11 @@ grep -q "test result: ok. 1 passed" "$out/twin.txt"
 
 echo "--- instructions per control step (QEMU execution trace)"
 python3 scripts/firmware_instructions.py "$elf" --steps 1000 | tee "$out/instructions.txt"
+
+echo "--- the 6-joint f32 step (UR5, gravity compensation): run and count"
+ur5=$fw/target/thumbv7em-none-eabihf/release/ur5
+arm-none-eabi-size "$ur5" | tee -a "$out/size.txt"
+timeout 120 qemu-system-arm -machine netduinoplus2 -nographic -semihosting-config enable=on,target=native \
+  -kernel "$ur5" | tee "$out/ur5.txt"
+grep -q "no fault" "$out/ur5.txt"
+python3 scripts/firmware_instructions.py "$ur5" --symbol pvfc_arm_step --steps 200 | tee "$out/ur5_instructions.txt"

@@ -55,14 +55,15 @@ def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("elf")
     ap.add_argument("--steps", type=int, default=1000)
+    ap.add_argument("--symbol", default="pvfc_control_step", help="the function whose calls are counted")
     ap.add_argument("--by-function", action="store_true", help="also tally the instructions per function")
     args = ap.parse_args()
     nm = subprocess.run(["arm-none-eabi-nm", args.elf], capture_output=True, text=True, check=True).stdout
-    entry = next(int(l.split()[0], 16) for l in nm.splitlines() if l.endswith(" pvfc_control_step"))
+    entry = next(int(l.split()[0], 16) for l in nm.splitlines() if l.endswith(" " + args.symbol))
     code = disassembly(args.elf)
-    calls = [a for a, (mn, ops) in code.items() if mn.startswith("bl") and f"{entry:x} <pvfc_control_step>" in ops]
+    calls = [a for a, (mn, ops) in code.items() if mn.startswith("bl") and f"{entry:x} <{args.symbol}>" in ops]
     if len(calls) != 1:
-        print(f"expected one call of pvfc_control_step, found {len(calls)}", file=sys.stderr)
+        print(f"expected one call of {args.symbol}, found {len(calls)}", file=sys.stderr)
         return 1
     ret = calls[0] + 4
     fifo = os.path.join(tempfile.mkdtemp(), "trace")

