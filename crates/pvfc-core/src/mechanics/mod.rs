@@ -79,15 +79,17 @@ pub trait MechanicalSystem<T: Real, G: LieGroup<T, D>, const D: usize> {
         (self.inertia(q) * v).dot(v) * cast::<T>(0.5)
     }
 
-    /// The forward dynamics `q̈ = M⁻¹ (T + F_e − C v − g)` (Cholesky; no allocation).
+    /// The forward dynamics `q̈ = M⁻¹ (T + F_e − C v − g)` (Cholesky; no allocation), with
+    /// `M`, `C`, `g` from one [`inertia_coriolis_gravity`](Self::inertia_coriolis_gravity).
     fn acceleration(
         &self,
         q: &G,
         v: &Tangent<T, D>,
         force: &Tangent<T, D>,
     ) -> Result<Tangent<T, D>> {
-        let m = self.inertia(q);
-        let rhs = force - self.coriolis(q, v) * v - self.gravity(q);
+        // One pass over the model (a SCARA shares its sin/cos, a chain its kinematics).
+        let (m, c, g) = self.inertia_coriolis_gravity(q, v);
+        let rhs = force - c * v - g;
         match m.cholesky() {
             Some(ch) => Ok(ch.solve(&rhs)),
             None => Err(Error::new(
