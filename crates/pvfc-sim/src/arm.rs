@@ -138,7 +138,8 @@ fn setting(message: String) -> SimError {
     SimError::Setting(message)
 }
 
-fn fixed<const N: usize>(x: &[f64], name: &str) -> Result<SVector<f64, N>> {
+/// A per-joint list as a vector of the robot's dimension, or an error naming it.
+pub(crate) fn fixed<const N: usize>(x: &[f64], name: &str) -> Result<SVector<f64, N>> {
     if x.len() != N {
         return Err(setting(format!(
             "{name}: {} entries for a {N}-joint robot",

@@ -13,14 +13,11 @@ use pvfc_core::prelude::*;
 
 /// Runs the PVFC loop of a URDF arm's scenario. `progress` is called with the fraction done.
 pub fn simulate_chain(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
+    // The model as `Scenario::robot` built it (with the scenario's gravity).
     let robot = s.robot()?;
     let settings = s.arm_settings()?;
-    let g = s.plant.gravity.map(nalgebra::Vector3::from);
     with_dof!(robot.dof(), N => {
-        let mut chain = robot.description().chain::<N>()?;
-        if let Some(g) = g {
-            chain = chain.with_gravity(g)?;
-        }
+        let chain = SerialChain::<f64, N>::try_from(robot.model())?;
         run::<N>(s, chain, &settings, progress)
     }, otherwise Err(SimError::Setting(format!(
         "robot {}: {} joints; pvfc supports 1 to 8", robot.description().name, robot.dof()

@@ -168,20 +168,14 @@ impl Robot {
     }
 
     fn vector<const N: usize>(&self, x: &[f64], name: &str) -> Result<SVector<f64, N>> {
-        if x.len() != N {
-            return Err(SimError::Setting(format!(
-                "{name} has {} entries; robot {} has {N} joints",
-                x.len(),
-                self.description.name
-            )));
-        }
-        if !x.iter().all(|v| v.is_finite()) {
+        let v = crate::arm::fixed::<N>(x, name)?;
+        if !v.iter().all(|v| v.is_finite()) {
             return Err(SimError::Core(pvfc_core::Error::new(
                 pvfc_core::ErrorKind::NonFinite,
                 "Robot: a state entry is NaN or infinite",
             )));
         }
-        Ok(SVector::from_column_slice(x))
+        Ok(v)
     }
 
     /// `M(q)` (composite rigid body algorithm).
@@ -252,6 +246,23 @@ macro_rules! from_chain {
         impl From<SerialChain<f64, $n>> for ChainModel {
             fn from(c: SerialChain<f64, $n>) -> Self {
                 ChainModel::$v(c)
+            }
+        }
+
+        /// The chain, when it has this number of joints.
+        impl TryFrom<&ChainModel> for SerialChain<f64, $n> {
+            type Error = SimError;
+            fn try_from(m: &ChainModel) -> Result<Self> {
+                match m {
+                    ChainModel::$v(c) => Ok(*c),
+                    _ => Err(SimError::Core(
+                        pvfc_core::Error::new(
+                            pvfc_core::ErrorKind::DimensionMismatch,
+                            "ChainModel: the chain has another number of joints",
+                        )
+                        .with_value($n as f64),
+                    )),
+                }
             }
         }
     )*};

@@ -341,13 +341,7 @@ pub fn joint_vector<const N: usize>(x: &[f64], field: &str) -> Result<nalgebra::
     if x.is_empty() {
         return Ok(nalgebra::SVector::zeros());
     }
-    if x.len() != N {
-        return Err(SimError::Setting(format!(
-            "{field}: {} entries for a {N}-joint robot",
-            x.len()
-        )));
-    }
-    Ok(nalgebra::SVector::from_column_slice(x))
+    crate::arm::fixed::<N>(x, field)
 }
 
 /// The largest controller rate a scenario may ask for (Hz).

@@ -293,6 +293,9 @@ impl<'a> Reader<'a> {
         let mut bodies: Vec<RigidInertia<f64>> = Vec::new();
         let mut body_links: Vec<&str> = Vec::new();
         let mut locked = Vec::new();
+        // For every link on the path: the body that carries it (None: fixed to the base) and
+        // its pose in that body's frame, for the side branches below.
+        let mut carriers: Vec<(&str, Option<usize>, Pose<f64>)> = Vec::new();
         // Transform from the current body's frame (or the base's) to the current link.
         let mut to_link = Pose::identity();
         for j in &path {
@@ -311,6 +314,7 @@ impl<'a> Reader<'a> {
                         let link = self.link(&j.child.link)?;
                         *body = self.fold(Some(*body), link, &to_link)?.unwrap_or(*body);
                     }
+                    carriers.push((j.child.link.as_str(), bodies.len().checked_sub(1), to_link));
                     continue;
                 }
                 urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => {
@@ -363,18 +367,17 @@ impl<'a> Reader<'a> {
             bodies.push(own);
             body_links.push(link.name.as_str());
             to_link = Pose::identity();
+            carriers.push((link.name.as_str(), Some(bodies.len() - 1), to_link));
         }
         if joints.is_empty() {
             return Err(self.e("robot", format!("no moving joint between {base} and {tip}")));
         }
         // Side branches: every link hanging from a moving chain link, off the path, is
         // locked at 0 and folded into the body that carries it.
-        for j in &path {
-            let link = j.child.link.as_str();
-            let Some(b) = self.body_index(&body_links, &path, link) else {
+        for (link, body, from_body) in &carriers {
+            let Some(b) = *body else {
                 continue; // fixed to the base: does not move
             };
-            let from_body = self.link_in_body(&path, &body_links, link);
             for side in self.child_joints.get(link).into_iter().flatten() {
                 if on_path.contains(&side.child.link.as_str()) {
                     continue;
@@ -408,42 +411,6 @@ impl<'a> Reader<'a> {
             .get(name)
             .copied()
             .ok_or_else(|| self.e(format!("link {name}"), "not found in the URDF"))
-    }
-
-    /// The index of the body that carries `link` (a chain link), `None` for links fixed to
-    /// the base.
-    fn body_index(
-        &self,
-        body_links: &[&str],
-        path: &[&urdf_rs::Joint],
-        link: &str,
-    ) -> Option<usize> {
-        let mut current = None;
-        for j in path {
-            if let Some(i) = body_links.iter().position(|b| *b == j.child.link) {
-                current = Some(i);
-            }
-            if j.child.link == link {
-                return current;
-            }
-        }
-        None
-    }
-
-    /// The pose of a chain link in the frame of the body that carries it.
-    fn link_in_body(&self, path: &[&urdf_rs::Joint], body_links: &[&str], link: &str) -> Pose<f64> {
-        let mut pose = Pose::identity();
-        for j in path {
-            if body_links.contains(&j.child.link.as_str()) {
-                pose = Pose::identity();
-            } else {
-                pose = pose.compose(&pose_of(&j.origin));
-            }
-            if j.child.link == link {
-                break;
-            }
-        }
-        pose
     }
 
     /// Adds `link`'s inertia, placed at `at` in the body frame, to `body`. `Ok(None)` when
