@@ -206,7 +206,7 @@ where
     /// allocation. Errors: `NonFinite` for a NaN/∞ state, `EnergyTooLow` (eq. 6).
     #[inline]
     pub fn evaluate(&self, s: &AugmentedState<T, G, D>) -> Result<CouplingOutput<T, G, D>> {
-        self.evaluate_using(s, |q, v| self.system.inertia_and_coriolis(q, v))
+        self.evaluate_using(s, None)
     }
 
     /// [`evaluate`](Self::evaluate), and the plant model's gravity torque `g(q)` (written to
@@ -217,19 +217,16 @@ where
         s: &AugmentedState<T, G, D>,
         gravity: &mut Tangent<T, D>,
     ) -> Result<CouplingOutput<T, G, D>> {
-        self.evaluate_using(s, |q, v| {
-            let (m, c, g) = self.system.inertia_coriolis_gravity(q, v);
-            *gravity = g;
-            (m, c)
-        })
+        self.evaluate_using(s, Some(gravity))
     }
 
-    /// The law with `M` and `C` from `model` (which may compute more in the same pass).
+    /// The law with the model's products from one [`MechanicalSystem::law_products`] (which
+    /// also gives `g(q)` when `gravity` asks for it).
     #[inline(always)]
     fn evaluate_using(
         &self,
         s: &AugmentedState<T, G, D>,
-        model: impl FnOnce(&G, &Tangent<T, D>) -> (SMatrix<T, D, D>, SMatrix<T, D, D>),
+        gravity: Option<&mut Tangent<T, D>>,
     ) -> Result<CouplingOutput<T, G, D>> {
         if !s.is_finite() {
             return Err(Error::new(
@@ -239,20 +236,25 @@ where
         }
         let half = cast::<T>(0.5);
         let fs = self.field.sample(&s.q, &s.v, s.tau, s.tau_dot);
-        let (m, c) = model(&s.q, &s.v);
-        let mv = m * fs.velocity;
+        let products =
+            self.system
+                .law_products(&s.q, &s.v, &fs.velocity, &fs.rate, gravity.is_some());
+        if let Some(g) = gravity {
+            *g = products.gravity;
+        }
+        let mv = products.field_momentum;
         let field_energy = (mv.dot(&fs.velocity) + fs.velocity_tau * fs.velocity_tau) * half;
         let vf = self.flywheel.field_speed(field_energy)?;
         let mf = self.flywheel.inertia;
         let e_bar = self.flywheel.energy;
 
-        let w_robot = m * fs.rate + c * fs.velocity;
+        let w_robot = products.w;
         let w_tau = fs.rate_tau;
         let w_f = -(fs.velocity.dot(&w_robot) + fs.velocity_tau * w_tau) / vf;
         let w = AugmentedVector::new(w_robot, w_tau, w_f);
         let big_p = AugmentedVector::new(mv, fs.velocity_tau, mf * vf);
         let qa = s.velocity();
-        let p = AugmentedVector::new(m * s.v, s.tau_dot, mf * s.flywheel_speed);
+        let p = AugmentedVector::new(products.momentum, s.tau_dot, mf * s.flywheel_speed);
 
         let p_dot_q = big_p.dot(&qa);
         // G q̇_a = (w (Pᵀq̇_a) − P (wᵀq̇_a)) / 2Ē;  R q̇_a = P (pᵀq̇_a) − p (Pᵀq̇_a).

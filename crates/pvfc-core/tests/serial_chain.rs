@@ -207,6 +207,43 @@ fn identities<const N: usize>(d: &mut Draw, prismatic: bool) -> Result<(), Strin
         scale,
         "J_body v: linear",
     )?;
+    // The coupling law's products by the O(N) recursion equal those with M, C and g, at a
+    // reference velocity x and rate a unrelated to v.
+    let (x, a) = state::<N>(d);
+    for with_gravity in [false, true] {
+        let p = chain.law_products(&q, &v, &x, &a, with_gravity);
+        let scale = 1.0 + m.amax() * (1.0 + v.amax() + x.amax() + a.amax());
+        close(
+            (p.momentum - m * v).amax(),
+            0.0,
+            1e-13,
+            scale,
+            "law products: M v",
+        )?;
+        close(
+            (p.field_momentum - m * x).amax(),
+            0.0,
+            1e-13,
+            scale,
+            "law products: M x",
+        )?;
+        let w = m * a + c * x;
+        close(
+            (p.w - w).amax(),
+            0.0,
+            1e-13,
+            scale * (1.0 + v.amax()),
+            "law products: M a + C x",
+        )?;
+        let expect = if with_gravity { g } else { SVector::zeros() };
+        close(
+            (p.gravity - expect).amax(),
+            0.0,
+            1e-13,
+            1.0 + g.amax(),
+            "law products: g",
+        )?;
+    }
     // Kinetic energy from the links' spatial velocities, ½ Σ v_iᵀ I_i v_i = ½ q̇ᵀ M q̇.
     let k = chain.kinematics(&q);
     let mut vel = SVector::<f64, 6>::zeros();
@@ -228,17 +265,17 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: CASES, ..ProptestConfig::default() })]
 
     #[test]
-    fn identities_revolute_6(mut d in draws(200)) {
+    fn identities_revolute_6(mut d in draws(230)) {
         identities::<6>(&mut d, false).map_err(TestCaseError::fail)?;
     }
 
     #[test]
-    fn identities_mixed_7(mut d in draws(240)) {
+    fn identities_mixed_7(mut d in draws(280)) {
         identities::<7>(&mut d, true).map_err(TestCaseError::fail)?;
     }
 
     #[test]
-    fn identities_mixed_3(mut d in draws(120)) {
+    fn identities_mixed_3(mut d in draws(140)) {
         identities::<3>(&mut d, true).map_err(TestCaseError::fail)?;
     }
 }

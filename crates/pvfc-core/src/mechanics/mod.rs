@@ -1,6 +1,7 @@
 //! Mechanical systems `M(q) q̈ + C(q, q̇) q̇ + g(q) = T + F_e` (eq. 3, with gravity for
 //! arms that are not horizontal), in body coordinates.
 
+mod chain_products;
 mod rigid_body;
 mod scara;
 mod serial_chain;
@@ -73,6 +74,34 @@ pub trait MechanicalSystem<T: Real, G: LieGroup<T, D>, const D: usize> {
         (m, c, self.gravity(q))
     }
 
+    /// The products of the model that the coupling law needs (eq. 7), at the robot's state
+    /// `(q, v)` and the field's value `x = V(q, τ)` and rate `a = V̇`: `M v`, `M x`,
+    /// `M a + C(q, v) x` and, when `with_gravity`, `g(q)`. The default forms `M` and `C`; a
+    /// model that can apply them without forming them overrides it (a serial chain does, by
+    /// one O(N) recursion).
+    #[inline]
+    fn law_products(
+        &self,
+        q: &G,
+        v: &Tangent<T, D>,
+        x: &Tangent<T, D>,
+        a: &Tangent<T, D>,
+        with_gravity: bool,
+    ) -> LawProducts<T, D> {
+        let (m, c, gravity) = if with_gravity {
+            self.inertia_coriolis_gravity(q, v)
+        } else {
+            let (m, c) = self.inertia_and_coriolis(q, v);
+            (m, c, Tangent::zeros())
+        };
+        LawProducts {
+            field_momentum: m * x,
+            w: m * a + c * x,
+            momentum: m * v,
+            gravity,
+        }
+    }
+
     /// `½ vᵀ M(q) v`.
     #[inline]
     fn kinetic_energy(&self, q: &G, v: &Tangent<T, D>) -> T {
@@ -98,6 +127,21 @@ pub trait MechanicalSystem<T: Real, G: LieGroup<T, D>, const D: usize> {
             )),
         }
     }
+}
+
+/// What the coupling law (eq. 7) needs of the model at one state, from
+/// [`MechanicalSystem::law_products`]: products with `M(q)` and `C(q, q̇)`, never the
+/// matrices themselves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LawProducts<T: Real, const D: usize> {
+    /// `p = M(q) q̇`, the robot's momentum.
+    pub momentum: Tangent<T, D>,
+    /// `P = M(q) V`, the field's momentum.
+    pub field_momentum: Tangent<T, D>,
+    /// `w = M(q) V̇ + C(q, q̇) V`, the rate of the field's momentum along the motion (eq. 7).
+    pub w: Tangent<T, D>,
+    /// `g(q)` when it was asked for, else zero.
+    pub gravity: Tangent<T, D>,
 }
 
 /// Checks a physical parameter: finite and strictly positive.

@@ -5,7 +5,7 @@
 use super::spatial::{
     axis_angle, force_cross, force_cross_bar, motion_cross, Pose, RigidInertia, Spatial, Spatial6,
 };
-use super::MechanicalSystem;
+use super::{LawProducts, MechanicalSystem};
 use crate::contour::VectorGroup;
 use crate::error::{Error, ErrorKind, Result};
 use crate::lie::{JointKind, JointSpace, Tangent};
@@ -213,31 +213,43 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         let mut axes = [Spatial::zeros(); N];
         let mut parent = self.base;
         for i in 0..N {
-            let j = &self.joints[i];
-            let pre = parent.compose(&j.origin);
-            let a = pre.rotation * j.axis;
-            let p = pre.translation;
-            let (pose, s) = match j.kind {
-                JointKind::Circular => (
-                    Pose {
-                        rotation: pre.rotation * axis_angle(&j.axis, q[i]),
-                        translation: p,
-                    },
-                    spatial(a, p.cross(&a)),
-                ),
-                JointKind::Linear => (
-                    Pose {
-                        rotation: pre.rotation,
-                        translation: p + a * q[i],
-                    },
-                    spatial(Vector3::zeros(), a),
-                ),
-            };
+            let (pose, s) = self.joint_step(i, &parent, q[i]);
             link_poses[i] = pose;
             axes[i] = s;
             parent = pose;
         }
         ChainKinematics { link_poses, axes }
+    }
+
+    /// One joint of the forward kinematics: link `i`'s pose in the base frame from its
+    /// parent's, and joint `i`'s spatial axis `[a; p × a]` (revolute) or `[0; a]` (prismatic).
+    #[inline(always)]
+    pub(super) fn joint_step(&self, i: usize, parent: &Pose<T>, qi: T) -> (Pose<T>, Spatial<T>) {
+        let j = &self.joints[i];
+        let pre = parent.compose(&j.origin);
+        let a = pre.rotation * j.axis;
+        let p = pre.translation;
+        match j.kind {
+            JointKind::Circular => (
+                Pose {
+                    rotation: pre.rotation * axis_angle(&j.axis, qi),
+                    translation: p,
+                },
+                spatial(a, p.cross(&a)),
+            ),
+            JointKind::Linear => (
+                Pose {
+                    rotation: pre.rotation,
+                    translation: p + a * qi,
+                },
+                spatial(Vector3::zeros(), a),
+            ),
+        }
+    }
+
+    /// The base frame's pose in the world frame.
+    pub(super) fn base(&self) -> &Pose<T> {
+        &self.base
     }
 
     /// The tool frame's pose in the world frame.
@@ -438,6 +450,18 @@ impl<T: Real, G: VectorGroup<T, N>, const N: usize> MechanicalSystem<T, G, N>
         v: &Tangent<T, N>,
     ) -> (SMatrix<T, N, N>, SMatrix<T, N, N>, Tangent<T, N>) {
         self.dynamics(&q.coordinates(), v)
+    }
+
+    #[inline]
+    fn law_products(
+        &self,
+        q: &G,
+        v: &Tangent<T, N>,
+        x: &Tangent<T, N>,
+        a: &Tangent<T, N>,
+        with_gravity: bool,
+    ) -> LawProducts<T, N> {
+        SerialChain::law_products(self, &q.coordinates(), v, x, a, with_gravity)
     }
 }
 

@@ -91,9 +91,23 @@ impl<T: Real> Pose<T> {
 /// The rotation by `angle` about the unit `axis` (Rodrigues).
 #[inline]
 pub fn axis_angle<T: Real>(axis: &Vector3<T>, angle: T) -> Matrix3<T> {
+    // R = c 1 + s [a]× + (1 − c) a aᵀ for a unit axis (= 1 + s K + (1 − c) K², K = [a]×).
     let (s, c) = angle.sin_cos_fast();
-    let k = axis.cross_matrix();
-    Matrix3::identity() + k * s + (k * k) * (T::one() - c)
+    let t = T::one() - c;
+    let (x, y, z) = (axis[0], axis[1], axis[2]);
+    let (tx, ty, tz) = (t * x, t * y, t * z);
+    let (sx, sy, sz) = (s * x, s * y, s * z);
+    Matrix3::new(
+        tx * x + c,
+        tx * y - sz,
+        tx * z + sy,
+        tx * y + sz,
+        ty * y + c,
+        ty * z - sx,
+        tx * z - sy,
+        ty * z + sx,
+        tz * z + c,
+    )
 }
 
 /// The inertia of a rigid body: its mass, its centre of mass and its rotational inertia about
