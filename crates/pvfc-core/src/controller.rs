@@ -289,41 +289,15 @@ where
         total
     }
 
-    /// One control step at the measured `(q, q̇)`; see the type's documentation.
-    pub fn step(&mut self, q: &G, v: &Tangent<T, D>, dt: T) -> Result<StepOutput<T, D>> {
-        if !(dt.is_finite() && dt > T::zero()) {
-            return Err(Error::new(
-                ErrorKind::InvalidParameter,
-                "Controller::step: dt must be finite and > 0",
-            ));
-        }
-        let s = AugmentedState {
-            q: *q,
-            v: *v,
-            tau: self.state.tau,
-            tau_dot: self.state.tau_dot,
-            flywheel_speed: self.state.flywheel_speed,
-        };
-        let (total, diagnostics) = self.torque_and_diagnostics(&s)?;
-        if !total.is_finite() {
-            return Err(Error::new(
-                ErrorKind::NonFinite,
-                "Controller::step: torque overflowed",
-            ));
-        }
-        let before = self.state;
-        let tau_dot = before.tau_dot + total.tau * dt;
-        let mut tau = before.tau + tau_dot * dt;
-        let flywheel_speed =
-            before.flywheel_speed + total.flywheel * dt * self.law.flywheel().inverse_inertia();
+    /// Wraps `τ` into `[0, period)` for a periodic contour, counting the laps: one period
+    /// crossed is the usual case (no division, no floor); several at once (a huge `dt`) take
+    /// one floor division in `T` (no f64 on an f32 target).
+    #[inline(always)]
+    pub(crate) fn wrap_tau(&self, mut tau: T, mut laps: i64) -> Result<(T, i64)> {
         let overflow = Error::new(
             ErrorKind::NonFinite,
             "Controller::step: the internal states overflowed (is dt far too large?)",
         );
-        if !(tau.is_finite() && tau_dot.is_finite() && flywheel_speed.is_finite()) {
-            return Err(overflow);
-        }
-        let mut laps = before.laps;
         if let Some(period) = self.law.field().period() {
             if tau >= period && tau < period + period {
                 // The usual case: one period crossed forwards (no division, no floor).
@@ -348,6 +322,49 @@ where
                 tau = T::zero();
             }
         }
+        Ok((tau, laps))
+    }
+
+    /// The internal states, to be set by a sibling stepper ([`crate::passive`]).
+    pub(crate) fn state_mut(&mut self) -> &mut InternalState<T> {
+        &mut self.state
+    }
+
+    /// One control step at the measured `(q, q̇)`; see the type's documentation.
+    pub fn step(&mut self, q: &G, v: &Tangent<T, D>, dt: T) -> Result<StepOutput<T, D>> {
+        if !(dt.is_finite() && dt > T::zero()) {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "Controller::step: dt must be finite and > 0",
+            ));
+        }
+        let s = AugmentedState {
+            q: *q,
+            v: *v,
+            tau: self.state.tau,
+            tau_dot: self.state.tau_dot,
+            flywheel_speed: self.state.flywheel_speed,
+        };
+        let (total, diagnostics) = self.torque_and_diagnostics(&s)?;
+        if !total.is_finite() {
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                "Controller::step: torque overflowed",
+            ));
+        }
+        let before = self.state;
+        let tau_dot = before.tau_dot + total.tau * dt;
+        let tau = before.tau + tau_dot * dt;
+        let flywheel_speed =
+            before.flywheel_speed + total.flywheel * dt * self.law.flywheel().inverse_inertia();
+        let overflow = Error::new(
+            ErrorKind::NonFinite,
+            "Controller::step: the internal states overflowed (is dt far too large?)",
+        );
+        if !(tau.is_finite() && tau_dot.is_finite() && flywheel_speed.is_finite()) {
+            return Err(overflow);
+        }
+        let (tau, laps) = self.wrap_tau(tau, before.laps)?;
         self.state = InternalState {
             tau,
             tau_dot,

@@ -60,6 +60,7 @@ pub mod lie;
 pub mod mechanics;
 pub mod navigation;
 pub mod pacing;
+pub mod passive;
 pub mod scalar;
 
 pub use error::{Error, ErrorKind, Result};
@@ -91,5 +92,6 @@ pub mod prelude {
         TorusNavigation,
     };
     pub use crate::pacing::{ConstantGains, ExponentialPacing, SelfPacing};
+    pub use crate::passive::{EnergyAccount, PassiveController, PassiveStepOutput};
     pub use crate::Real;
 }

@@ -17,6 +17,9 @@ pub type PaperField = SuspendedField<
 /// The controller of the experiments.
 pub type PaperController = Controller<f64, Torus<f64, 2>, Scara<f64>, PaperField, 2>;
 
+/// The paper's controller in the passive digital mode (`pvfc_core::passive`).
+pub type PaperPassiveController = PassiveController<f64, Torus<f64, 2>, Scara<f64>, PaperField, 2>;
+
 /// Settings the paper does not publish for the core example (Pelican arm, no friction).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PaperSettings {

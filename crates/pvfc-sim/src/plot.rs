@@ -457,8 +457,9 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
         )
     })?;
     files.push(p);
-    for (name, (_, t)) in &runs.runs {
-        if t.contact.is_some() && !name.ends_with("-timed") {
+    files.push(crate::plot_digital::digital_figure(runs, dir)?);
+    for (name, (s, t)) in &runs.runs {
+        if s.contact.is_some() && t.contact.is_some() && !name.ends_with("-timed") {
             let p = dir.join(format!("{name}.png"));
             contact_figure(runs, name, &p)?;
             files.push(p);

@@ -164,6 +164,83 @@ pub fn energy_check(mode: Mode) -> Scenario {
     s
 }
 
+/// A scenario with the controller at `rate` (Hz) in the sampled mode, the plant and the
+/// contact at 20 kHz (RK4: the audit's residual is then the integrator's, below 1e-9 of
+/// `κ_a(0)`; at 10 kHz the wall's is 1e-8), no baseline; named `NAME_{rate}hz_zoh`.
+fn sampled_at(mut s: Scenario, rate: f64) -> Scenario {
+    s.name = format!("{}_{}hz_zoh", s.name, rate as u64);
+    s.description = format!(
+        "{} (Controller::step at {} Hz, zero-order hold)",
+        s.description, rate
+    );
+    s.controller.rate = rate;
+    s.simulation.mode = Mode::Sampled;
+    s.simulation.plant_substeps = (20_000.0 / rate).round() as usize;
+    s.baseline = None;
+    s
+}
+
+/// The same scenario with the passive digital controller (`[controller.passive]`):
+/// `…_zoh` becomes `…_passive`.
+fn passive(mut s: Scenario, spec: PassiveSpec) -> Scenario {
+    s.name = format!("{}_passive", s.name.trim_end_matches("_zoh"));
+    s.description = s.description.replace(
+        "zero-order hold)",
+        "zero-order hold, passive by construction)",
+    );
+    s.controller.passive = Some(spec);
+    s
+}
+
+/// The digital controller (`pvfc_core::passive`) against `Controller::step`, both at 1 kHz and
+/// 100 Hz with the plant and the contact at 20 kHz: free motion (frictionless, 60 s), the wall,
+/// the push and the obstacle; the wall at 1 kHz on a realistic drive (torque limits well below
+/// what the law asks at the wall, encoders of 2¹⁷ counts per turn, positions only, the
+/// velocity by a filtered difference); and Fig. 8's run (`R = 100`, friction) with the passive
+/// controller at 1 kHz beside the continuous-time controller, for tracking.
+pub fn digital() -> Vec<Scenario> {
+    let mut v = Vec::new();
+    let mut free = energy_check(Mode::Sampled);
+    free.name = "digital_free".into();
+    let mut wall = contact_wall();
+    wall.name = "digital_wall".into();
+    let mut push = contact_push();
+    push.name = "digital_push".into();
+    let mut obstacle = contact_obstacle();
+    obstacle.name = "digital_obstacle".into();
+    for base in [free, wall.clone(), push, obstacle] {
+        for rate in [1000.0, 100.0] {
+            let zoh = sampled_at(base.clone(), rate);
+            v.push(passive(zoh.clone(), PassiveSpec::default()));
+            v.push(zoh);
+        }
+    }
+    let mut drive = passive(
+        sampled_at(wall, 1000.0),
+        PassiveSpec {
+            torque_limit: vec![15.0, 5.0],
+            encoder_counts: Some(131_072.0),
+            positions_only: true,
+            velocity_filter: 0.002,
+            reserve: 0.0,
+        },
+    );
+    drive.name = "digital_wall_1000hz_drive".into();
+    drive.description = "Contact 1 on a drive: torque limits (15, 5) N·m, 2^17-count encoders, positions only, passive controller at 1 kHz".into();
+    v.push(drive);
+    let mut fig8_passive = passive(sampled_at(fig8(100.0), 1000.0), PassiveSpec::default());
+    fig8_passive.name = "fig8_R100_passive".into();
+    v.push(fig8_passive);
+    let mut fig8_continuous = fig8(100.0);
+    fig8_continuous.name = "fig8_R100_continuous".into();
+    fig8_continuous.description =
+        "Fig. 8 (R = 100) with the continuous-time controller (RK4 at 1 kHz)".into();
+    fig8_continuous.simulation.mode = Mode::Continuous;
+    fig8_continuous.simulation.plant_substeps = 1;
+    v.push(fig8_continuous);
+    v
+}
+
 /// Every preset, in the order `pvfc reproduce` runs them.
 pub fn all() -> Vec<Scenario> {
     let mut v = vec![fig6(), fig7(0.0), fig7(100.0)];
@@ -174,6 +251,7 @@ pub fn all() -> Vec<Scenario> {
     v.push(energy_check(Mode::Continuous));
     v.push(energy_check(Mode::Sampled));
     v.extend(contact());
+    v.extend(digital());
     v
 }
 

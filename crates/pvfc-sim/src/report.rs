@@ -24,7 +24,7 @@ impl Runs {
             .ok_or_else(|| SimError::Setting(format!("run `{name}` is missing")))
     }
 
-    fn mean_u(&self, name: &str) -> Result<f64> {
+    pub(crate) fn mean_u(&self, name: &str) -> Result<f64> {
         let (s, t) = self
             .runs
             .get(name)
@@ -259,10 +259,11 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
         et > ep,
     );
     contact_claims(r, &mut push)?;
+    crate::report_digital::digital_claims(r, &mut push)?;
     Ok(out)
 }
 
-fn summary(r: &Runs, name: &str) -> Result<ContactSummary> {
+pub(crate) fn summary(r: &Runs, name: &str) -> Result<ContactSummary> {
     contact_summary(r.trace(name)?)
         .ok_or_else(|| SimError::Setting(format!("run `{name}` has no contact columns")))
 }

@@ -3,7 +3,7 @@
 use crate::contact::ContactSpec;
 use crate::error::{Result, SimError};
 use crate::friction::JointFriction;
-use crate::paper::{PaperController, PaperField};
+use crate::paper::{PaperController, PaperField, PaperPassiveController};
 use nalgebra::Vector2;
 use pvfc_core::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -194,6 +194,71 @@ pub struct ControllerSpec {
     /// Nominal-speed control of eq. (36), if any.
     #[serde(default)]
     pub nominal_speed: Option<NominalSpeedSpec>,
+    /// The passive digital controller (`[controller.passive]`, sampled mode): the energy it
+    /// gives the arm accounted at the samples (`pvfc_core::passive`), with optional torque
+    /// limits, encoder quantisation and position-only measurement.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub passive: Option<PassiveSpec>,
+}
+
+/// `[controller.passive]`: the digital controller of `pvfc_core::passive`, and what the
+/// drive it runs on does to its measurements and torques.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PassiveSpec {
+    /// Per-joint torque limits (N·m, each > 0); empty: none.
+    pub torque_limit: Vec<f64>,
+    /// The encoders' counts per turn: the measured positions are rounded to `2π/counts`;
+    /// none: exact positions.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub encoder_counts: Option<f64>,
+    /// Measure positions only; the controller estimates the velocities.
+    pub positions_only: bool,
+    /// The time constant of the velocity estimate's low-pass filter (s, ≥ 0; 0: the plain
+    /// backward difference).
+    pub velocity_filter: f64,
+    /// The storage the tank keeps in hand (J, ≥ 0).
+    pub reserve: f64,
+}
+
+impl PassiveSpec {
+    /// Checks the numbers (the limits' length against `dof`).
+    pub fn validate_for(&self, dof: usize) -> Result<()> {
+        let bad = |what: &str| Err(SimError::Setting(what.to_string()));
+        if !(self.torque_limit.is_empty() || self.torque_limit.len() == dof) {
+            return bad("controller.passive.torque_limit: one limit per joint (or none)");
+        }
+        if self
+            .torque_limit
+            .iter()
+            .any(|l| !(l.is_finite() && *l > 0.0))
+        {
+            return bad("controller.passive.torque_limit: each limit finite and > 0");
+        }
+        if let Some(c) = self.encoder_counts {
+            if !(c.is_finite() && c >= 1.0) {
+                return bad("controller.passive.encoder_counts: finite and ≥ 1");
+            }
+        }
+        if !(self.velocity_filter.is_finite() && self.velocity_filter >= 0.0) {
+            return bad("controller.passive.velocity_filter: finite and ≥ 0 (s)");
+        }
+        if !(self.reserve.is_finite() && self.reserve >= 0.0) {
+            return bad("controller.passive.reserve: finite and ≥ 0 (J)");
+        }
+        Ok(())
+    }
+
+    /// A measured position: `q` rounded to the encoder's resolution.
+    pub fn measure(&self, q: f64) -> f64 {
+        match self.encoder_counts {
+            Some(c) => {
+                let step = std::f64::consts::TAU / c;
+                (q / step).round() * step
+            }
+            None => q,
+        }
+    }
 }
 
 impl Default for ControllerSpec {
@@ -209,6 +274,7 @@ impl Default for ControllerSpec {
             friction_band: None,
             gravity_compensation: None,
             nominal_speed: None,
+            passive: None,
         }
     }
 }
@@ -466,6 +532,19 @@ impl Scenario {
                 return bad("contact.force_schedule needs controller.nominal_speed (eq. 36)");
             }
         }
+        if let Some(p) = &self.controller.passive {
+            if self.simulation.mode != Mode::Sampled {
+                return bad(
+                    "controller.passive: the passive digital controller runs in the sampled mode",
+                );
+            }
+            if self.is_chain() {
+                return bad(
+                    "controller.passive: not implemented for URDF arms yet (the SCARA only)",
+                );
+            }
+            p.validate_for(2)?;
+        }
         if self.is_chain() {
             return self.validate_chain();
         }
@@ -636,5 +715,28 @@ impl Scenario {
             ctl = ctl.with_nominal_speed(NominalSpeed::new(n.c, n.r)?);
         }
         Ok(ctl)
+    }
+
+    /// The passive digital controller of `[controller.passive]` around
+    /// [`controller`](Self::controller), if the scenario has one.
+    pub fn passive_controller(&self) -> Result<Option<PaperPassiveController>> {
+        let Some(p) = &self.controller.passive else {
+            return Ok(None);
+        };
+        p.validate_for(2)?;
+        let mut ctl = PassiveController::new(self.controller()?)
+            .with_velocity_filter(p.velocity_filter)?
+            .with_reserve(p.reserve)?;
+        if let Some(c) = p.encoder_counts {
+            let step = std::f64::consts::TAU / c;
+            ctl = ctl.with_encoder_resolution(Vector2::new(step, step))?;
+        }
+        if !p.torque_limit.is_empty() {
+            ctl = ctl.with_torque_limits(joint_vector::<2>(
+                &p.torque_limit,
+                "controller.passive.torque_limit",
+            )?)?;
+        }
+        Ok(Some(ctl))
     }
 }

@@ -74,7 +74,7 @@ pub struct ContactTrace {
 }
 
 impl ContactTrace {
-    fn with_capacity(n: usize) -> Self {
+    pub(crate) fn with_capacity(n: usize) -> Self {
         ContactTrace {
             force: Vec::with_capacity(n),
             normal_force: Vec::with_capacity(n),
@@ -88,7 +88,7 @@ impl ContactTrace {
         }
     }
 
-    fn push(&mut self, c: &ContactForces, tool: Vector2<f64>, w: &Work, r: f64) {
+    pub(crate) fn push(&mut self, c: &ContactForces, tool: Vector2<f64>, w: &Work, r: f64) {
         self.force.push([c.force.x, c.force.y]);
         self.normal_force.push(c.normal_force);
         self.depth.push(c.depth);
@@ -122,11 +122,11 @@ impl ContactTrace {
 
 /// Works `[contact, friction, controller]` accumulated along a run.
 #[derive(Clone, Copy, Debug, Default)]
-struct Work([f64; 3]);
+pub(crate) struct Work(pub(crate) [f64; 3]);
 
 impl Work {
     /// Adds one RK4 step of length `h` given the powers at its four stages.
-    fn add(&mut self, h: f64, p: &[[f64; 3]; 4]) {
+    pub(crate) fn add(&mut self, h: f64, p: &[[f64; 3]; 4]) {
         for (w, pi) in RK4_WEIGHTS.iter().zip(p) {
             for (acc, x) in self.0.iter_mut().zip(pi) {
                 *acc += h * w * x;
@@ -246,6 +246,12 @@ pub fn simulate(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
     if s.is_chain() {
         return crate::chain_run::simulate_chain(s, progress);
     }
+    if s.controller.passive.is_some() {
+        return match environment(s)? {
+            None => crate::passive_run::simulate_passive(s, &mut Free, progress),
+            Some(mut env) => crate::passive_run::simulate_passive(s, &mut *env, progress),
+        };
+    }
     match (s.simulation.mode, environment(s)?) {
         (Mode::Sampled, None) => simulate_sampled(s, &mut Free, false, progress),
         (Mode::Sampled, Some(mut env)) => simulate_sampled(s, &mut *env, true, progress),
@@ -262,6 +268,9 @@ pub fn simulate_in(
     env: &mut dyn Environment,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
+    if s.controller.passive.is_some() {
+        return crate::passive_run::simulate_passive(s, env, progress);
+    }
     match s.simulation.mode {
         Mode::Continuous => simulate_continuous(s, env, true, progress),
         Mode::Sampled => simulate_sampled(s, env, true, progress),

@@ -89,9 +89,33 @@ fn the_sampled_loop_energy_change_is_reported_and_small() {
 }
 
 #[test]
+fn the_passive_digital_controller_closes_its_audit_at_1khz_and_100hz() {
+    assert_holds("digital.audit");
+}
+
+#[test]
+fn the_passive_digital_controller_never_gives_more_than_it_has() {
+    assert_holds("digital.passivity");
+}
+
+#[test]
+fn on_a_drive_the_passive_controller_creates_no_more_than_the_encoder_bound() {
+    assert_holds("digital.drive");
+}
+
+#[test]
+fn the_passive_controller_tracks_as_the_continuous_one() {
+    assert_holds("digital.tracking");
+}
+
+#[test]
 fn every_claim_is_evaluated_and_the_table_renders() {
     let c = &all_claims().1;
-    assert_eq!(c.len(), 18, "12 claims of section V and 6 of contact");
+    assert_eq!(
+        c.len(),
+        22,
+        "12 claims of section V, 6 of contact, 4 of the digital controller"
+    );
     let md = pvfc_sim::report::markdown(c);
     assert_eq!(md.lines().count(), 2 + c.len());
     let csv = pvfc_sim::report::csv(c);
