@@ -199,3 +199,29 @@ fn a_serial_arm_control_step_does_not_allocate() {
         "serial-arm control steps allocated"
     );
 }
+
+/// The passive digital controller's step (positions only, limits, encoder charge) allocates
+/// nothing, nor does its error path.
+#[test]
+fn a_passive_control_step_does_not_allocate() {
+    let scara = controller(&PaperSettings::default()).unwrap();
+    let mut ctl = pvfc::core::passive::PassiveController::new(scara)
+        .with_torque_limits(Vector2::new(20.0, 10.0))
+        .unwrap()
+        .with_encoder_resolution(Vector2::new(1e-5, 1e-5))
+        .unwrap()
+        .with_velocity_filter(2e-3)
+        .unwrap();
+    let mut q = Torus::new(Vector2::new(0.1, -0.2));
+    let v = Vector2::new(0.3, 0.1);
+    let before = allocations();
+    for _ in 0..1000 {
+        std::hint::black_box(ctl.step(&q, None, None, 1e-3).unwrap());
+        q = q.retract(&v, 1e-3);
+        std::hint::black_box(
+            ctl.step(&Torus::new(Vector2::new(f64::NAN, 0.0)), None, None, 1e-3)
+                .unwrap_err(),
+        );
+    }
+    assert_eq!(allocations() - before, 0, "passive control steps allocated");
+}
