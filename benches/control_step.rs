@@ -91,6 +91,33 @@ fn control_step(c: &mut Criterion) {
         })
     });
 
+    // The passive digital controller (pvfc_core::passive) on the same states, measured
+    // velocities, beside the step above (the budget: ≤ 15 % over it).
+    let passive = PassiveController::new(scara);
+    g.bench_function("scara_lissajous_f64_passive", |b| {
+        b.iter(|| {
+            let mut ctl = passive;
+            for (q, v) in &samples {
+                black_box(
+                    ctl.step(black_box(q), Some(black_box(v)), None, DT)
+                        .expect("valid"),
+                );
+            }
+        })
+    });
+    let passive32 = PassiveController::new(scara32);
+    g.bench_function("scara_lissajous_f32_passive", |b| {
+        b.iter(|| {
+            let mut ctl = passive32;
+            for (q, v) in &samples32 {
+                black_box(
+                    ctl.step(black_box(q), Some(black_box(v)), None, 1e-3)
+                        .expect("valid"),
+                );
+            }
+        })
+    });
+
     let field = SuspendedField::new(
         ConstantRate::new(So3::<f64>::identity(), Vector3::new(0.0, 0.3, 0.6)).expect("valid"),
         So3Navigation::new(Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0))).expect("valid"),

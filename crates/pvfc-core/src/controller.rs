@@ -253,6 +253,22 @@ where
         Ok((self.add_ons(s, &out), Diagnostics::from(&out)))
     }
 
+    /// The total torque, the coupling's part of it and the diagnostics, for a sibling stepper
+    /// ([`crate::passive`]); the law's large output stays in this function.
+    #[inline(always)]
+    pub(crate) fn torque_coupling_diagnostics(
+        &self,
+        s: &AugmentedState<T, G, D>,
+    ) -> Result<(AugmentedVector<T, D>, AugmentedVector<T, D>, Diagnostics<T>)> {
+        if Sys::HAS_GRAVITY && self.gravity_compensation {
+            let (total, (coupling, d)) =
+                self.evaluate_compensated(s, |out| (out.torque, Diagnostics::from(out)))?;
+            return Ok((total, coupling, d));
+        }
+        let out = self.law.evaluate(s)?;
+        Ok((self.add_ons(s, &out), out.torque, Diagnostics::from(&out)))
+    }
+
     /// [`evaluate`](Self::evaluate) with gravity compensation: `g(q)` comes from the law's own
     /// pass over the model; `finish` takes what the caller needs of the law's output (the
     /// step only its diagnostics: returning the whole output cost a 6-joint f32 step ~400

@@ -325,8 +325,7 @@ where
             tau_dot: state.tau_dot,
             flywheel_speed: state.flywheel_speed,
         };
-        let (total, out) = self.controller.evaluate(&s)?;
-        let coupling = out.torque;
+        let (total, coupling, diagnostics) = self.controller.torque_coupling_diagnostics(&s)?;
         let add_on = total - coupling;
         // 4. The tank: scale the (workless) coupling if the storage cannot pay for it.
         let predicted = coupling.robot.dot(&velocity) * dt;
@@ -391,7 +390,7 @@ where
             torque: command,
             velocity,
             state,
-            diagnostics: Diagnostics::from(&out),
+            diagnostics,
             energy: EnergyAccount {
                 storage,
                 to_robot,
@@ -426,7 +425,7 @@ fn project<T: Real>(state: &mut InternalState<T>, storage: T, mf: T) {
     let two = cast::<T>(2.0);
     let rest = two * storage - state.tau_dot * state.tau_dot;
     if rest >= T::zero() {
-        let speed = (rest / mf).sqrt();
+        let speed = (rest / mf).sqrt_fast();
         state.flywheel_speed = if state.flywheel_speed < T::zero() {
             -speed
         } else {
@@ -434,7 +433,7 @@ fn project<T: Real>(state: &mut InternalState<T>, storage: T, mf: T) {
         };
     } else {
         state.flywheel_speed = T::zero();
-        let speed = (two * storage).max(T::zero()).sqrt();
+        let speed = (two * storage).max(T::zero()).sqrt_fast();
         state.tau_dot = if state.tau_dot < T::zero() {
             -speed
         } else {

@@ -150,11 +150,11 @@ fn bad_input_is_a_typed_error_and_changes_nothing() {
 fn the_velocity_estimate_is_the_backward_difference() {
     let mut ctl: Passive = PassiveController::new(controller(50.0, 1.0).starting_at_rest(0.0));
     let h = 1e-3;
-    let q0 = Torus::new(Vector2::new(3.14, -0.5));
-    let q1 = Torus::new(Vector2::new(-3.14, -0.49));
+    let q0 = Torus::new(Vector2::new(3.1, -0.5));
+    let q1 = Torus::new(Vector2::new(-3.1, -0.49));
     ctl.step(&q0, None, None, h).unwrap();
     let out = ctl.step(&q1, None, None, h).unwrap();
-    let expect = Vector2::new(2.0 * std::f64::consts::PI - 6.28, 0.01) / h;
+    let expect = Vector2::new(2.0 * std::f64::consts::PI - 6.2, 0.01) / h;
     assert!((out.velocity - expect).amax() < 1e-9, "{:?}", out.velocity);
 }
 

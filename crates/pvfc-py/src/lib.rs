@@ -9,6 +9,7 @@ mod controller;
 mod convert;
 mod errors;
 mod navigation;
+mod passive;
 mod robots;
 mod runs;
 mod scara;
@@ -30,6 +31,7 @@ fn _pvfc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<runs::Scenario>()?;
     m.add_class::<runs::SimulationResult>()?;
     m.add_class::<controller::Controller>()?;
+    m.add_class::<passive::PassiveController>()?;
     m.add_function(wrap_pyfunction!(runs::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(runs::simulate_many, m)?)?;
     m.add_function(wrap_pyfunction!(runs::simulate_timed, m)?)?;

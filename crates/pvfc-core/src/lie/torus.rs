@@ -12,6 +12,10 @@ use nalgebra::SVector;
 /// ```
 #[inline]
 pub fn wrap_angle<T: Real>(x: T) -> T {
+    if x > -T::pi() && x <= T::pi() {
+        // Already wrapped (the same value the general path gives, without its rounding).
+        return x;
+    }
     let two_pi = T::two_pi();
     let mut w = x - two_pi * (x / two_pi).round();
     if w <= -T::pi() {

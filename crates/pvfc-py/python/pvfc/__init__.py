@@ -12,6 +12,7 @@ with numpy arrays, MCAP logs, and the paper's figures (``pvfc.plot``, needs matp
 from ._pvfc import (
     ArmController,
     Controller,
+    PassiveController,
     DimensionMismatchError,
     Ellipse,
     EnergyTooLowError,
@@ -44,6 +45,7 @@ from ._pvfc import (
 __all__ = [
     "ArmController",
     "Controller",
+    "PassiveController",
     "DimensionMismatchError",
     "Ellipse",
     "EnergyTooLowError",

@@ -23,6 +23,7 @@ __all__ = [
     "LogError",
     "NoConvergenceError",
     "NonFiniteError",
+    "PassiveController",
     "PvfcError",
     "PvfcIOError",
     "Robot",
@@ -264,6 +265,27 @@ class Controller:
         self, q: _ArrayLike, qdot: _ArrayLike, tau: float, tau_dot: float, flywheel_speed: float
     ) -> dict[str, Any]: ...
     def step(self, q: _ArrayLike, qdot: _ArrayLike, dt: float) -> _F64Array: ...
+    @property
+    def state(self) -> Tuple[float, float, float, int]: ...
+    def reset(self) -> None: ...
+
+@final
+class PassiveController:
+    def __new__(
+        cls,
+        scenario: Scenario,
+        torque_limit: Optional[_ArrayLike] = None,
+        encoder_resolution: Optional[_ArrayLike] = None,
+        velocity_filter: Optional[float] = None,
+        reserve: Optional[float] = None,
+    ) -> PassiveController: ...
+    def step(
+        self, q: _ArrayLike, qdot: Optional[_ArrayLike], dt: float, applied: Optional[_ArrayLike] = None
+    ) -> _F64Array: ...
+    @property
+    def energy(self) -> Optional[dict[str, Any]]: ...
+    @property
+    def storage(self) -> float: ...
     @property
     def state(self) -> Tuple[float, float, float, int]: ...
     def reset(self) -> None: ...

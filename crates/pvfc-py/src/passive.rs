@@ -1,0 +1,129 @@
+//! `pvfc.PassiveController`: the scenario's controller in the passive digital mode
+//! (`pvfc_core::passive`), to drive one's own plant (MuJoCo, hardware) from Python.
+
+use crate::convert::{out1, vector};
+use crate::errors::{core_err, sim_err};
+use crate::runs::Scenario;
+use nalgebra::Vector2;
+use numpy::PyArray1;
+use pvfc_core::passive::EnergyAccount;
+use pvfc_core::prelude::*;
+use pvfc_sim::paper::PaperPassiveController;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// The scenario's controller, passive for any sampling period: it accounts the energy it
+/// gives the robot at the samples from the positions and the applied torque, and pays it
+/// from its flywheel and τ̇. Settings default to the scenario's `[controller.passive]`.
+#[pyclass(module = "pvfc")]
+pub(crate) struct PassiveController {
+    ctl: PaperPassiveController,
+    initial: PaperPassiveController,
+    last: Option<EnergyAccount<f64>>,
+}
+
+fn pair(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vector2<f64>> {
+    Ok(Vector2::from(vector::<2>(obj, name)?))
+}
+
+#[pymethods]
+impl PassiveController {
+    #[new]
+    #[pyo3(signature = (scenario, torque_limit=None, encoder_resolution=None, velocity_filter=None, reserve=None))]
+    fn new(
+        scenario: &Scenario,
+        torque_limit: Option<&Bound<'_, PyAny>>,
+        encoder_resolution: Option<&Bound<'_, PyAny>>,
+        velocity_filter: Option<f64>,
+        reserve: Option<f64>,
+    ) -> PyResult<Self> {
+        let mut s = scenario.s.clone();
+        s.controller.passive.get_or_insert_with(Default::default);
+        let mut ctl = s
+            .passive_controller()
+            .map_err(sim_err)?
+            .ok_or_else(|| pyo3::exceptions::PyRuntimeError::new_err("no passive controller"))?;
+        if let Some(l) = torque_limit {
+            ctl = ctl
+                .with_torque_limits(pair(l, "torque_limit")?)
+                .map_err(core_err)?;
+        }
+        if let Some(d) = encoder_resolution {
+            ctl = ctl
+                .with_encoder_resolution(pair(d, "encoder_resolution")?)
+                .map_err(core_err)?;
+        }
+        if let Some(f) = velocity_filter {
+            ctl = ctl.with_velocity_filter(f).map_err(core_err)?;
+        }
+        if let Some(r) = reserve {
+            ctl = ctl.with_reserve(r).map_err(core_err)?;
+        }
+        Ok(PassiveController {
+            ctl,
+            initial: ctl,
+            last: None,
+        })
+    }
+
+    /// One control step at the measured positions `q` (and velocities `qdot`, or `None` to
+    /// estimate them from the positions), with `applied` the torque the drive applied over
+    /// the last period (`None`: what this controller commanded). Returns the torque to hold
+    /// for `dt`, shape (2,). On error nothing changes.
+    #[pyo3(signature = (q, qdot, dt, applied=None))]
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        qdot: Option<&Bound<'py, PyAny>>,
+        dt: f64,
+        applied: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let q = Torus::new(pair(q, "q")?);
+        let v = qdot.map(|v| pair(v, "qdot")).transpose()?;
+        let u = applied.map(|u| pair(u, "applied")).transpose()?;
+        let out = self
+            .ctl
+            .step(&q, v.as_ref(), u.as_ref(), dt)
+            .map_err(core_err)?;
+        self.last = Some(out.energy);
+        Ok(out1(py, vec![out.torque[0], out.torque[1]]))
+    }
+
+    /// The last step's energy account: storage, to_robot, add_ons, correction, scale,
+    /// saturated, quantisation (J, except scale and saturated); `None` before the first step.
+    #[getter]
+    fn energy<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(e) = self.last else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("storage", e.storage)?;
+        d.set_item("to_robot", e.to_robot)?;
+        d.set_item("add_ons", e.add_ons)?;
+        d.set_item("correction", e.correction)?;
+        d.set_item("scale", e.scale)?;
+        d.set_item("saturated", e.saturated)?;
+        d.set_item("quantisation", e.quantisation)?;
+        Ok(Some(d))
+    }
+
+    /// The storage ½τ̇² + ½M_F q̇_F² as accounted (J).
+    #[getter]
+    fn storage(&self) -> f64 {
+        self.ctl.storage()
+    }
+
+    /// The internal states (τ, τ̇, q̇_F, laps).
+    #[getter]
+    fn state(&self) -> (f64, f64, f64, i64) {
+        let s = self.ctl.controller().state();
+        (s.tau, s.tau_dot, s.flywheel_speed, s.laps)
+    }
+
+    /// Back to the initial internal states and storage.
+    fn reset(&mut self) {
+        self.ctl = self.initial;
+        self.last = None;
+    }
+}
