@@ -8,6 +8,7 @@ use crate::integrate::ClosedLoop;
 use crate::scenario::{joint_vector, Mode, Scenario};
 use crate::simulate::{plant_rk4, timing, Row, Trace};
 use crate::with_dof;
+use nalgebra::SVector;
 use pvfc_core::augmented::AugmentedState;
 use pvfc_core::prelude::*;
 
@@ -50,6 +51,68 @@ fn run<const N: usize>(
     let mut v = joint_vector::<N>(&s.initial.v, "initial.v")?;
     let mut trace = Trace::with_capacity(s.name.clone(), N, n + 1);
     match s.simulation.mode {
+        Mode::Sampled if s.controller.passive.is_some() => {
+            let spec = s.controller.passive.clone().unwrap_or_default();
+            spec.validate_for(N)?;
+            let mut pc = PassiveController::new(ctl)
+                .with_velocity_filter(spec.velocity_filter)?
+                .with_reserve(spec.reserve)?;
+            if !spec.torque_limit.is_empty() {
+                pc = pc.with_torque_limits(joint_vector::<N>(
+                    &spec.torque_limit,
+                    "controller.passive.torque_limit",
+                )?)?;
+            }
+            if let Some(c) = spec.encoder_counts {
+                // Revolute joints: 2π/counts rad; prismatic ones are left exact.
+                let step = std::f64::consts::TAU / c;
+                pc = pc.with_encoder_resolution(SVector::from_fn(|i, _| match kinds[i] {
+                    JointKind::Circular => step,
+                    JointKind::Linear => 0.0,
+                }))?;
+            }
+            let measure = |q: &JointSpace<f64, N>| {
+                JointSpace::new(
+                    SVector::from_fn(|i, _| match kinds[i] {
+                        JointKind::Circular => spec.measure(q.coords()[i]),
+                        JointKind::Linear => q.coords()[i],
+                    }),
+                    kinds,
+                )
+            };
+            for k in 0..=n {
+                let t = k as f64 * dt;
+                let velocity = (!spec.positions_only).then_some(&v);
+                let out = pc.step(&measure(&q), velocity, None, dt)?;
+                let st = out.state;
+                trace.push(Row {
+                    t,
+                    q: q.coords().as_slice(),
+                    v: v.as_slice(),
+                    tau: st.unwrapped_tau(Some(period)),
+                    tau_dot: st.tau_dot,
+                    flywheel_speed: st.flywheel_speed,
+                    beta: out.diagnostics.beta,
+                    potential: out.diagnostics.potential,
+                    lambda1: out.diagnostics.lambda1,
+                    lambda2: out.diagnostics.lambda2,
+                    torque: out.torque.as_slice(),
+                    energy: chain.kinetic_energy(&q, &v) + out.energy.storage,
+                    friction_power: friction.torque(&v).dot(&v),
+                });
+                if k == n {
+                    break;
+                }
+                for _ in 0..s.simulation.plant_substeps {
+                    (q, v) = plant_rk4(&chain, &q, &v, h, |_, _, _, v| {
+                        Ok(out.torque + friction.torque(v))
+                    })?;
+                }
+                if k % 1000 == 0 {
+                    progress(k as f64 / n as f64);
+                }
+            }
+        }
         Mode::Sampled => {
             for k in 0..=n {
                 let t = k as f64 * dt;

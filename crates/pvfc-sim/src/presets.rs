@@ -192,8 +192,8 @@ fn passive(mut s: Scenario, spec: PassiveSpec) -> Scenario {
     s
 }
 
-/// The digital controller (`pvfc_core::passive`) against `Controller::step`, both at 1 kHz and
-/// 100 Hz with the plant and the contact at 20 kHz: free motion (frictionless, 60 s), the wall,
+/// The digital controller (`pvfc_core::passive`) against `Controller::step`, both at 1 kHz,
+/// 250 Hz and 100 Hz with the plant and the contact at 20 kHz: free motion (frictionless, 60 s), the wall,
 /// the push and the obstacle; the wall at 1 kHz on a realistic drive (torque limits well below
 /// what the law asks at the wall, encoders of 2¹⁷ counts per turn, positions only, the
 /// velocity by a filtered difference); and Fig. 8's run (`R = 100`, friction) with the passive
@@ -209,7 +209,7 @@ pub fn digital() -> Vec<Scenario> {
     let mut obstacle = contact_obstacle();
     obstacle.name = "digital_obstacle".into();
     for base in [free, wall.clone(), push, obstacle] {
-        for rate in [1000.0, 100.0] {
+        for rate in [1000.0, 250.0, 100.0] {
             let zoh = sampled_at(base.clone(), rate);
             v.push(passive(zoh.clone(), PassiveSpec::default()));
             v.push(zoh);

@@ -538,12 +538,7 @@ impl Scenario {
                     "controller.passive: the passive digital controller runs in the sampled mode",
                 );
             }
-            if self.is_chain() {
-                return bad(
-                    "controller.passive: not implemented for URDF arms yet (the SCARA only)",
-                );
-            }
-            p.validate_for(2)?;
+            p.validate_for(self.dof()?)?;
         }
         if self.is_chain() {
             return self.validate_chain();

@@ -107,3 +107,36 @@ fn bad_arm_settings_name_the_field() {
     .unwrap_err();
     assert!(e.contains("plant.friction.coulomb"), "{e}");
 }
+
+/// `[controller.passive]` on a URDF arm: the UR5 with encoders, position-only measurement and
+/// torque limits runs and converges; limits of the wrong length are a setting error.
+#[test]
+fn a_urdf_arm_runs_with_the_passive_digital_controller() {
+    let mut s = ur5();
+    s.duration = 4.0;
+    s.controller.passive = Some(pvfc_sim::scenario::PassiveSpec {
+        torque_limit: vec![150.0, 150.0, 150.0, 28.0, 28.0, 28.0],
+        encoder_counts: Some(131_072.0),
+        positions_only: true,
+        velocity_filter: 0.002,
+        reserve: 0.0,
+    });
+    s.validate().unwrap();
+    let t = simulate(&s, &mut |_| {}).unwrap();
+    let u = &t.potential;
+    assert!(
+        u[u.len() - 1] < 0.1 * u[0],
+        "U {} -> {}",
+        u[0],
+        u[u.len() - 1]
+    );
+    assert!(t.torque.iter().all(|r| r
+        .iter()
+        .zip([150.0, 150.0, 150.0, 28.0, 28.0, 28.0])
+        .all(|(x, l)| x.abs() <= l)));
+    if let Some(p) = s.controller.passive.as_mut() {
+        p.torque_limit = vec![10.0; 2];
+    }
+    let e = s.validate().unwrap_err().to_string();
+    assert!(e.contains("controller.passive.torque_limit"), "{e}");
+}
