@@ -307,8 +307,10 @@ where
                     * cast::<T>(0.5);
                 storage -= quantisation;
             }
-            let alpha = self.filter / (self.filter + dt);
-            velocity_estimate = velocity_estimate * alpha + dq * ((T::one() - alpha) / dt);
+            if v.is_none() {
+                let alpha = self.filter / (self.filter + dt);
+                velocity_estimate = velocity_estimate * alpha + dq * ((T::one() - alpha) / dt);
+            }
         }
         // 2. The internal velocities put back onto the storage's level set.
         let integrated = virtual_energy(&self.controller, &state);
@@ -425,7 +427,7 @@ fn project<T: Real>(state: &mut InternalState<T>, storage: T, mf: T) {
     let two = cast::<T>(2.0);
     let rest = two * storage - state.tau_dot * state.tau_dot;
     if rest >= T::zero() {
-        let speed = (rest / mf).sqrt_fast();
+        let speed = (rest / mf).sqrt();
         state.flywheel_speed = if state.flywheel_speed < T::zero() {
             -speed
         } else {
@@ -433,7 +435,7 @@ fn project<T: Real>(state: &mut InternalState<T>, storage: T, mf: T) {
         };
     } else {
         state.flywheel_speed = T::zero();
-        let speed = (two * storage).max(T::zero()).sqrt_fast();
+        let speed = (two * storage).max(T::zero()).sqrt();
         state.tau_dot = if state.tau_dot < T::zero() {
             -speed
         } else {

@@ -7,6 +7,7 @@ use crate::error::{Result, SimError};
 use crate::integrate::ClosedLoop;
 use crate::scenario::{joint_vector, Mode, Scenario};
 use crate::simulate::{plant_rk4, timing, Row, Trace};
+use crate::stepper::{PassiveDrive, Stepper};
 use crate::with_dof;
 use nalgebra::SVector;
 use pvfc_core::augmented::AugmentedState;
@@ -33,7 +34,7 @@ fn run<const N: usize>(
 ) -> Result<Trace> {
     let base: ArmControllerN<N> = arm_controller(chain, settings)?;
     let flywheel = *base.law().flywheel();
-    let mut ctl = base.with_state(InternalState {
+    let ctl = base.with_state(InternalState {
         tau: s.initial.tau,
         tau_dot: s.initial.tau_dot,
         flywheel_speed: s
@@ -44,113 +45,19 @@ fn run<const N: usize>(
     });
     let friction = s.plant.friction.clone();
     let (dt, h, n) = timing(s)?;
-    let period = s.period();
-    let mf = flywheel.inertia();
     let kinds = chain.kinds();
-    let mut q = JointSpace::new(joint_vector::<N>(&s.initial.q, "initial.q")?, kinds);
-    let mut v = joint_vector::<N>(&s.initial.v, "initial.v")?;
+    let q = JointSpace::new(joint_vector::<N>(&s.initial.q, "initial.q")?, kinds);
+    let v = joint_vector::<N>(&s.initial.v, "initial.v")?;
     let mut trace = Trace::with_capacity(s.name.clone(), N, n + 1);
     match s.simulation.mode {
-        Mode::Sampled if s.controller.passive.is_some() => {
-            let spec = s.controller.passive.clone().unwrap_or_default();
-            spec.validate_for(N)?;
-            let mut pc = PassiveController::new(ctl)
-                .with_velocity_filter(spec.velocity_filter)?
-                .with_reserve(spec.reserve)?;
-            if !spec.torque_limit.is_empty() {
-                pc = pc.with_torque_limits(joint_vector::<N>(
-                    &spec.torque_limit,
-                    "controller.passive.torque_limit",
-                )?)?;
+        Mode::Sampled => match &s.controller.passive {
+            None => sampled(s, &chain, ctl, q, v, &mut trace, progress)?,
+            Some(spec) => {
+                let circular = kinds.map(|k| k == JointKind::Circular);
+                let drive = PassiveDrive::new(ctl, spec, circular)?;
+                sampled(s, &chain, drive, q, v, &mut trace, progress)?
             }
-            if let Some(c) = spec.encoder_counts {
-                // Revolute joints: 2π/counts rad; prismatic ones are left exact.
-                let step = std::f64::consts::TAU / c;
-                pc = pc.with_encoder_resolution(SVector::from_fn(|i, _| match kinds[i] {
-                    JointKind::Circular => step,
-                    JointKind::Linear => 0.0,
-                }))?;
-            }
-            let measure = |q: &JointSpace<f64, N>| {
-                JointSpace::new(
-                    SVector::from_fn(|i, _| match kinds[i] {
-                        JointKind::Circular => spec.measure(q.coords()[i]),
-                        JointKind::Linear => q.coords()[i],
-                    }),
-                    kinds,
-                )
-            };
-            for k in 0..=n {
-                let t = k as f64 * dt;
-                let velocity = (!spec.positions_only).then_some(&v);
-                let out = pc.step(&measure(&q), velocity, None, dt)?;
-                let st = out.state;
-                trace.push(Row {
-                    t,
-                    q: q.coords().as_slice(),
-                    v: v.as_slice(),
-                    tau: st.unwrapped_tau(Some(period)),
-                    tau_dot: st.tau_dot,
-                    flywheel_speed: st.flywheel_speed,
-                    beta: out.diagnostics.beta,
-                    potential: out.diagnostics.potential,
-                    lambda1: out.diagnostics.lambda1,
-                    lambda2: out.diagnostics.lambda2,
-                    torque: out.torque.as_slice(),
-                    energy: chain.kinetic_energy(&q, &v) + out.energy.storage,
-                    friction_power: friction.torque(&v).dot(&v),
-                });
-                if k == n {
-                    break;
-                }
-                for _ in 0..s.simulation.plant_substeps {
-                    (q, v) = plant_rk4(&chain, &q, &v, h, |_, _, _, v| {
-                        Ok(out.torque + friction.torque(v))
-                    })?;
-                }
-                if k % 1000 == 0 {
-                    progress(k as f64 / n as f64);
-                }
-            }
-        }
-        Mode::Sampled => {
-            for k in 0..=n {
-                let t = k as f64 * dt;
-                let pre = *ctl.state();
-                let out = ctl.step(&q, &v, dt)?;
-                trace.push(Row {
-                    t,
-                    q: q.coords().as_slice(),
-                    v: v.as_slice(),
-                    tau: pre.unwrapped_tau(Some(period)),
-                    tau_dot: pre.tau_dot,
-                    flywheel_speed: pre.flywheel_speed,
-                    beta: out.diagnostics.beta,
-                    potential: out.diagnostics.potential,
-                    lambda1: out.diagnostics.lambda1,
-                    lambda2: out.diagnostics.lambda2,
-                    torque: out.torque.as_slice(),
-                    energy: chain.kinetic_energy(&q, &v)
-                        + 0.5
-                            * (pre.tau_dot * pre.tau_dot
-                                + mf * pre.flywheel_speed * pre.flywheel_speed),
-                    friction_power: friction.torque(&v).dot(&v),
-                });
-                if k == n {
-                    break;
-                }
-                // Zero-order hold: the torque of the sample over the period; the plant (with
-                // gravity and friction) in RK4 substeps.
-                for _ in 0..s.simulation.plant_substeps {
-                    (q, v) = plant_rk4(&chain, &q, &v, h, |_, _, _, v| {
-                        Ok(out.torque + friction.torque(v))
-                    })?;
-                }
-                if k % 1000 == 0 {
-                    progress(k as f64 / n as f64);
-                }
-            }
-        }
+        },
         Mode::Continuous => {
             let sys = ClosedLoop::matched(ctl);
             let i = *sys.controller.state();
@@ -193,4 +100,52 @@ fn run<const N: usize>(
     }
     progress(1.0);
     Ok(trace)
+}
+
+/// The sampled-data loop of a chain: the controller (`Controller::step` or the passive one) at
+/// its rate with zero-order hold, the plant (with gravity and friction) in RK4 substeps.
+fn sampled<const N: usize, S: Stepper<JointSpace<f64, N>, N>>(
+    s: &Scenario,
+    chain: &SerialChain<f64, N>,
+    mut ctl: S,
+    mut q: JointSpace<f64, N>,
+    mut v: SVector<f64, N>,
+    trace: &mut Trace,
+    progress: &mut dyn FnMut(f64),
+) -> Result<()> {
+    let friction = s.plant.friction.clone();
+    let (dt, h, n) = timing(s)?;
+    let period = s.period();
+    for k in 0..=n {
+        let t = k as f64 * dt;
+        let out = ctl.sample(&q, &v, dt)?;
+        let st = out.state;
+        trace.push(Row {
+            t,
+            q: q.coords().as_slice(),
+            v: v.as_slice(),
+            tau: st.unwrapped_tau(Some(period)),
+            tau_dot: st.tau_dot,
+            flywheel_speed: st.flywheel_speed,
+            beta: out.diagnostics.beta,
+            potential: out.diagnostics.potential,
+            lambda1: out.diagnostics.lambda1,
+            lambda2: out.diagnostics.lambda2,
+            torque: out.torque.as_slice(),
+            energy: chain.kinetic_energy(&q, &v) + out.storage,
+            friction_power: friction.torque(&v).dot(&v),
+        });
+        if k == n {
+            break;
+        }
+        for _ in 0..s.simulation.plant_substeps {
+            (q, v) = plant_rk4(chain, &q, &v, h, |_, _, _, v| {
+                Ok(out.torque + friction.torque(v))
+            })?;
+        }
+        if k % 1000 == 0 {
+            progress(k as f64 / n as f64);
+        }
+    }
+    Ok(())
 }

@@ -21,7 +21,6 @@ pub mod integrate;
 pub mod log;
 pub mod metrics;
 pub mod paper;
-mod passive_run;
 pub mod plot;
 mod plot_digital;
 pub mod presets;
@@ -32,6 +31,7 @@ pub mod robot;
 pub mod scenario;
 pub mod series;
 pub mod simulate;
+mod stepper;
 pub mod urdf;
 
 pub use error::{Result, SimError};

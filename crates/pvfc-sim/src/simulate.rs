@@ -7,6 +7,7 @@ use crate::integrate::{ClosedLoop, Derivative, RK4_WEIGHTS};
 use crate::paper::PaperField;
 use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
 use crate::series::JointSeries;
+use crate::stepper::Stepper;
 use nalgebra::{SVector, Vector2};
 use pvfc_core::prelude::*;
 
@@ -246,15 +247,9 @@ pub fn simulate(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
     if s.is_chain() {
         return crate::chain_run::simulate_chain(s, progress);
     }
-    if s.controller.passive.is_some() {
-        return match environment(s)? {
-            None => crate::passive_run::simulate_passive(s, &mut Free, progress),
-            Some(mut env) => crate::passive_run::simulate_passive(s, &mut *env, progress),
-        };
-    }
     match (s.simulation.mode, environment(s)?) {
-        (Mode::Sampled, None) => simulate_sampled(s, &mut Free, false, progress),
-        (Mode::Sampled, Some(mut env)) => simulate_sampled(s, &mut *env, true, progress),
+        (Mode::Sampled, None) => sampled(s, &mut Free, false, progress),
+        (Mode::Sampled, Some(mut env)) => sampled(s, &mut *env, true, progress),
         (Mode::Continuous, None) => simulate_continuous(s, &mut Free, false, progress),
         (Mode::Continuous, Some(mut env)) => simulate_continuous(s, &mut *env, true, progress),
     }
@@ -268,12 +263,9 @@ pub fn simulate_in(
     env: &mut dyn Environment,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    if s.controller.passive.is_some() {
-        return crate::passive_run::simulate_passive(s, env, progress);
-    }
     match s.simulation.mode {
         Mode::Continuous => simulate_continuous(s, env, true, progress),
-        Mode::Sampled => simulate_sampled(s, env, true, progress),
+        Mode::Sampled => sampled(s, env, true, progress),
     }
 }
 
@@ -303,25 +295,43 @@ pub fn environment(s: &Scenario) -> Result<Option<Box<dyn Environment>>> {
     }
 }
 
-/// The sampled-data loop: `Controller::step` at the controller's rate with zero-order hold,
-/// the plant (and its contact, if any) integrated with RK4 in substeps. The controller's
-/// internal states are logged as they are at the sample (before the step advances them).
-/// With contact, the add-ons' work is summed at the samples (rectangle rule): for a loop
-/// without add-ons the audit residual is then the sampled controller's own departure from
-/// passivity.
-fn simulate_sampled<E: Environment + ?Sized>(
+/// The sampled-data loop with the scenario's controller: `Controller::step` (zero-order
+/// hold), or the passive digital controller of `[controller.passive]`, whose runs always carry
+/// the work columns (with no contact they hold the audit).
+fn sampled<E: Environment + ?Sized>(
     s: &Scenario,
     env: &mut E,
     with_contact: bool,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    let mut ctl = s.controller()?;
+    let ctl = s.controller()?;
+    match &s.controller.passive {
+        None => simulate_sampled(s, env, with_contact, ctl, progress),
+        Some(spec) => {
+            let drive = crate::stepper::PassiveDrive::new(ctl, spec, [true; 2])?;
+            simulate_sampled(s, env, true, drive, progress)
+        }
+    }
+}
+
+/// The sampled-data loop: the controller at its rate with zero-order hold, the plant (and its
+/// contact, if any) integrated with RK4 in substeps. The controller's internal states are
+/// logged as they are at the sample (those the torque was computed at). With contact, the
+/// add-ons' work is what the controller accounts, or for `Controller::step` summed at the
+/// samples (rectangle rule): for a loop without add-ons the audit residual is then the
+/// sampled controller's own departure from passivity.
+fn simulate_sampled<E: Environment + ?Sized, S: Stepper<Torus<f64, 2>, 2>>(
+    s: &Scenario,
+    env: &mut E,
+    with_contact: bool,
+    mut ctl: S,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
     let arm = Scara::new(s.arm()?)?;
     let kin = PlanarArm::from(&s.arm()?);
     let friction = s.plant.friction.clone();
     let (dt, h, n) = timing(s)?;
     let period = s.contour.period;
-    let mf = s.controller.flywheel_inertia;
     let schedule = s.contact.as_ref().and_then(|c| c.force_schedule);
     let r0 = s.controller.nominal_speed.map(|n| n.r);
     let mut q = Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?);
@@ -331,14 +341,15 @@ fn simulate_sampled<E: Environment + ?Sized>(
     let mut work = Work::default();
     for k in 0..=n {
         let t = k as f64 * dt;
-        let pre = *ctl.state();
         let cf = env.contact(t, &q, &v)?;
         if let (Some(sch), Some(r0)) = (schedule, r0) {
             if let Some(ns) = ctl.nominal_speed_mut() {
                 ns.set_speed(sch.speed(r0, cf.normal_force))?;
             }
         }
-        let out = ctl.step(&q, &v, dt)?;
+        let out = ctl.sample(&q, &v, dt)?;
+        work.0[2] += out.add_ons_ended;
+        let pre = out.state;
         trace.push(Row {
             t,
             q: q.angles().as_slice(),
@@ -351,8 +362,7 @@ fn simulate_sampled<E: Environment + ?Sized>(
             lambda1: out.diagnostics.lambda1,
             lambda2: out.diagnostics.lambda2,
             torque: out.torque.as_slice(),
-            energy: arm.kinetic_energy(&q, &v)
-                + 0.5 * (pre.tau_dot * pre.tau_dot + mf * pre.flywheel_speed * pre.flywheel_speed),
+            energy: arm.kinetic_energy(&q, &v) + out.storage,
             friction_power: friction.torque(&v).dot(&v),
         });
         if let Some(ct) = contact.as_mut() {
@@ -362,10 +372,7 @@ fn simulate_sampled<E: Environment + ?Sized>(
         if k == n {
             break;
         }
-        // The coupling is workless (q̇_aᵀT_coupling = 0), so the add-ons' power is that of the
-        // whole augmented torque, at the sample (rectangle rule).
-        let a = out.augmented_torque;
-        work.0[2] += (a.robot.dot(&v) + a.tau * pre.tau_dot + a.flywheel * pre.flywheel_speed) * dt;
+        work.0[2] += out.add_ons_next;
         for j in 0..s.simulation.plant_substeps {
             let t0 = t + j as f64 * h;
             let mut p = [[0.0; 3]; 4];

@@ -1,0 +1,158 @@
+//! The controller as a sampled-data loop drives it, whichever it is: `Controller::step` with
+//! zero-order hold, or the passive digital controller of `pvfc_core::passive` with what a
+//! drive does to its measurements (encoder rounding, position-only measurement). The loops
+//! (`simulate.rs` for the planar arm and its contact, `chain_run.rs` for URDF arms) differ
+//! from each other only by their plant and surroundings, not by the controller.
+
+use crate::error::Result;
+use crate::scenario::{joint_vector, PassiveSpec};
+use nalgebra::SVector;
+use pvfc_core::passive::PassiveController;
+use pvfc_core::prelude::*;
+
+/// What a controller gives the loop at one sample.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Sample<const N: usize> {
+    /// The torque held over the coming period.
+    pub torque: SVector<f64, N>,
+    /// The internal states to log (those the torque was computed at).
+    pub state: InternalState<f64>,
+    /// `U`, `λ₁`, `λ₂`, `β`, … at that state.
+    pub diagnostics: Diagnostics<f64>,
+    /// The controller's part of `κ_a` at the sample: `½τ̇² + ½M_F q̇_F²`, or the passive
+    /// controller's accounted storage.
+    pub storage: f64,
+    /// The add-ons' energy of the period that ended at this sample, as the controller
+    /// accounts it (the passive controller; 0 for the ZOH one).
+    pub add_ons_ended: f64,
+    /// The add-ons' energy of the period that starts, by the rectangle rule at the sample
+    /// (the ZOH controller; 0 for the passive one).
+    pub add_ons_next: f64,
+}
+
+/// A controller of a sampled-data loop, at the true state of the plant `(q, q̇)`.
+pub(crate) trait Stepper<G, const N: usize> {
+    /// One control step.
+    fn sample(&mut self, q: &G, v: &SVector<f64, N>, dt: f64) -> Result<Sample<N>>;
+    /// The nominal-speed add-on, to schedule `r` on line.
+    fn nominal_speed_mut(&mut self) -> Option<&mut NominalSpeed<f64>>;
+}
+
+impl<G, Sys, F, const N: usize> Stepper<G, N> for Controller<f64, G, Sys, F, N>
+where
+    G: LieGroup<f64, N>,
+    Sys: MechanicalSystem<f64, G, N>,
+    F: VelocityField<f64, G, N>,
+{
+    fn sample(&mut self, q: &G, v: &SVector<f64, N>, dt: f64) -> Result<Sample<N>> {
+        let pre = *self.state();
+        let mf = self.law().flywheel().inertia();
+        let out = self.step(q, v, dt)?;
+        // The coupling is workless (q̇_aᵀT_coupling = 0), so the add-ons' power is that of
+        // the whole augmented torque, at the sample (rectangle rule).
+        let a = out.augmented_torque;
+        Ok(Sample {
+            torque: out.torque,
+            state: pre,
+            diagnostics: out.diagnostics,
+            storage: 0.5
+                * (pre.tau_dot * pre.tau_dot + mf * pre.flywheel_speed * pre.flywheel_speed),
+            add_ons_ended: 0.0,
+            add_ons_next: (a.robot.dot(v) + a.tau * pre.tau_dot + a.flywheel * pre.flywheel_speed)
+                * dt,
+        })
+    }
+
+    fn nominal_speed_mut(&mut self) -> Option<&mut NominalSpeed<f64>> {
+        Controller::nominal_speed_mut(self)
+    }
+}
+
+/// The passive digital controller on a drive as `[controller.passive]` describes it.
+pub(crate) struct PassiveDrive<G, Sys, F, const N: usize> {
+    controller: PassiveController<f64, G, Sys, F, N>,
+    spec: PassiveSpec,
+    /// Which coordinates an encoder of `encoder_counts` per turn measures (revolute joints).
+    circular: [bool; N],
+}
+
+impl<G, Sys, F, const N: usize> PassiveDrive<G, Sys, F, N>
+where
+    G: VectorGroup<f64, N>,
+    Sys: MechanicalSystem<f64, G, N>,
+    F: VelocityField<f64, G, N>,
+{
+    /// The passive controller around `controller` with the spec's limits, encoder charge,
+    /// velocity filter and reserve; `circular` marks the revolute joints.
+    pub(crate) fn new(
+        controller: Controller<f64, G, Sys, F, N>,
+        spec: &PassiveSpec,
+        circular: [bool; N],
+    ) -> Result<Self> {
+        spec.validate_for(N)?;
+        let mut c = PassiveController::new(controller)
+            .with_velocity_filter(spec.velocity_filter)?
+            .with_reserve(spec.reserve)?;
+        if !spec.torque_limit.is_empty() {
+            c = c.with_torque_limits(joint_vector::<N>(
+                &spec.torque_limit,
+                "controller.passive.torque_limit",
+            )?)?;
+        }
+        if let Some(counts) = spec.encoder_counts {
+            let step = std::f64::consts::TAU / counts;
+            c =
+                c.with_encoder_resolution(SVector::from_fn(
+                    |i, _| {
+                        if circular[i] {
+                            step
+                        } else {
+                            0.0
+                        }
+                    },
+                ))?;
+        }
+        Ok(PassiveDrive {
+            controller: c,
+            spec: spec.clone(),
+            circular,
+        })
+    }
+}
+
+impl<G, Sys, F, const N: usize> Stepper<G, N> for PassiveDrive<G, Sys, F, N>
+where
+    G: VectorGroup<f64, N>,
+    Sys: MechanicalSystem<f64, G, N>,
+    F: VelocityField<f64, G, N>,
+{
+    fn sample(&mut self, q: &G, v: &SVector<f64, N>, dt: f64) -> Result<Sample<N>> {
+        // The encoders round the revolute joints' angles (composing keeps `q`'s joint kinds).
+        let measured = if self.spec.encoder_counts.is_some() {
+            let x = q.coordinates();
+            q.compose(&G::from_coordinates(SVector::from_fn(|i, _| {
+                if self.circular[i] {
+                    self.spec.measure(x[i]) - x[i]
+                } else {
+                    0.0
+                }
+            })))
+        } else {
+            *q
+        };
+        let velocity = (!self.spec.positions_only).then_some(v);
+        let out = self.controller.step(&measured, velocity, None, dt)?;
+        Ok(Sample {
+            torque: out.torque,
+            state: out.state,
+            diagnostics: out.diagnostics,
+            storage: out.energy.storage,
+            add_ons_ended: out.energy.add_ons,
+            add_ons_next: 0.0,
+        })
+    }
+
+    fn nominal_speed_mut(&mut self) -> Option<&mut NominalSpeed<f64>> {
+        self.controller.controller_mut().nominal_speed_mut()
+    }
+}
