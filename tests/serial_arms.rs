@@ -19,6 +19,17 @@ fn arm<const N: usize>(file: &str, tip: &str) -> SerialChain<f64, N> {
         .unwrap()
 }
 
+/// A closed joint-space contour of the UR5 (the waypoints of `scenarios/ur5_waypoints.toml`'s
+/// kind, rad).
+const UR5_WAYPOINTS: [[f64; 6]; 6] = [
+    [0.0, -1.2, 1.4, -1.8, -1.57, 0.0],
+    [0.5, -1.0, 1.2, -1.7, -1.4, 0.3],
+    [0.8, -1.4, 1.6, -1.6, -1.2, 0.6],
+    [0.3, -1.7, 1.9, -1.9, -1.5, 0.2],
+    [-0.3, -1.5, 1.7, -2.0, -1.8, -0.3],
+    [-0.5, -1.1, 1.3, -1.8, -1.7, -0.4],
+];
+
 fn ur5() -> SerialChain<f64, 6> {
     arm("ur5/ur5_robot.urdf", "tool0")
 }
@@ -148,17 +159,7 @@ fn pvfc_run<const N: usize, const K: usize>(
 
 #[test]
 fn pvfc_on_the_ur5_and_the_panda_is_passive_and_converges() {
-    let ur5 = pvfc_run(
-        ur5(),
-        [
-            [0.0, -1.2, 1.4, -1.8, -1.57, 0.0],
-            [0.5, -1.0, 1.2, -1.7, -1.4, 0.3],
-            [0.8, -1.4, 1.6, -1.6, -1.2, 0.6],
-            [0.3, -1.7, 1.9, -1.9, -1.5, 0.2],
-            [-0.3, -1.5, 1.7, -2.0, -1.8, -0.3],
-            [-0.5, -1.1, 1.3, -1.8, -1.7, -0.4],
-        ],
-    );
+    let ur5 = pvfc_run(ur5(), UR5_WAYPOINTS);
     let panda = pvfc_run(
         panda(),
         [
@@ -190,14 +191,7 @@ fn pvfc_on_the_ur5_and_the_panda_is_passive_and_converges() {
 fn the_passive_controller_on_the_ur5_closes_its_audit_with_gravity() {
     let chain = ur5();
     let kinds = chain.kinds();
-    let waypoints = [
-        [0.0, -1.2, 1.4, -1.8, -1.57, 0.0],
-        [0.5, -1.0, 1.2, -1.7, -1.4, 0.3],
-        [0.8, -1.4, 1.6, -1.6, -1.2, 0.6],
-        [0.3, -1.7, 1.9, -1.9, -1.5, 0.2],
-        [-0.3, -1.5, 1.7, -2.0, -1.8, -0.3],
-        [-0.5, -1.1, 1.3, -1.8, -1.7, -0.4],
-    ];
+    let waypoints = UR5_WAYPOINTS;
     let pts = waypoints.map(|w| JointSpace::new(SVector::from(w), kinds));
     let field = SuspendedField::new(
         PeriodicBSpline::through(pts, 1.0).unwrap(),

@@ -119,22 +119,14 @@ fn sampled<const N: usize, S: Stepper<JointSpace<f64, N>, N>>(
     for k in 0..=n {
         let t = k as f64 * dt;
         let out = ctl.sample(&q, &v, dt)?;
-        let st = out.state;
-        trace.push(Row {
+        trace.push(Row::of_sample(
             t,
-            q: q.coords().as_slice(),
-            v: v.as_slice(),
-            tau: st.unwrapped_tau(Some(period)),
-            tau_dot: st.tau_dot,
-            flywheel_speed: st.flywheel_speed,
-            beta: out.diagnostics.beta,
-            potential: out.diagnostics.potential,
-            lambda1: out.diagnostics.lambda1,
-            lambda2: out.diagnostics.lambda2,
-            torque: out.torque.as_slice(),
-            energy: chain.kinetic_energy(&q, &v) + out.storage,
-            friction_power: friction.torque(&v).dot(&v),
-        });
+            (q.coords().as_slice(), v.as_slice()),
+            &out,
+            period,
+            chain.kinetic_energy(&q, &v),
+            friction.torque(&v).dot(&v),
+        ));
         if k == n {
             break;
         }

@@ -7,7 +7,7 @@ use crate::integrate::{ClosedLoop, Derivative, RK4_WEIGHTS};
 use crate::paper::PaperField;
 use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
 use crate::series::JointSeries;
-use crate::stepper::Stepper;
+use crate::stepper::{Sample, Stepper};
 use nalgebra::{SVector, Vector2};
 use pvfc_core::prelude::*;
 
@@ -203,6 +203,36 @@ pub(crate) struct Row<'a> {
     pub(crate) friction_power: f64,
 }
 
+impl<'a> Row<'a> {
+    /// The row of a sampled loop's sample: the state `(q, q̇)` and what the controller gave,
+    /// with `κ_a` = the arm's kinetic energy + the controller's storage.
+    pub(crate) fn of_sample<const N: usize>(
+        t: f64,
+        (q, v): (&'a [f64], &'a [f64]),
+        out: &'a Sample<N>,
+        period: f64,
+        kinetic_energy: f64,
+        friction_power: f64,
+    ) -> Self {
+        let st = out.state;
+        Row {
+            t,
+            q,
+            v,
+            tau: st.unwrapped_tau(Some(period)),
+            tau_dot: st.tau_dot,
+            flywheel_speed: st.flywheel_speed,
+            beta: out.diagnostics.beta,
+            potential: out.diagnostics.potential,
+            lambda1: out.diagnostics.lambda1,
+            lambda2: out.diagnostics.lambda2,
+            torque: out.torque.as_slice(),
+            energy: kinetic_energy + out.storage,
+            friction_power,
+        }
+    }
+}
+
 /// One RK4 step of the arm alone under the generalized force `force(i, c, q, q̇)` at the
 /// stages `i = 0..4` (time offsets `c = 0, h/2, h/2, h`): motor torque, friction, contact.
 pub(crate) fn plant_rk4<G, Sys, const N: usize>(
@@ -349,22 +379,14 @@ fn simulate_sampled<E: Environment + ?Sized, S: Stepper<Torus<f64, 2>, 2>>(
         }
         let out = ctl.sample(&q, &v, dt)?;
         work.0[2] += out.add_ons_ended;
-        let pre = out.state;
-        trace.push(Row {
+        trace.push(Row::of_sample(
             t,
-            q: q.angles().as_slice(),
-            v: v.as_slice(),
-            tau: pre.unwrapped_tau(Some(period)),
-            tau_dot: pre.tau_dot,
-            flywheel_speed: pre.flywheel_speed,
-            beta: out.diagnostics.beta,
-            potential: out.diagnostics.potential,
-            lambda1: out.diagnostics.lambda1,
-            lambda2: out.diagnostics.lambda2,
-            torque: out.torque.as_slice(),
-            energy: arm.kinetic_energy(&q, &v) + out.storage,
-            friction_power: friction.torque(&v).dot(&v),
-        });
+            (q.angles().as_slice(), v.as_slice()),
+            &out,
+            period,
+            arm.kinetic_energy(&q, &v),
+            friction.torque(&v).dot(&v),
+        ));
         if let Some(ct) = contact.as_mut() {
             let r = ctl.nominal_speed_mut().map_or(0.0, |n| n.speed());
             ct.push(&cf, kin.tip(&q), &work, r);
