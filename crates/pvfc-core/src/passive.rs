@@ -349,7 +349,8 @@ where
         }
         // 5. The virtual states over the period (semi-implicit Euler, as Controller::step).
         let tau_dot = state.tau_dot + torque.tau * dt;
-        let flywheel_speed = state.flywheel_speed + torque.flywheel * dt / mf;
+        let flywheel_speed = state.flywheel_speed
+            + torque.flywheel * dt * self.controller.law().flywheel().inverse_inertia();
         let (tau, laps) = self
             .controller
             .wrap_tau(state.tau + tau_dot * dt, state.laps)?;
