@@ -103,6 +103,7 @@ pub fn sim_err(e: SimError) -> PyErr {
         SimError::Io { .. } => PvfcIOError::new_err(e.to_string()),
         SimError::Mcap(_) => LogError::new_err(e.to_string()),
         SimError::Setting(_) => InvalidParameterError::new_err(e.to_string()),
+        SimError::Waypoint { .. } => InvalidParameterError::new_err(e.to_string()),
         _ => PvfcError::new_err(e.to_string()),
     }
 }

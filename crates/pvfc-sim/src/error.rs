@@ -49,6 +49,50 @@ pub enum SimError {
     /// A simulation setting is invalid.
     #[error("invalid setting: {0}")]
     Setting(String),
+    /// A point of a Cartesian tool path cannot be turned into a joint posture.
+    #[error("Cartesian path: waypoint {index} at ({:.4}, {:.4}, {:.4}) m: {problem}", point[0], point[1], point[2])]
+    Waypoint {
+        /// The waypoint's index along the sampled path (0 is the first).
+        index: usize,
+        /// Where it is, in the base frame (m).
+        point: [f64; 3],
+        /// What is wrong with it.
+        problem: WaypointProblem,
+    },
+}
+
+/// Why a Cartesian waypoint has no joint posture the contour can use.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum WaypointProblem {
+    /// The inverse kinematics left the tool this far from the point (m).
+    #[error("unreachable (the tool stays {0:.3e} m away)")]
+    Unreachable(f64),
+    /// The posture's manipulability is below the threshold.
+    #[error("too close to a singularity (manipulability {0:.3e} below {1:.1e})")]
+    Singular(f64, f64),
+    /// A joint would leave its limits.
+    #[error("joint {joint} at {value:.4} outside its limits [{lower:.4}, {upper:.4}]")]
+    JointLimit {
+        /// The joint's name.
+        joint: String,
+        /// Its coordinate (rad or m).
+        value: f64,
+        /// Lower limit.
+        lower: f64,
+        /// Upper limit.
+        upper: f64,
+    },
+    /// A joint jumps between this waypoint and the previous one (another IK branch).
+    #[error("branch jump: joint {joint} moves {jump:.3} rad from the previous waypoint (more than {limit})")]
+    BranchJump {
+        /// The joint's name.
+        joint: String,
+        /// The jump (rad or m).
+        jump: f64,
+        /// The largest accepted.
+        limit: f64,
+    },
 }
 
 /// The result type of pvfc-sim.

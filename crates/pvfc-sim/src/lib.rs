@@ -12,6 +12,7 @@
 #![warn(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 pub mod arm;
+pub mod cartesian;
 pub mod chain_plot;
 pub mod chain_run;
 pub mod contact;

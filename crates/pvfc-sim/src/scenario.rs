@@ -140,6 +140,10 @@ pub struct ContourSpec {
     /// `τ` between waypoints (the period is `spacing × waypoints`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spacing: Option<f64>,
+    /// A tool path in Cartesian space (URDF arms), turned into the joint waypoints by
+    /// inverse kinematics (`crate::cartesian`); replaces `waypoints`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cartesian: Option<crate::cartesian::CartesianSpec>,
 }
 
 impl Default for ContourSpec {
@@ -152,6 +156,7 @@ impl Default for ContourSpec {
             period: 6.0,
             waypoints: None,
             spacing: None,
+            cartesian: None,
         }
     }
 }
@@ -572,11 +577,17 @@ impl Scenario {
         })
     }
 
-    /// The contour's period in `τ`: `spacing × waypoints` for a URDF arm's waypoint contour,
+    /// The contour's period in `τ`: `spacing × waypoints` (or × the Cartesian path's samples)
+    /// for a URDF arm's waypoint contour,
     /// `contour.period` for the Lissajous curve.
     pub fn period(&self) -> f64 {
-        match (&self.contour.waypoints, self.contour.spacing) {
-            (Some(w), Some(h)) if self.is_chain() => h * w.len() as f64,
+        match (
+            &self.contour.waypoints,
+            &self.contour.cartesian,
+            self.contour.spacing,
+        ) {
+            (Some(w), _, Some(h)) if self.is_chain() => h * w.len() as f64,
+            (None, Some(c), Some(h)) if self.is_chain() => h * c.samples as f64,
             _ => self.contour.period,
         }
     }
@@ -602,9 +613,20 @@ impl Scenario {
     /// The settings of a URDF arm's controller.
     pub fn arm_settings(&self) -> Result<crate::arm::ArmSettings> {
         let c = &self.controller;
-        let waypoints = self.contour.waypoints.clone().ok_or_else(|| {
-            SimError::Setting("contour.waypoints: a URDF arm follows a waypoint contour".into())
-        })?;
+        let waypoints =
+            match (&self.contour.waypoints, &self.contour.cartesian) {
+                (Some(w), None) => w.clone(),
+                (None, Some(c)) => c.joint_waypoints(&self.robot()?, &self.base_dir)?,
+                (Some(_), Some(_)) => {
+                    return Err(SimError::Setting(
+                        "contour: give waypoints or cartesian, not both".into(),
+                    ))
+                }
+                (None, None) => return Err(SimError::Setting(
+                    "contour.waypoints or contour.cartesian: a URDF arm follows a waypoint contour"
+                        .into(),
+                )),
+            };
         let spacing = self
             .contour
             .spacing

@@ -140,3 +140,66 @@ fn a_urdf_arm_runs_with_the_passive_digital_controller() {
     let e = s.validate().unwrap_err().to_string();
     assert!(e.contains("controller.passive.torque_limit"), "{e}");
 }
+
+/// `[contour.cartesian]`: the UR5's rounded rectangle becomes joint waypoints whose tool
+/// positions are the sampled path points; a circle works too; every failure is a typed error
+/// that names the waypoint.
+#[test]
+fn a_cartesian_tool_path_becomes_joint_waypoints_or_a_named_error() {
+    use pvfc_sim::cartesian::CircleSpec;
+    use pvfc_sim::error::{SimError, WaypointProblem};
+    let s = Scenario::from_file(&file("ur5_cartesian.toml")).unwrap();
+    s.validate().unwrap();
+    assert_eq!(s.period(), 12.0);
+    let c = s.contour.cartesian.clone().unwrap();
+    let robot = s.robot().unwrap();
+    let check = |c: &pvfc_sim::cartesian::CartesianSpec| {
+        let points = c.sample(&s.base_dir).unwrap();
+        let q = c.joint_waypoints(&robot, &s.base_dir).unwrap();
+        assert_eq!(q.len(), c.samples);
+        for (p, q) in points.iter().zip(&q) {
+            let (_, x) = robot.tool_pose(q).unwrap();
+            assert!((x - p).norm() < 1e-6, "{x} vs {p}");
+        }
+    };
+    check(&c);
+    let mut circle = c.clone();
+    circle.points.clear();
+    circle.circle = Some(CircleSpec {
+        center: [0.55, 0.02, 0.30],
+        radius: 0.1,
+        normal: [0.0, 0.0, 1.0],
+    });
+    check(&circle);
+    let problem =
+        |c: &pvfc_sim::cartesian::CartesianSpec| match c.joint_waypoints(&robot, &s.base_dir) {
+            Err(SimError::Waypoint { index, problem, .. }) => (index, problem),
+            other => panic!("expected a waypoint error, got {other:?}"),
+        };
+    let mut far = c.clone();
+    far.points[2] = [3.0, 0.2, 0.3];
+    far.max_jump = Some(10.0); // only the reach is in question here
+    let (index, p) = problem(&far);
+    assert!(
+        index > 0 && matches!(p, WaypointProblem::Unreachable(d) if d > 1e-3),
+        "{index}: {p}"
+    );
+    let mut jumpy = c.clone();
+    jumpy.max_jump = Some(1e-3);
+    assert!(matches!(
+        problem(&jumpy),
+        (1, WaypointProblem::BranchJump { .. })
+    ));
+    let mut strict = c.clone();
+    strict.min_manipulability = Some(10.0);
+    assert!(matches!(
+        problem(&strict),
+        (0, WaypointProblem::Singular(..))
+    ));
+    let mut both = c.clone();
+    both.circle = circle.circle;
+    assert!(both.sample(&s.base_dir).is_err());
+    let mut few = c;
+    few.samples = 2;
+    assert!(few.sample(&s.base_dir).is_err());
+}

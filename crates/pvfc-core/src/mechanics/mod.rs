@@ -2,12 +2,14 @@
 //! arms that are not horizontal), in body coordinates.
 
 mod chain_products;
+mod inverse_kinematics;
 mod rigid_body;
 mod scara;
 mod serial_chain;
 mod spatial;
 mod stage;
 
+pub use inverse_kinematics::{IkSettings, IkTarget};
 pub use rigid_body::RigidBody;
 pub use scara::{Scara, ScaraParameters};
 pub use serial_chain::{ChainJoint, ChainKinematics, SerialChain, STANDARD_GRAVITY};

@@ -135,6 +135,13 @@ fn run(path: &Path, out: &Path) -> Result<(), SimError> {
                 .map(|u| format!("{u:.3e}"))
                 .unwrap_or_else(|| "(no complete pass)".into())
         );
+        if let Some((e, when)) = cartesian_error(s, t)? {
+            println!(
+                "{name}: tool to the Cartesian path over the last pass: mean {:.2} mm, max {:.2} mm (at t = {when:.2} s)",
+                e.mean * 1e3,
+                e.max * 1e3,
+            );
+        }
         if let Some(c) = pvfc_sim::metrics::contact_summary(t) {
             println!(
                 "{name}: contact: peak force {:.1} N, energy pumped into the contact {:.3} J, work of the environment {:+.3} J, audit residual {:.1e} of {:.3} J",
@@ -155,6 +162,27 @@ fn run(path: &Path, out: &Path) -> Result<(), SimError> {
         }
     }
     Ok(())
+}
+
+/// For a scenario with a Cartesian path: the tool's distance to it over the last pass, and
+/// the time of the largest (s).
+fn cartesian_error(
+    s: &Scenario,
+    t: &pvfc_sim::simulate::Trace,
+) -> Result<Option<(pvfc_sim::cartesian::PathError, f64)>, SimError> {
+    let Some(c) = &s.contour.cartesian else {
+        return Ok(None);
+    };
+    let Some(range) = pvfc_sim::metrics::last_pass(t, s.period()) else {
+        return Ok(None);
+    };
+    let robot = s.robot()?;
+    let tool =
+        t.q.rows(range.clone())
+            .map(|q| robot.tool_pose(q).map(|(_, p)| p))
+            .collect::<Result<Vec<_>, _>>()?;
+    let e = c.path_error(&s.base_dir, &tool)?;
+    Ok(Some((e, t.t[range.start + e.worst])))
 }
 
 fn write_presets(out: &Path) -> Result<(), SimError> {

@@ -1,0 +1,208 @@
+//! Inverse kinematics of a [`SerialChain`] by damped least squares, for turning a tool path
+//! given in Cartesian space into a joint-space contour: the tool's position (orientation
+//! free) or its whole pose, from a seed posture, with an optional pull towards a rest
+//! posture in the null space (redundant arms), and the manipulability that tells how close
+//! a posture is to a singularity.
+
+use super::{Pose, SerialChain};
+use crate::error::{Error, ErrorKind, Result};
+use crate::scalar::cast;
+use crate::Real;
+use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+
+/// What the tool must reach.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum IkTarget<T: Real> {
+    /// The tool frame's origin at this point of the base frame; its orientation free.
+    Position(Vector3<T>),
+    /// The tool frame at this pose.
+    Pose(Pose<T>),
+}
+
+/// Settings of [`SerialChain::inverse_kinematics`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IkSettings<T: Real, const N: usize> {
+    /// The position error accepted (m); the orientation error accepted is this divided by
+    /// `length_scale` (rad).
+    pub tolerance: T,
+    /// The damping `λ` of `Δq = Jᵀ(JJᵀ + λ²1)⁻¹ e` (in the error's units; larger is more
+    /// robust near singularities and slower).
+    pub damping: T,
+    /// The most iterations.
+    pub max_iterations: usize,
+    /// The largest joint change per iteration (rad or m), for a well-behaved path from the
+    /// seed.
+    pub max_step: T,
+    /// The length (m) that weighs an orientation error against a position error.
+    pub length_scale: T,
+    /// A rest posture and the gain (0 to 1) of the pull towards it in the null space of the
+    /// task, for redundant arms; `None`: no pull.
+    pub rest: Option<(SVector<T, N>, T)>,
+}
+
+impl<T: Real, const N: usize> Default for IkSettings<T, N> {
+    fn default() -> Self {
+        IkSettings {
+            tolerance: cast(1e-9),
+            damping: cast(1e-3),
+            max_iterations: 200,
+            max_step: cast(0.2),
+            length_scale: cast(0.2),
+            rest: None,
+        }
+    }
+}
+
+impl<T: Real, const N: usize> SerialChain<T, N> {
+    /// Yoshikawa's manipulability of the tool's position, `√det(J_p J_pᵀ)` with `J_p` the
+    /// linear rows of the world Jacobian (`√det(J_pᵀ J_p)` for fewer than three joints): 0 at
+    /// a singularity of the position task. For a planar two-link arm it is `l₁ l₂ |sin q₂|`.
+    pub fn manipulability(&self, q: &SVector<T, N>) -> T {
+        let j = self.tool_jacobian_world(q);
+        let jp: SMatrix<T, 3, N> = j.fixed_rows::<3>(0).into_owned();
+        // √det A = Π L_ii for A = L Lᵀ; a matrix Cholesky refuses is (numerically) singular.
+        if N >= 3 {
+            (jp * jp.transpose()).cholesky().map_or(T::zero(), |c| {
+                c.l_dirty().diagonal().iter().fold(T::one(), |p, d| p * *d)
+            })
+        } else {
+            (jp.transpose() * jp).cholesky().map_or(T::zero(), |c| {
+                c.l_dirty().diagonal().iter().fold(T::one(), |p, d| p * *d)
+            })
+        }
+    }
+
+    /// The joint coordinates that put the tool at `target`, by damped least squares from
+    /// `seed` (each step `Δq = Jᵀ(JJᵀ + λ²1)⁻¹ e`, clipped to `max_step`; for a redundant
+    /// task the rest posture is pulled towards with `(1 − J⁺J)`).
+    ///
+    /// Errors: `NonFinite` for a NaN or infinite target or seed; `InvalidParameter` for bad
+    /// settings; `NoConvergence` when the error is still above the tolerance after
+    /// `max_iterations` (an unreachable target, or a seed too far away), with the remaining
+    /// position error (m) as the error's value.
+    pub fn inverse_kinematics(
+        &self,
+        target: &IkTarget<T>,
+        seed: &SVector<T, N>,
+        s: &IkSettings<T, N>,
+    ) -> Result<SVector<T, N>> {
+        let finite_target = match target {
+            IkTarget::Position(p) => p.iter().all(|x| x.is_finite()),
+            IkTarget::Pose(p) => p.is_finite(),
+        };
+        if !finite_target || !seed.iter().all(|x| x.is_finite()) {
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                "SerialChain::inverse_kinematics: target or seed",
+            ));
+        }
+        let positive = |x: T| x.is_finite() && x > T::zero();
+        if !(positive(s.tolerance)
+            && s.damping.is_finite()
+            && s.damping >= T::zero()
+            && positive(s.max_step)
+            && positive(s.length_scale)
+            && s.max_iterations > 0)
+        {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "SerialChain::inverse_kinematics: settings",
+            ));
+        }
+        let mut q = *seed;
+        let mut remaining = T::zero();
+        for _ in 0..=s.max_iterations {
+            let pose = self.tool_pose(&q);
+            let jac = self.tool_jacobian_world(&q);
+            // The pull towards the rest posture, projected into the task's null space by
+            // `dls` (it never disturbs the task to first order).
+            let pull = s.rest.map(|(rest, gain)| (rest - q) * gain);
+            let (step, error) = match target {
+                IkTarget::Position(p) => {
+                    let e = p - pose.translation;
+                    let jp: SMatrix<T, 3, N> = jac.fixed_rows::<3>(0).into_owned();
+                    (dls::<T, 3, N>(&jp, &e, s.damping, pull), e.norm())
+                }
+                IkTarget::Pose(p) => {
+                    let e_lin = p.translation - pose.translation;
+                    // The rotation taking the tool's frame to the target's, as a rotation
+                    // vector in the base frame.
+                    let e_rot = rotation_vector(&(p.rotation * pose.rotation.transpose()));
+                    let w = s.length_scale;
+                    let mut e = SVector::<T, 6>::zeros();
+                    e.fixed_rows_mut::<3>(0).copy_from(&e_lin);
+                    e.fixed_rows_mut::<3>(3).copy_from(&(e_rot * w));
+                    let mut jw = jac;
+                    for mut r in jw.fixed_rows_mut::<3>(3).row_iter_mut() {
+                        r *= w;
+                    }
+                    (dls::<T, 6, N>(&jw, &e, s.damping, pull), e.norm())
+                }
+            };
+            remaining = error;
+            if error <= s.tolerance {
+                return Ok(q);
+            }
+            let largest = step.amax();
+            let clip = if largest > s.max_step {
+                s.max_step / largest
+            } else {
+                T::one()
+            };
+            q += step * clip;
+            if !q.iter().all(|x| x.is_finite()) {
+                break;
+            }
+        }
+        let value = nalgebra::try_convert::<T, f64>(remaining).unwrap_or(f64::NAN);
+        Err(Error::new(
+            ErrorKind::NoConvergence,
+            "SerialChain::inverse_kinematics: the tool did not reach the target",
+        )
+        .with_value(value))
+    }
+}
+
+/// One damped-least-squares step for the `R`-row task `J` and error `e`,
+/// `Jᵀ(JJᵀ + λ²1)⁻¹ e`, plus `pull` projected into the task's null space, `(1 − J⁺J) pull`.
+fn dls<T: Real, const R: usize, const N: usize>(
+    j: &SMatrix<T, R, N>,
+    e: &SVector<T, R>,
+    damping: T,
+    pull: Option<SVector<T, N>>,
+) -> SVector<T, N> {
+    let a = j * j.transpose() + SMatrix::<T, R, R>::identity() * (damping * damping);
+    let Some(ch) = a.cholesky() else {
+        return SVector::zeros();
+    };
+    let step = j.transpose() * ch.solve(e);
+    match pull {
+        None => step,
+        // The projector with the undamped pseudo-inverse, so that the pull has no component
+        // in the task at all (a damped one would leave `λ²`-sized leaks that stall the
+        // convergence); none at a singular posture.
+        Some(p) => match (j * j.transpose()).cholesky() {
+            Some(exact) => step + p - j.transpose() * exact.solve(&(j * p)),
+            None => step,
+        },
+    }
+}
+
+/// The rotation vector (axis × angle) of a rotation matrix.
+fn rotation_vector<T: Real>(r: &Matrix3<T>) -> Vector3<T> {
+    let half: T = cast(0.5);
+    let c = ((r.trace() - T::one()) * half).max(-T::one()).min(T::one());
+    let v = Vector3::new(
+        r[(2, 1)] - r[(1, 2)],
+        r[(0, 2)] - r[(2, 0)],
+        r[(1, 0)] - r[(0, 1)],
+    );
+    let s = v.norm() * half;
+    let angle = s.atan2(c);
+    if s < cast(1e-9) {
+        // Near the identity (the half antisymmetric part is the vector); near π the IK's next
+        // step moves away from it.
+        return v * half;
+    }
+    v * (angle / (s + s))
+}
