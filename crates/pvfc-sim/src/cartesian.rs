@@ -281,9 +281,8 @@ fn polyline(corners: &[Vector3<f64>], radius: f64) -> Result<Vec<Vector3<f64>>> 
     if n < 3 {
         return Err(bad("points: at least 3"));
     }
-    if !corners.iter().all(|p| p.iter().all(|x| x.is_finite()))
-        || !(radius.is_finite() && radius >= 0.0)
-    {
+    let finite = corners.iter().all(|p| p.iter().all(|x| x.is_finite()));
+    if !(finite && radius.is_finite() && radius >= 0.0) {
         return Err(bad("points and corner_radius must be finite (radius ≥ 0)"));
     }
     let mut out = Vec::new();
