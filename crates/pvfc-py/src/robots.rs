@@ -212,6 +212,40 @@ impl Robot {
             .into_pyarray(py))
     }
 
+    /// The joint coordinates that put the tool at `target`: a point `(3,)` (the orientation
+    /// free) or a `(4, 4)` pose, by damped least squares from `seed` `(dof,)`. Raises
+    /// `NoConvergenceError` (with the distance left) when it cannot.
+    #[pyo3(signature = (target, seed, tolerance=1e-9))]
+    fn inverse_kinematics<'py>(
+        &self,
+        py: Python<'py>,
+        target: &Bound<'_, PyAny>,
+        seed: &Bound<'_, PyAny>,
+        tolerance: f64,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let seed = self.v(seed, "seed")?;
+        let (position, rotation) = match array(target, "target", &[3]) {
+            Ok(p) => (nalgebra::Vector3::new(p[0], p[1], p[2]), None),
+            Err(_) => {
+                let h = array(target, "target", &[4, 4])?;
+                let r =
+                    nalgebra::Matrix3::new(h[0], h[1], h[2], h[4], h[5], h[6], h[8], h[9], h[10]);
+                (nalgebra::Vector3::new(h[3], h[7], h[11]), Some(r))
+            }
+        };
+        let q = self
+            .robot
+            .inverse_kinematics(position, rotation, &seed, tolerance)
+            .map_err(sim_err)?;
+        Ok(out1(py, q.as_slice().to_vec()))
+    }
+
+    /// Yoshikawa's manipulability of the tool's position at `q` (0 at a singularity).
+    fn manipulability(&self, q: &Bound<'_, PyAny>) -> PyResult<f64> {
+        let q = self.v(q, "q")?;
+        self.robot.manipulability(&q).map_err(sim_err)
+    }
+
     /// The tool's geometric Jacobian `(6, dof)`, rows `[linear; angular]`: `frame="world"`
     /// (Pinocchio's LOCAL_WORLD_ALIGNED: the tool origin's velocity and the angular velocity
     /// in world axes) or `"local"` (both in the tool frame).

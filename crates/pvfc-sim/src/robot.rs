@@ -220,6 +220,32 @@ impl Robot {
         })
     }
 
+    /// The joint coordinates that put the tool at `position` (orientation free) or, with
+    /// `rotation`, at that pose, by damped least squares from `seed`
+    /// ([`SerialChain::inverse_kinematics`], default settings, tolerance `tolerance` m).
+    pub fn inverse_kinematics(
+        &self,
+        position: Vector3<f64>,
+        rotation: Option<Matrix3<f64>>,
+        seed: &[f64],
+        tolerance: f64,
+    ) -> Result<DVector<f64>> {
+        on_chain!(&self.model, c, N => {
+            let seed = self.vector::<N>(seed, "seed")?;
+            let target = match rotation {
+                Some(rotation) => pvfc_core::mechanics::IkTarget::Pose(Pose { rotation, translation: position }),
+                None => pvfc_core::mechanics::IkTarget::Position(position),
+            };
+            let settings = pvfc_core::mechanics::IkSettings { tolerance, ..Default::default() };
+            Ok(dv(&c.inverse_kinematics(&target, &seed, &settings)?))
+        })
+    }
+
+    /// The manipulability of the tool's position at `q` (0 at a singularity).
+    pub fn manipulability(&self, q: &[f64]) -> Result<f64> {
+        on_chain!(&self.model, c, N => Ok(c.manipulability(&self.vector::<N>(q, "q")?)))
+    }
+
     /// Every link's pose (the frames of the moving links, base to tip), then the tool's.
     pub fn link_poses(&self, q: &[f64]) -> Result<Vec<Pose<f64>>> {
         on_chain!(&self.model, c, N => {

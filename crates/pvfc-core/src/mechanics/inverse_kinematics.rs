@@ -164,14 +164,18 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
 }
 
 /// One damped-least-squares step for the `R`-row task `J` and error `e`,
-/// `Jᵀ(JJᵀ + λ²1)⁻¹ e`, plus `pull` projected into the task's null space, `(1 − J⁺J) pull`.
+/// `Jᵀ(JJᵀ + λ_e²1)⁻¹ e` with `λ_e² = λ² + ½|e|²`, plus `pull` projected into the task's null
+/// space, `(1 − J⁺J) pull`.
 fn dls<T: Real, const R: usize, const N: usize>(
     j: &SMatrix<T, R, N>,
     e: &SVector<T, R>,
     damping: T,
     pull: Option<SVector<T, N>>,
 ) -> SVector<T, N> {
-    let a = j * j.transpose() + SMatrix::<T, R, R>::identity() * (damping * damping);
+    // Sugihara's error-adaptive damping (Levenberg–Marquardt): `λ² + ½|e|²`, large far from
+    // the target (robust), vanishing at it (fast, exact convergence).
+    let lambda2 = damping * damping + e.norm_squared() * cast::<T>(0.5);
+    let a = j * j.transpose() + SMatrix::<T, R, R>::identity() * lambda2;
     let Some(ch) = a.cholesky() else {
         return SVector::zeros();
     };
