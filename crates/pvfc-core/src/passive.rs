@@ -274,13 +274,11 @@ where
                 "PassiveController::step: dt must be finite and > 0",
             ));
         }
-        let finite = q.is_finite()
-            && v.is_none_or(|v| v.iter().all(|x| x.is_finite()))
-            && applied.is_none_or(|u| u.iter().all(|x| x.is_finite()));
-        if !finite {
+        // (NaN or ∞ in `q` or `v` reaches the law's own check, before anything is committed.)
+        if !applied.is_none_or(|u| u.iter().all(|x| x.is_finite())) {
             return Err(Error::new(
                 ErrorKind::NonFinite,
-                "PassiveController::step: NaN or infinite measurement",
+                "PassiveController::step: NaN or infinite applied torque",
             ));
         }
         let mf = self.controller.law().flywheel().inertia();
@@ -337,7 +335,11 @@ where
         } else {
             T::one()
         };
-        let torque = coupling * scale + add_on;
+        let torque = if scale < T::one() {
+            coupling * scale + add_on
+        } else {
+            total
+        };
         let mut command = torque.robot;
         let mut saturated = false;
         if let Some(limits) = &self.limits {
@@ -366,8 +368,7 @@ where
             && tau.is_finite()
             && tau_dot.is_finite()
             && flywheel_speed.is_finite()
-            && storage.is_finite()
-            && velocity.iter().all(|x| x.is_finite());
+            && storage.is_finite();
         if !all_finite {
             return Err(Error::new(
                 ErrorKind::NonFinite,
@@ -378,10 +379,11 @@ where
         *self.controller.state_mut() = next;
         self.storage = storage;
         self.velocity_estimate = velocity_estimate;
-        let previous = self
-            .held
-            .as_ref()
-            .map(|h| applied.copied().unwrap_or(h.command));
+        // The torque applied over the period that just ended (for the encoders' charge).
+        let previous = match (&self.resolution, &self.held) {
+            (Some(_), Some(h)) => Some(applied.copied().unwrap_or(h.command)),
+            _ => None,
+        };
         self.held = Some(Held {
             q: *q,
             command,

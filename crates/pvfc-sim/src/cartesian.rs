@@ -75,11 +75,11 @@ impl CartesianSpec {
         if !(4..=MAX_SAMPLES).contains(&self.samples) {
             return Err(bad(format!("samples: 4 to {MAX_SAMPLES}")));
         }
-        Ok(resample(&self.sample_dense(base_dir)?, self.samples))
+        Ok(resample(&self.polyline(base_dir)?, self.samples))
     }
 
-    /// The path as a dense closed polyline.
-    fn sample_dense(&self, base_dir: &Path) -> Result<Vec<Vector3<f64>>> {
+    /// The path as a dense closed polyline (m, base frame).
+    pub fn polyline(&self, base_dir: &Path) -> Result<Vec<Vector3<f64>>> {
         Ok(match (&self.circle, &self.csv, self.points.is_empty()) {
             (Some(c), None, true) => circle(c)?,
             (None, Some(f), true) => polyline(&read_csv(&base_dir.join(f))?, self.corner_radius)?,
@@ -211,17 +211,21 @@ pub struct PathError {
 }
 
 impl CartesianSpec {
-    /// The distance of every tool position in `tool` to the path (its dense polyline),
-    /// summarised.
-    pub fn path_error(&self, base_dir: &Path, tool: &[Vector3<f64>]) -> Result<PathError> {
-        let dense = self.sample_dense(base_dir)?;
+    /// The distance (m) of every tool position in `tool` to the path (its dense polyline).
+    pub fn distances(&self, base_dir: &Path, tool: &[Vector3<f64>]) -> Result<Vec<f64>> {
+        let dense = self.polyline(base_dir)?;
         let n = dense.len();
         let dist = |p: &Vector3<f64>| {
             (0..n)
                 .map(|i| segment_distance(p, &dense[i], &dense[(i + 1) % n]))
                 .fold(f64::INFINITY, f64::min)
         };
-        let d: Vec<f64> = tool.iter().map(dist).collect();
+        Ok(tool.iter().map(dist).collect())
+    }
+
+    /// The distance of every tool position in `tool` to the path, summarised.
+    pub fn path_error(&self, base_dir: &Path, tool: &[Vector3<f64>]) -> Result<PathError> {
+        let d = self.distances(base_dir, tool)?;
         let (worst, max) =
             d.iter().enumerate().fold(
                 (0, 0.0f64),

@@ -46,22 +46,42 @@ pub fn chain_figure(s: &Scenario, t: &Trace, path: &Path) -> Result<()> {
     let reference = (0..=400)
         .map(|k| tool(&ctl.contour_point(period * k as f64 / 400.0)))
         .collect::<Result<Vec<_>>>()?;
+    // A Cartesian tool path: the path itself, and the tool's distance to it (mm).
+    let (path_points, distance) = match &s.contour.cartesian {
+        Some(c) => {
+            let d = c.distances(&s.base_dir, &actual)?;
+            let pts = samples
+                .iter()
+                .zip(&d)
+                .map(|(&i, d)| (t.t[i], (d * 1e3).max(1e-3)))
+                .collect();
+            (c.polyline(&s.base_dir)?, Some(pts))
+        }
+        None => (Vec::new(), None),
+    };
     let projection = |a: usize, b: usize, label: &str| {
-        vec![
-            Series {
-                label: "x_d(τ)".into(),
-                points: reference.iter().map(|p| (p[a], p[b])).collect(),
+        let mut v = vec![Series {
+            label: "x_d(τ)".into(),
+            points: reference.iter().map(|p| (p[a], p[b])).collect(),
+            reference: true,
+        }];
+        if !path_points.is_empty() {
+            v.push(Series {
+                label: "Cartesian path".into(),
+                points: path_points.iter().map(|p| (p[a], p[b])).collect(),
                 reference: true,
-            },
-            Series {
-                label: label.into(),
-                points: actual.iter().map(|p| (p[a], p[b])).collect(),
-                reference: false,
-            },
-        ]
+            });
+        }
+        v.push(Series {
+            label: label.into(),
+            points: actual.iter().map(|p| (p[a], p[b])).collect(),
+            reference: false,
+        });
+        v
     };
     let title = format!("{} ({} joints)", s.name, dof);
-    figure(path, 6, |i, a| match i {
+    let panels = if distance.is_some() { 7 } else { 6 };
+    figure(path, panels, |i, a| match i {
         0 => panel(
             a,
             path,
@@ -107,7 +127,7 @@ pub fn chain_figure(s: &Scenario, t: &Trace, path: &Path) -> Result<()> {
             &projection(0, 1, "tool"),
             false,
         ),
-        _ => panel(
+        5 => panel(
             a,
             path,
             "tool path, side view",
@@ -115,6 +135,19 @@ pub fn chain_figure(s: &Scenario, t: &Trace, path: &Path) -> Result<()> {
             "z [m]",
             &projection(0, 2, "tool"),
             false,
+        ),
+        _ => panel(
+            a,
+            path,
+            "distance of the tool to the Cartesian path",
+            "t [s]",
+            "[mm]",
+            &[Series {
+                label: "distance".into(),
+                points: distance.clone().unwrap_or_default(),
+                reference: false,
+            }],
+            true,
         ),
     })
 }
