@@ -4,6 +4,7 @@
 #![allow(missing_docs)] // The Python API is documented in the `.pyi` stubs and docstrings.
 
 mod arm;
+mod cartesian;
 mod contours;
 mod controller;
 mod convert;
@@ -21,6 +22,7 @@ fn _pvfc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     m.add_class::<scara::Scara>()?;
     m.add_class::<robots::Robot>()?;
+    m.add_class::<cartesian::CartesianPath>()?;
     m.add_class::<arm::ArmController>()?;
     m.add_class::<contours::Lissajous>()?;
     m.add_class::<contours::Ellipse>()?;

@@ -11,6 +11,7 @@ with numpy arrays, MCAP logs, and the paper's figures (``pvfc.plot``, needs matp
 
 from ._pvfc import (
     ArmController,
+    CartesianPath,
     Controller,
     PassiveController,
     DimensionMismatchError,
@@ -44,6 +45,7 @@ from ._pvfc import (
 
 __all__ = [
     "ArmController",
+    "CartesianPath",
     "Controller",
     "PassiveController",
     "DimensionMismatchError",

@@ -13,6 +13,7 @@ _PathLike: TypeAlias = Union[str, "os.PathLike[str]"]
 
 __all__ = [
     "ArmController",
+    "CartesianPath",
     "Controller",
     "DimensionMismatchError",
     "Ellipse",
@@ -74,6 +75,27 @@ class Scara:
     def inertia(self, q: _ArrayLike) -> _F64Array: ...
     def coriolis(self, q: _ArrayLike, qdot: _ArrayLike) -> _F64Array: ...
     def kinetic_energy(self, q: _ArrayLike, qdot: _ArrayLike) -> float: ...
+
+@final
+class CartesianPath:
+    def __new__(
+        cls,
+        points: Optional[_ArrayLike] = None,
+        corner_radius: float = 0.0,
+        circle: Optional[Tuple[_ArrayLike, float, _ArrayLike]] = None,
+        csv: Optional[_PathLike] = None,
+        samples: int = 24,
+    ) -> CartesianPath: ...
+    def sample(self) -> _F64Array: ...
+    def joint_waypoints(
+        self,
+        robot: Robot,
+        seed: _ArrayLike,
+        fixed_orientation: bool = False,
+        max_jump: float = 0.6,
+        min_manipulability: float = 1e-4,
+    ) -> _F64Array: ...
+    def distances(self, tool: _ArrayLike) -> _F64Array: ...
 
 @final
 class Robot:
