@@ -135,11 +135,12 @@ fn run(path: &Path, out: &Path) -> Result<(), SimError> {
                 .map(|u| format!("{u:.3e}"))
                 .unwrap_or_else(|| "(no complete pass)".into())
         );
-        if let Some((e, when)) = cartesian_error(s, t)? {
+        if let Some((e, when, speed)) = cartesian_error(s, t)? {
             println!(
-                "{name}: tool to the Cartesian path over the last pass: mean {:.2} mm, max {:.2} mm (at t = {when:.2} s)",
+                "{name}: tool to the Cartesian path over the last pass: mean {:.2} mm, max {:.2} mm (at t = {when:.2} s); tool speed {:.0} mm/s",
                 e.mean * 1e3,
                 e.max * 1e3,
+                speed * 1e3,
             );
         }
         if let Some(c) = pvfc_sim::metrics::contact_summary(t) {
@@ -164,12 +165,12 @@ fn run(path: &Path, out: &Path) -> Result<(), SimError> {
     Ok(())
 }
 
-/// For a scenario with a Cartesian path: the tool's distance to it over the last pass, and
-/// the time of the largest (s).
+/// For a scenario with a Cartesian path: the tool's distance to it over the last pass, the
+/// time of the largest (s), and the tool's mean speed (m/s).
 fn cartesian_error(
     s: &Scenario,
     t: &pvfc_sim::simulate::Trace,
-) -> Result<Option<(pvfc_sim::cartesian::PathError, f64)>, SimError> {
+) -> Result<Option<(pvfc_sim::cartesian::PathError, f64, f64)>, SimError> {
     let Some(c) = &s.contour.cartesian else {
         return Ok(None);
     };
@@ -182,7 +183,11 @@ fn cartesian_error(
             .map(|q| robot.tool_pose(q).map(|(_, p)| p))
             .collect::<Result<Vec<_>, _>>()?;
     let e = c.path_error(&s.base_dir, &tool)?;
-    Ok(Some((e, t.t[range.start + e.worst])))
+    // The tool's mean speed over the pass: path length / time.
+    let length: f64 = tool.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let duration = t.t[range.end - 1] - t.t[range.start];
+    let speed = length / duration.max(f64::MIN_POSITIVE);
+    Ok(Some((e, t.t[range.start + e.worst], speed)))
 }
 
 fn write_presets(out: &Path) -> Result<(), SimError> {
