@@ -335,11 +335,7 @@ where
         } else {
             T::one()
         };
-        let torque = if scale < T::one() {
-            coupling * scale + add_on
-        } else {
-            total
-        };
+        let torque = coupling * scale + add_on;
         let mut command = torque.robot;
         let mut saturated = false;
         if let Some(limits) = &self.limits {
