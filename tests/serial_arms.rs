@@ -103,28 +103,31 @@ fn free_chains_conserve_energy_under_gravity() {
 /// 2.7e-7, 1.7e-8 and 1.1e-9 (UR5) at 1, 0.5 and 0.25 ms, a factor 16 per halving (4th order).
 const DT: f64 = 2.5e-4;
 
+type ArmField<const N: usize, const K: usize> = SuspendedField<
+    f64,
+    JointSpace<f64, N>,
+    PeriodicBSpline<f64, JointSpace<f64, N>, N, K>,
+    JointNavigation<f64, N>,
+    ExponentialPacing<f64>,
+    N,
+>;
+type ArmCtl<const N: usize, const K: usize> =
+    Controller<f64, JointSpace<f64, N>, SerialChain<f64, N>, ArmField<N, K>, N>;
 type ArmLoop<const N: usize, const K: usize> = ClosedLoop<
     f64,
     JointSpace<f64, N>,
     SerialChain<f64, N>,
     SerialChain<f64, N>,
-    SuspendedField<
-        f64,
-        JointSpace<f64, N>,
-        PeriodicBSpline<f64, JointSpace<f64, N>, N, K>,
-        JointNavigation<f64, N>,
-        ExponentialPacing<f64>,
-        N,
-    >,
+    ArmField<N, K>,
     N,
 >;
 
-/// PVFC with gravity compensation through `K` waypoints, frictionless, from rest off the
-/// contour: (max |κ_a − κ_a(0)|/κ_a(0), U(0), U at 10 s).
-fn pvfc_run<const N: usize, const K: usize>(
+/// PVFC through `K` joint waypoints (one per unit of `τ`), `h = 4`, `R = 50`, `Ē = 40`,
+/// `γ = 1`, with gravity compensation.
+fn arm_controller<const N: usize, const K: usize>(
     chain: SerialChain<f64, N>,
     waypoints: [[f64; N]; K],
-) -> (f64, f64, f64) {
+) -> ArmCtl<N, K> {
     let kinds = chain.kinds();
     let pts = waypoints.map(|w| JointSpace::new(SVector::from(w), kinds));
     let field = SuspendedField::new(
@@ -133,7 +136,17 @@ fn pvfc_run<const N: usize, const K: usize>(
         ExponentialPacing::new(50.0).unwrap(),
     );
     let law = PvfcLaw::new(chain, field, Flywheel::new(1.0, 40.0).unwrap(), 1.0).unwrap();
-    let ctl = Controller::new(law).with_gravity_compensation();
+    Controller::new(law).with_gravity_compensation()
+}
+
+/// PVFC with gravity compensation through `K` waypoints, frictionless, from rest off the
+/// contour: (max |κ_a − κ_a(0)|/κ_a(0), U(0), U at 10 s).
+fn pvfc_run<const N: usize, const K: usize>(
+    chain: SerialChain<f64, N>,
+    waypoints: [[f64; N]; K],
+) -> (f64, f64, f64) {
+    let kinds = chain.kinds();
+    let ctl = arm_controller(chain, waypoints);
     let lp: ArmLoop<N, K> = ClosedLoop::matched(ctl);
     let first = SVector::from(waypoints[0]);
     let mut s = AugmentedState {
@@ -192,16 +205,7 @@ fn the_passive_controller_on_the_ur5_closes_its_audit_with_gravity() {
     let chain = ur5();
     let kinds = chain.kinds();
     let waypoints = UR5_WAYPOINTS;
-    let pts = waypoints.map(|w| JointSpace::new(SVector::from(w), kinds));
-    let field = SuspendedField::new(
-        PeriodicBSpline::through(pts, 1.0).unwrap(),
-        JointNavigation::new(SVector::repeat(4.0), kinds).unwrap(),
-        ExponentialPacing::new(50.0).unwrap(),
-    );
-    let law = PvfcLaw::new(chain, field, Flywheel::new(1.0, 40.0).unwrap(), 1.0).unwrap();
-    let base = Controller::new(law)
-        .with_gravity_compensation()
-        .starting_at_rest(0.0);
+    let base = arm_controller(chain, waypoints).starting_at_rest(0.0);
     let plant_dt = 5e-5;
     for rate in [1000.0f64, 250.0, 100.0] {
         let dt = 1.0 / rate;
