@@ -254,6 +254,41 @@ impl PassiveSpec {
         Ok(())
     }
 
+    /// The passive controller around `controller` with these limits, encoder charge (on the
+    /// joints `circular` marks), velocity filter and reserve.
+    pub fn controller<G, Sys, F, const N: usize>(
+        &self,
+        controller: Controller<f64, G, Sys, F, N>,
+        circular: [bool; N],
+    ) -> Result<PassiveController<f64, G, Sys, F, N>>
+    where
+        G: VectorGroup<f64, N>,
+        Sys: MechanicalSystem<f64, G, N>,
+        F: VelocityField<f64, G, N>,
+    {
+        self.validate_for(N)?;
+        let mut c = PassiveController::new(controller)
+            .with_velocity_filter(self.velocity_filter)?
+            .with_reserve(self.reserve)?;
+        if !self.torque_limit.is_empty() {
+            c = c.with_torque_limits(joint_vector::<N>(
+                &self.torque_limit,
+                "controller.passive.torque_limit",
+            )?)?;
+        }
+        if let Some(counts) = self.encoder_counts {
+            let step = std::f64::consts::TAU / counts;
+            c = c.with_encoder_resolution(nalgebra::SVector::from_fn(|i, _| {
+                if circular[i] {
+                    step
+                } else {
+                    0.0
+                }
+            }))?;
+        }
+        Ok(c)
+    }
+
     /// A measured position: `q` rounded to the encoder's resolution.
     pub fn measure(&self, q: f64) -> f64 {
         match self.encoder_counts {
@@ -740,20 +775,6 @@ impl Scenario {
         let Some(p) = &self.controller.passive else {
             return Ok(None);
         };
-        p.validate_for(2)?;
-        let mut ctl = PassiveController::new(self.controller()?)
-            .with_velocity_filter(p.velocity_filter)?
-            .with_reserve(p.reserve)?;
-        if let Some(c) = p.encoder_counts {
-            let step = std::f64::consts::TAU / c;
-            ctl = ctl.with_encoder_resolution(Vector2::new(step, step))?;
-        }
-        if !p.torque_limit.is_empty() {
-            ctl = ctl.with_torque_limits(joint_vector::<2>(
-                &p.torque_limit,
-                "controller.passive.torque_limit",
-            )?)?;
-        }
-        Ok(Some(ctl))
+        Ok(Some(p.controller(self.controller()?, [true; 2])?))
     }
 }

@@ -5,7 +5,7 @@
 //! from each other only by their plant and surroundings, not by the controller.
 
 use crate::error::Result;
-use crate::scenario::{joint_vector, PassiveSpec};
+use crate::scenario::PassiveSpec;
 use nalgebra::SVector;
 use pvfc_core::passive::PassiveController;
 use pvfc_core::prelude::*;
@@ -89,29 +89,7 @@ where
         spec: &PassiveSpec,
         circular: [bool; N],
     ) -> Result<Self> {
-        spec.validate_for(N)?;
-        let mut c = PassiveController::new(controller)
-            .with_velocity_filter(spec.velocity_filter)?
-            .with_reserve(spec.reserve)?;
-        if !spec.torque_limit.is_empty() {
-            c = c.with_torque_limits(joint_vector::<N>(
-                &spec.torque_limit,
-                "controller.passive.torque_limit",
-            )?)?;
-        }
-        if let Some(counts) = spec.encoder_counts {
-            let step = std::f64::consts::TAU / counts;
-            c =
-                c.with_encoder_resolution(SVector::from_fn(
-                    |i, _| {
-                        if circular[i] {
-                            step
-                        } else {
-                            0.0
-                        }
-                    },
-                ))?;
-        }
+        let c = spec.controller(controller, circular)?;
         Ok(PassiveDrive {
             controller: c,
             spec: spec.clone(),
