@@ -325,8 +325,7 @@ where
             tau_dot: state.tau_dot,
             flywheel_speed: state.flywheel_speed,
         };
-        let (total, coupling, diagnostics) = self.controller.torque_coupling_diagnostics(&s)?;
-        let add_on = total - coupling;
+        let (coupling, add_on, diagnostics) = self.controller.coupling_add_ons_diagnostics(&s)?;
         // 4. The tank: scale the (workless) coupling if the storage cannot pay for it.
         let predicted = coupling.robot.dot(&velocity) * dt;
         let available = storage - self.reserve;
