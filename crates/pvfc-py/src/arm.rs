@@ -16,7 +16,7 @@ use pyo3::types::PyDict;
 /// speed). `step` keeps the internal states τ, τ̇, q̇_F; `evaluate` is pure.
 #[pyclass(module = "pvfc")]
 pub struct ArmController {
-    ctl: SimArm,
+    pub(crate) ctl: SimArm,
     initial: SimArm,
 }
 

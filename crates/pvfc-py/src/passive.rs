@@ -1,24 +1,37 @@
-//! `pvfc.PassiveController`: the scenario's controller in the passive digital mode
-//! (`pvfc_core::passive`), to drive one's own plant (MuJoCo, hardware) from Python.
+//! `pvfc.PassiveController`: a scenario's controller or an `ArmController` in the passive
+//! digital mode (`pvfc_core::passive`), to drive one's own plant (MuJoCo, hardware) from
+//! Python.
 
-use crate::convert::{out1, vector};
+use crate::arm::ArmController;
+use crate::convert::{dyn_vector, out1, vector};
 use crate::errors::{core_err, sim_err};
 use crate::runs::Scenario;
 use nalgebra::Vector2;
 use numpy::PyArray1;
 use pvfc_core::passive::EnergyAccount;
 use pvfc_core::prelude::*;
+use pvfc_sim::arm::{PassiveArm, PassiveOptions};
 use pvfc_sim::paper::PaperPassiveController;
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-/// The scenario's controller, passive for any sampling period: it accounts the energy it
-/// gives the robot at the samples from the positions and the applied torque, and pays it
-/// from its flywheel and τ̇. Settings default to the scenario's `[controller.passive]`.
+/// The controller behind a `pvfc.PassiveController`: the paper's SCARA (from a scenario) or
+/// any arm (from an `ArmController`).
+#[derive(Clone)]
+enum Inner {
+    Scara(Box<PaperPassiveController>),
+    Arm(Box<PassiveArm>),
+}
+
+/// A controller, passive for any sampling period: it accounts the energy it gives the robot
+/// at the samples from the positions and the applied torque, and pays it from its flywheel
+/// and τ̇. From a scenario (settings default to its `[controller.passive]`) or from an
+/// `ArmController` (any robot; its internal states as they are).
 #[pyclass(module = "pvfc")]
 pub(crate) struct PassiveController {
-    ctl: PaperPassiveController,
-    initial: PaperPassiveController,
+    ctl: Inner,
+    initial: Inner,
     last: Option<EnergyAccount<f64>>,
 }
 
@@ -29,47 +42,60 @@ fn pair(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vector2<f64>> {
 #[pymethods]
 impl PassiveController {
     #[new]
-    #[pyo3(signature = (scenario, torque_limit=None, encoder_resolution=None, velocity_filter=None, reserve=None))]
+    #[pyo3(signature = (controller, torque_limit=None, encoder_resolution=None, velocity_filter=None, reserve=None))]
     fn new(
-        scenario: &Scenario,
+        controller: &Bound<'_, PyAny>,
         torque_limit: Option<&Bound<'_, PyAny>>,
         encoder_resolution: Option<&Bound<'_, PyAny>>,
         velocity_filter: Option<f64>,
         reserve: Option<f64>,
     ) -> PyResult<Self> {
-        let mut s = scenario.s.clone();
-        s.controller.passive.get_or_insert_with(Default::default);
-        let mut ctl = s
-            .passive_controller()
-            .map_err(sim_err)?
-            .ok_or_else(|| pyo3::exceptions::PyRuntimeError::new_err("no passive controller"))?;
-        if let Some(l) = torque_limit {
-            ctl = ctl
-                .with_torque_limits(pair(l, "torque_limit")?)
-                .map_err(core_err)?;
-        }
-        if let Some(d) = encoder_resolution {
-            ctl = ctl
-                .with_encoder_resolution(pair(d, "encoder_resolution")?)
-                .map_err(core_err)?;
-        }
-        if let Some(f) = velocity_filter {
-            ctl = ctl.with_velocity_filter(f).map_err(core_err)?;
-        }
-        if let Some(r) = reserve {
-            ctl = ctl.with_reserve(r).map_err(core_err)?;
-        }
+        let ctl = if let Ok(scenario) = controller.cast::<Scenario>() {
+            Inner::Scara(Box::new(scara(
+                &scenario.borrow(),
+                torque_limit,
+                encoder_resolution,
+                velocity_filter,
+                reserve,
+            )?))
+        } else if let Ok(arm) = controller.cast::<ArmController>() {
+            let arm = arm.borrow();
+            let n = arm.ctl.dof();
+            let per_joint = |x: Option<&Bound<'_, PyAny>>, name: &str| {
+                x.map(|x| dyn_vector(x, name, n)).transpose()
+            };
+            let options = PassiveOptions {
+                torque_limit: per_joint(torque_limit, "torque_limit")?,
+                encoder_resolution: per_joint(encoder_resolution, "encoder_resolution")?,
+                velocity_filter: velocity_filter.unwrap_or(0.0),
+                reserve: reserve.unwrap_or(0.0),
+            };
+            Inner::Arm(Box::new(arm.ctl.passive(&options).map_err(sim_err)?))
+        } else {
+            return Err(PyTypeError::new_err(
+                "PassiveController: expected a pvfc.Scenario or a pvfc.ArmController",
+            ));
+        };
         Ok(PassiveController {
+            initial: ctl.clone(),
             ctl,
-            initial: ctl,
             last: None,
         })
+    }
+
+    /// The number of joints.
+    #[getter]
+    fn dof(&self) -> usize {
+        match &self.ctl {
+            Inner::Scara(_) => 2,
+            Inner::Arm(a) => a.dof(),
+        }
     }
 
     /// One control step at the measured positions `q` (and velocities `qdot`, or `None` to
     /// estimate them from the positions), with `applied` the torque the drive applied over
     /// the last period (`None`: what this controller commanded). Returns the torque to hold
-    /// for `dt`, shape (2,). On error nothing changes.
+    /// for `dt`, shape (dof,). On error nothing changes.
     #[pyo3(signature = (q, qdot, dt, applied=None))]
     fn step<'py>(
         &mut self,
@@ -79,15 +105,27 @@ impl PassiveController {
         dt: f64,
         applied: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let q = Torus::new(pair(q, "q")?);
-        let v = qdot.map(|v| pair(v, "qdot")).transpose()?;
-        let u = applied.map(|u| pair(u, "applied")).transpose()?;
-        let out = self
-            .ctl
-            .step(&q, v.as_ref(), u.as_ref(), dt)
-            .map_err(core_err)?;
-        self.last = Some(out.energy);
-        Ok(out1(py, vec![out.torque[0], out.torque[1]]))
+        let (torque, energy) = match &mut self.ctl {
+            Inner::Scara(c) => {
+                let q = Torus::new(pair(q, "q")?);
+                let v = qdot.map(|v| pair(v, "qdot")).transpose()?;
+                let u = applied.map(|u| pair(u, "applied")).transpose()?;
+                let out = c.step(&q, v.as_ref(), u.as_ref(), dt).map_err(core_err)?;
+                (out.torque.as_slice().to_vec(), out.energy)
+            }
+            Inner::Arm(c) => {
+                let n = c.dof();
+                let q = dyn_vector(q, "q", n)?;
+                let v = qdot.map(|v| dyn_vector(v, "qdot", n)).transpose()?;
+                let u = applied.map(|u| dyn_vector(u, "applied", n)).transpose()?;
+                let out = c
+                    .step(&q, v.as_deref(), u.as_deref(), dt)
+                    .map_err(sim_err)?;
+                (out.torque, out.energy)
+            }
+        };
+        self.last = Some(energy);
+        Ok(out1(py, torque))
     }
 
     /// The last step's energy account: storage, to_robot, add_ons, correction, scale,
@@ -111,19 +149,61 @@ impl PassiveController {
     /// The storage ½τ̇² + ½M_F q̇_F² as accounted (J).
     #[getter]
     fn storage(&self) -> f64 {
-        self.ctl.storage()
+        match &self.ctl {
+            Inner::Scara(c) => c.storage(),
+            Inner::Arm(c) => c.storage(),
+        }
     }
 
     /// The internal states (τ, τ̇, q̇_F, laps).
     #[getter]
     fn state(&self) -> (f64, f64, f64, i64) {
-        let s = self.ctl.controller().state();
-        (s.tau, s.tau_dot, s.flywheel_speed, s.laps)
+        match &self.ctl {
+            Inner::Scara(c) => {
+                let s = c.controller().state();
+                (s.tau, s.tau_dot, s.flywheel_speed, s.laps)
+            }
+            Inner::Arm(c) => c.state(),
+        }
     }
 
     /// Back to the initial internal states and storage.
     fn reset(&mut self) {
-        self.ctl = self.initial;
+        self.ctl = self.initial.clone();
         self.last = None;
     }
+}
+
+/// The scenario's SCARA controller in the passive mode, the arguments overriding its
+/// `[controller.passive]`.
+fn scara(
+    scenario: &Scenario,
+    torque_limit: Option<&Bound<'_, PyAny>>,
+    encoder_resolution: Option<&Bound<'_, PyAny>>,
+    velocity_filter: Option<f64>,
+    reserve: Option<f64>,
+) -> PyResult<PaperPassiveController> {
+    let mut s = scenario.s.clone();
+    s.controller.passive.get_or_insert_with(Default::default);
+    let mut ctl = s
+        .passive_controller()
+        .map_err(sim_err)?
+        .ok_or_else(|| pyo3::exceptions::PyRuntimeError::new_err("no passive controller"))?;
+    if let Some(l) = torque_limit {
+        ctl = ctl
+            .with_torque_limits(pair(l, "torque_limit")?)
+            .map_err(core_err)?;
+    }
+    if let Some(d) = encoder_resolution {
+        ctl = ctl
+            .with_encoder_resolution(pair(d, "encoder_resolution")?)
+            .map_err(core_err)?;
+    }
+    if let Some(f) = velocity_filter {
+        ctl = ctl.with_velocity_filter(f).map_err(core_err)?;
+    }
+    if let Some(r) = reserve {
+        ctl = ctl.with_reserve(r).map_err(core_err)?;
+    }
+    Ok(ctl)
 }

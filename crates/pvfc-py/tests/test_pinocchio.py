@@ -160,3 +160,86 @@ def test_inverse_kinematics_lands_where_pinocchio_says(name: str) -> None:
         assert robot.manipulability(q_star) > 0.0
     with pytest.raises(pvfc.NoConvergenceError):
         robot.inverse_kinematics([5.0, 0.0, 0.0], np.zeros(model.nq))
+
+
+UR5_WAYPOINTS = [
+    [0.0, -1.2, 1.4, -1.8, -1.57, 0.0],
+    [0.5, -1.0, 1.2, -1.7, -1.4, 0.3],
+    [0.8, -1.4, 1.6, -1.6, -1.2, 0.6],
+    [0.3, -1.7, 1.9, -1.9, -1.5, 0.2],
+    [-0.3, -1.5, 1.7, -2.0, -1.8, -0.3],
+    [-0.5, -1.1, 1.3, -1.8, -1.7, -0.4],
+]
+
+
+@pytest.mark.parametrize("rate", [1000.0, 100.0])
+def test_passive_arm_controller_on_a_pinocchio_plant(rate: float) -> None:
+    """The passive digital mode of an ``ArmController`` drives the UR5 simulated by Pinocchio
+    (``aba``, RK4 at 10 kHz, with gravity) at 1 kHz and 100 Hz, with gravity compensation and
+    torque limits. At every sample the energy balance closes: kinetic + potential energy of
+    the robot + the controller's storage, less what the add-ons (gravity compensation) put in,
+    stays at its initial value to 1e-8 of Ē (the plant integrator's error); and U falls."""
+    robot, model, _ = models("ur5")
+    data = model.createData()
+    energy = 20.0
+    arm = pvfc.ArmController(
+        robot, UR5_WAYPOINTS, 1.0, h=[4.0] * 6, self_pacing=20.0, energy=energy, gamma=1.0
+    )
+    limits = np.array([150.0, 150.0, 150.0, 28.0, 28.0, 28.0])
+    ctl = pvfc.PassiveController(arm, torque_limit=limits)
+    assert ctl.dof == 6
+    q = np.array(UR5_WAYPOINTS[0]) + 0.2
+    v = np.zeros(6)
+
+    def robot_energy(q: np.ndarray, v: np.ndarray) -> float:
+        return pin.computeKineticEnergy(model, data, q, v) + pin.computePotentialEnergy(
+            model, data, q
+        )
+
+    def f(x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return np.concatenate([x[6:], pin.aba(model, data, x[:6], x[6:], u)])
+
+    start = robot_energy(q, v) + ctl.storage
+    add_ons, worst = 0.0, 0.0
+    period, substeps = 1.0 / rate, int(round(1e4 / rate))
+    h = period / substeps
+    potentials = []
+    x = np.concatenate([q, v])
+    for _ in range(int(2.0 * rate)):
+        u = ctl.step(x[:6], x[6:], period)
+        assert np.all(np.abs(u) <= limits)
+        e = ctl.energy
+        add_ons += e["add_ons"]
+        worst = max(worst, abs(robot_energy(x[:6], x[6:]) + e["storage"] - start - add_ons))
+        potentials.append(arm.evaluate(x[:6], x[6:], *ctl.state[:3])["potential"])
+        for _ in range(substeps):
+            k1 = f(x, u)
+            k2 = f(x + 0.5 * h * k1, u)
+            k3 = f(x + 0.5 * h * k2, u)
+            k4 = f(x + h * k3, u)
+            x = x + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+    # Gravity compensation did real work, so an account that left it out would fail.
+    assert abs(add_ons) > 1e-2
+    assert worst < 1e-8 * energy, worst
+    assert potentials[-1] < 0.5 * potentials[0]
+
+
+def test_passive_arm_controller_checks_its_arguments() -> None:
+    robot, _, _ = models("ur5")
+    arm = pvfc.ArmController(robot, UR5_WAYPOINTS, 1.0)
+    with pytest.raises(ValueError, match="torque_limit"):
+        pvfc.PassiveController(arm, torque_limit=[1.0] * 5)
+    with pytest.raises(pvfc.InvalidParameterError):
+        pvfc.PassiveController(arm, torque_limit=[1.0] * 5 + [-1.0])
+    with pytest.raises(TypeError):
+        pvfc.PassiveController(robot)
+    ctl = pvfc.PassiveController(arm, velocity_filter=0.01)
+    with pytest.raises(ValueError, match="applied"):
+        ctl.step(np.zeros(6), None, 1e-3, applied=np.zeros(3))
+    before = (ctl.state, ctl.storage)
+    with pytest.raises(pvfc.NonFiniteError):
+        ctl.step([np.nan] * 6, None, 1e-3)
+    assert (ctl.state, ctl.storage) == before
+    ctl.step(np.zeros(6), None, 1e-3)
+    ctl.reset()
+    assert (ctl.state, ctl.storage) == before and ctl.energy is None

@@ -6,6 +6,7 @@ use crate::error::{Result, SimError};
 use crate::robot::{ChainModel, Robot};
 use nalgebra::SVector;
 use pvfc_core::augmented::AugmentedState;
+use pvfc_core::passive::{EnergyAccount, PassiveController};
 use pvfc_core::prelude::*;
 
 /// The most waypoints a joint-space contour may have (the spline's capacity; no allocation).
@@ -87,50 +88,26 @@ pub enum ArmController {
     J8(ArmControllerN<8>),
 }
 
+/// Runs `$body` on the variant of an enum with variants `J1 … J8` (one per number of joints),
+/// with `$N` the number of joints as a constant.
+macro_rules! on_joints {
+    ($enum:ident, $self:expr, $c:ident, $N:ident => $body:expr) => {
+        on_joints!(@arms $enum, $self, $c, $N, $body, J1 1, J2 2, J3 3, J4 4, J5 5, J6 6, J7 7, J8 8)
+    };
+    (@arms $enum:ident, $self:expr, $c:ident, $N:ident, $body:expr, $($v:ident $n:literal),*) => {
+        match $self {
+            $($enum::$v($c) => {
+                #[allow(dead_code)]
+                const $N: usize = $n;
+                $body
+            })*
+        }
+    };
+}
+
 macro_rules! on_arm {
     ($self:expr, $c:ident, $N:ident => $body:expr) => {
-        match $self {
-            ArmController::J1($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 1;
-                $body
-            }
-            ArmController::J2($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 2;
-                $body
-            }
-            ArmController::J3($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 3;
-                $body
-            }
-            ArmController::J4($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 4;
-                $body
-            }
-            ArmController::J5($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 5;
-                $body
-            }
-            ArmController::J6($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 6;
-                $body
-            }
-            ArmController::J7($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 7;
-                $body
-            }
-            ArmController::J8($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 8;
-                $body
-            }
-        }
+        on_joints!(ArmController, $self, $c, $N => $body)
     };
 }
 
@@ -254,6 +231,126 @@ impl ArmController {
     pub fn state(&self) -> (f64, f64, f64, i64) {
         on_arm!(self, c, N => {
             let s = c.state();
+            (s.tau, s.tau_dot, s.flywheel_speed, s.laps)
+        })
+    }
+
+    /// This controller in the passive digital mode ([`pvfc_core::passive`]), with its
+    /// internal states as they are now.
+    pub fn passive(&self, o: &PassiveOptions) -> Result<PassiveArm> {
+        macro_rules! wrap {
+            ($($v:ident),*) => {
+                match self {
+                    $(ArmController::$v(c) => PassiveArm::$v(o.build(*c)?),)*
+                }
+            };
+        }
+        Ok(wrap!(J1, J2, J3, J4, J5, J6, J7, J8))
+    }
+}
+
+/// The settings of the passive digital mode as plain data (lengths checked against the
+/// robot): see [`PassiveController`]'s builders.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PassiveOptions {
+    /// Per-joint torque limits (N·m, N; each > 0); `None`: no limits.
+    pub torque_limit: Option<Vec<f64>>,
+    /// Per-joint encoder resolution (rad, m; each ≥ 0) charged to the storage; `None`: exact
+    /// positions.
+    pub encoder_resolution: Option<Vec<f64>>,
+    /// The velocity estimate's filter time constant (s, ≥ 0).
+    pub velocity_filter: f64,
+    /// The storage the tank keeps in hand (J, ≥ 0).
+    pub reserve: f64,
+}
+
+impl PassiveOptions {
+    fn build<const N: usize>(&self, c: ArmControllerN<N>) -> Result<PassiveArmN<N>> {
+        let mut p = PassiveController::new(c)
+            .with_velocity_filter(self.velocity_filter)?
+            .with_reserve(self.reserve)?;
+        if let Some(l) = &self.torque_limit {
+            p = p.with_torque_limits(fixed::<N>(l, "torque_limit")?)?;
+        }
+        if let Some(d) = &self.encoder_resolution {
+            p = p.with_encoder_resolution(fixed::<N>(d, "encoder_resolution")?)?;
+        }
+        Ok(p)
+    }
+}
+
+/// The passive digital controller of an `N`-joint arm.
+pub type PassiveArmN<const N: usize> =
+    PassiveController<f64, JointSpace<f64, N>, SerialChain<f64, N>, ArmField<N>, N>;
+
+/// What one passive step gives: the torque to hold and the period's energy account.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PassiveArmStep {
+    /// Motor torques to hold for the next period (after the torque limits).
+    pub torque: Vec<f64>,
+    /// The velocity the law used (measured, or estimated from the positions).
+    pub velocity: Vec<f64>,
+    /// `U(E)`.
+    pub potential: f64,
+    /// The period's energy account.
+    pub energy: EnergyAccount<f64>,
+}
+
+/// A passive arm controller for 1 to 8 joints ([`ArmController::passive`]).
+#[derive(Clone, Debug)]
+#[allow(missing_docs)]
+#[allow(clippy::large_enum_variant)]
+pub enum PassiveArm {
+    J1(PassiveArmN<1>),
+    J2(PassiveArmN<2>),
+    J3(PassiveArmN<3>),
+    J4(PassiveArmN<4>),
+    J5(PassiveArmN<5>),
+    J6(PassiveArmN<6>),
+    J7(PassiveArmN<7>),
+    J8(PassiveArmN<8>),
+}
+
+impl PassiveArm {
+    /// The number of joints.
+    pub fn dof(&self) -> usize {
+        on_joints!(PassiveArm, self, _c, N => N)
+    }
+
+    /// One step at the measured positions `q` (and velocities `v`, if measured), with
+    /// `applied` the torque the drive applied over the last period (`None`: the command).
+    /// On error nothing changes.
+    pub fn step(
+        &mut self,
+        q: &[f64],
+        v: Option<&[f64]>,
+        applied: Option<&[f64]>,
+        dt: f64,
+    ) -> Result<PassiveArmStep> {
+        on_joints!(PassiveArm, self, c, N => {
+            let kinds = c.controller().law().system().kinds();
+            let q = JointSpace::new(fixed::<N>(q, "q")?, kinds);
+            let v = v.map(|v| fixed::<N>(v, "v")).transpose()?;
+            let u = applied.map(|u| fixed::<N>(u, "applied")).transpose()?;
+            let out = c.step(&q, v.as_ref(), u.as_ref(), dt)?;
+            Ok(PassiveArmStep {
+                torque: out.torque.as_slice().to_vec(),
+                velocity: out.velocity.as_slice().to_vec(),
+                potential: out.diagnostics.potential,
+                energy: out.energy,
+            })
+        })
+    }
+
+    /// The storage `½τ̇² + ½M_F q̇_F²` as accounted (J).
+    pub fn storage(&self) -> f64 {
+        on_joints!(PassiveArm, self, c, N => c.storage())
+    }
+
+    /// The internal states `(τ, τ̇, q̇_F, laps)`.
+    pub fn state(&self) -> (f64, f64, f64, i64) {
+        on_joints!(PassiveArm, self, c, N => {
+            let s = c.controller().state();
             (s.tau, s.tau_dot, s.flywheel_speed, s.laps)
         })
     }

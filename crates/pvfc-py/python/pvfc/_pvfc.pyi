@@ -297,12 +297,14 @@ class Controller:
 class PassiveController:
     def __new__(
         cls,
-        scenario: Scenario,
+        controller: Union[Scenario, ArmController],
         torque_limit: Optional[_ArrayLike] = None,
         encoder_resolution: Optional[_ArrayLike] = None,
         velocity_filter: Optional[float] = None,
         reserve: Optional[float] = None,
     ) -> PassiveController: ...
+    @property
+    def dof(self) -> int: ...
     def step(
         self, q: _ArrayLike, qdot: Optional[_ArrayLike], dt: float, applied: Optional[_ArrayLike] = None
     ) -> _F64Array: ...
