@@ -109,9 +109,12 @@ def test_mcap_round_trip(tmp_path):
     msgs = pvfc.read_mcap(path)
     assert len(msgs) == 2 * len(r)
     joints = [m for m in msgs if m[0] == "/joint_state"]
-    np.testing.assert_array_equal(np.array([m[2]["q"] for m in joints]), r.q)
+    np.testing.assert_array_equal(np.array([m[2]["q"] for m in joints]), r.q.astype(np.float32))
     ctl = [m for m in msgs if m[0] == "/pvfc/controller"]
-    np.testing.assert_array_equal(np.array([m[2]["potential"] for m in ctl]), r.potential)
+    np.testing.assert_array_equal(
+        np.array([m[2]["potential"] for m in ctl]), r.potential.astype(np.float32)
+    )
+    np.testing.assert_array_equal(np.array([m[2]["energy"] for m in ctl]), r.energy)
 
 
 def test_simulate_many_matches_simulate():

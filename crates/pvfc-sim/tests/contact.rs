@@ -353,9 +353,17 @@ fn contact_columns_round_trip_through_mcap() {
     let c = t.contact.as_ref().unwrap();
     assert_eq!(msgs.len(), t.len());
     for (i, m) in msgs.iter().enumerate() {
-        assert_eq!(m.data["normal_force"].as_f64(), Some(c.normal_force[i]));
+        // The works (the audit) in float64, plot values in float32.
+        assert_eq!(
+            m.data["normal_force"].as_f64(),
+            Some(c.normal_force[i] as f32 as f64)
+        );
         assert_eq!(m.data["work_contact"].as_f64(), Some(c.work_contact[i]));
-        assert_eq!(m.data["tool"][1].as_f64(), Some(c.tool[i][1]));
+        assert_eq!(
+            m.data["work_controller"].as_f64(),
+            Some(c.work_controller[i])
+        );
+        assert_eq!(m.data["tool"][1].as_f64(), Some(c.tool[i][1] as f32 as f64));
     }
     std::fs::remove_dir_all(&dir).ok();
 }

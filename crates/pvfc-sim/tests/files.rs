@@ -131,11 +131,20 @@ fn mcap_logs_read_back_with_counts_and_values() {
     assert_eq!(ctl.len(), t.len());
     for (i, (j, c)) in joints.iter().zip(&ctl).enumerate() {
         assert_eq!(j.log_time, (t.t[i] * 1e9).round() as u64);
-        assert_eq!(j.data["q"][0].as_f64().unwrap(), t.q[i][0]);
-        assert_eq!(j.data["torque"][1].as_f64().unwrap(), t.torque[i][1]);
-        assert_eq!(c.data["potential"].as_f64().unwrap(), t.potential[i]);
-        assert_eq!(c.data["beta"].as_f64().unwrap(), t.beta[i]);
-        assert_eq!(c.data["tau"].as_f64().unwrap(), t.tau[i]);
+        // Plot values are float32, the audit's energy float64 (log module).
+        let f32_of = |x: f64| x as f32 as f64;
+        assert_eq!(j.data["q"][0].as_f64().unwrap(), f32_of(t.q[i][0]));
+        assert_eq!(
+            j.data["torque"][1].as_f64().unwrap(),
+            f32_of(t.torque[i][1])
+        );
+        assert_eq!(
+            c.data["potential"].as_f64().unwrap(),
+            f32_of(t.potential[i])
+        );
+        assert_eq!(c.data["beta"].as_f64().unwrap(), f32_of(t.beta[i]));
+        assert_eq!(c.data["tau"].as_f64().unwrap(), f32_of(t.tau[i]));
+        assert_eq!(c.data["energy"].as_f64().unwrap(), t.energy[i]);
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
