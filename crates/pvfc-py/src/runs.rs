@@ -38,12 +38,19 @@ impl Scenario {
     }
 
     /// Builds a scenario from a dict with the layout of the TOML files (see `to_dict`).
+    /// Relative paths in it (a URDF, a CSV of points) are read from `base_dir` (default: the
+    /// current directory); `Scenario.from_file(p)` uses `p`'s folder.
     #[staticmethod]
-    fn from_dict(py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<Self> {
+    #[pyo3(signature = (d, base_dir=None))]
+    fn from_dict(
+        py: Python<'_>,
+        d: &Bound<'_, PyDict>,
+        base_dir: Option<PathBuf>,
+    ) -> PyResult<Self> {
         let text: String = py.import("json")?.call_method1("dumps", (d,))?.extract()?;
         let mut s: SimScenario = serde_json::from_str(&text)
             .map_err(|e| crate::errors::ScenarioError::new_err(format!("scenario dict: {e}")))?;
-        s.base_dir = PathBuf::new();
+        s.base_dir = base_dir.unwrap_or_default();
         s.validate()
             .map_err(|e| crate::errors::ScenarioError::new_err(format!("scenario dict: {e}")))?;
         Ok(Scenario { s })
@@ -218,9 +225,15 @@ impl SimulationResult {
         pvfc_sim::metrics::mean_potential_over_pass(&self.t, self.period)
     }
 
-    /// Writes the run as an MCAP log.
-    fn write_mcap(&self, path: PathBuf) -> PyResult<()> {
-        pvfc_sim::log::write_mcap(&self.t, &path).map_err(sim_err)
+    /// Writes the run as an MCAP log; given the run's scenario of a URDF arm, with its 3-D
+    /// scene for Foxglove (link frames, the arm, the desired tool path).
+    #[pyo3(signature = (path, scenario=None))]
+    fn write_mcap(&self, path: PathBuf, scenario: Option<&Scenario>) -> PyResult<()> {
+        let scene = match scenario {
+            Some(s) => pvfc_sim::log::scene::ArmScene::of_run(&s.s, &self.t).map_err(sim_err)?,
+            None => None,
+        };
+        pvfc_sim::log::write_mcap_with_scene(&self.t, scene.as_ref(), &path).map_err(sim_err)
     }
 
     fn __len__(&self) -> usize {

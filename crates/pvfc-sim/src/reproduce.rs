@@ -55,9 +55,10 @@ pub fn write_logs(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(&logs).map_err(|e| SimError::io(&logs, e))?;
     runs.runs
         .iter()
-        .map(|(name, (_, t))| {
+        .map(|(name, (s, t))| {
             let p = logs.join(format!("{name}.mcap"));
-            crate::log::write_mcap(t, &p)?;
+            let scene = crate::log::scene::ArmScene::of_run(s, t)?;
+            crate::log::write_mcap_with_scene(t, scene.as_ref(), &p)?;
             Ok(p)
         })
         .collect()

@@ -203,3 +203,43 @@ fn a_cartesian_tool_path_becomes_joint_waypoints_or_a_named_error() {
     few.samples = 2;
     assert!(few.sample(&s.base_dir).is_err());
 }
+
+#[test]
+fn an_arm_log_carries_its_3d_scene_for_foxglove() {
+    use pvfc_sim::log::scene::{ArmScene, ARM_TOPIC, FRAMES_TOPIC, PATH_TOPIC};
+    use pvfc_sim::log::{read_mcap, write_mcap_with_scene};
+    let mut s = ur5();
+    s.duration = 0.2;
+    let t = pvfc_sim::simulate::simulate(&s, &mut |_| {}).unwrap();
+    let scene = ArmScene::of_run(&s, &t).unwrap().unwrap();
+    assert_eq!(scene.frames.len(), 7);
+    assert_eq!(scene.frames.last().map(String::as_str), Some("tool"));
+    let dir = std::env::temp_dir().join(format!("pvfc-scene-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("ur5.mcap");
+    write_mcap_with_scene(&t, Some(&scene), &p).unwrap();
+    let msgs = read_mcap(&p).unwrap();
+    let count = |topic: &str| msgs.iter().filter(|m| m.topic == topic).count();
+    // 0.2 s at the controller's rate, frames at 50 Hz (t = 0 and 0.2 included).
+    assert_eq!(count(FRAMES_TOPIC), 11);
+    assert_eq!(count(ARM_TOPIC), 11);
+    assert_eq!(count(PATH_TOPIC), 1);
+    let robot = s.robot().unwrap();
+    for m in msgs.iter().filter(|m| m.topic == FRAMES_TOPIC) {
+        let i =
+            t.t.iter()
+                .position(|x| (x * 1e9).round() as u64 == m.log_time)
+                .unwrap();
+        let tool = &m.data["transforms"][6]["translation"];
+        let (_, p) = robot.tool_pose(&t.q[i]).unwrap();
+        for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+            assert!((tool[*axis].as_f64().unwrap() - p[k]).abs() < 1e-12);
+        }
+    }
+    // A planar run has no scene.
+    let mut planar = pvfc_sim::presets::fig8(100.0);
+    planar.duration = 0.01;
+    let tp = pvfc_sim::simulate::simulate(&planar, &mut |_| {}).unwrap();
+    assert!(ArmScene::of_run(&planar, &tp).unwrap().is_none());
+    std::fs::remove_dir_all(&dir).ok();
+}

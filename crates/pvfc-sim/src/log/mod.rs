@@ -3,10 +3,12 @@
 //! whole `pvfc reproduce` stays small, and read by Foxglove without configuration.
 
 pub mod cdr;
+pub mod scene;
 
 use crate::error::{Result, SimError};
 use crate::simulate::Trace;
 use cdr::{Field, MessageType, Width};
+use scene::ArmScene;
 use std::collections::BTreeMap;
 use std::io::BufWriter;
 use std::path::Path;
@@ -79,6 +81,11 @@ fn contact() -> MessageType {
 
 /// Writes a trace to an MCAP file, one message per sample on each topic.
 pub fn write_mcap(trace: &Trace, path: &Path) -> Result<()> {
+    write_mcap_with_scene(trace, None, path)
+}
+
+/// [`write_mcap`], plus an arm's 3-D scene for Foxglove's 3-D panel ([`scene`]).
+pub fn write_mcap_with_scene(trace: &Trace, scene: Option<&ArmScene>, path: &Path) -> Result<()> {
     let file = std::fs::File::create(path).map_err(|e| SimError::io(path, e))?;
     let mut w = mcap::WriteOptions::default()
         .compression(Some(mcap::Compression::Zstd))
@@ -100,6 +107,9 @@ pub fn write_mcap(trace: &Trace, path: &Path) -> Result<()> {
         Some(_) => Some(channel(&kt, CONTACT_TOPIC)?),
         None => None,
     };
+    if let Some(scene) = scene {
+        scene::write_scene(&mut w, scene, &meta)?;
+    }
     let mut buf = Vec::new();
     for i in 0..trace.len() {
         let time = (trace.t[i] * 1e9).round() as u64;
@@ -185,9 +195,21 @@ fn decode(channel: &mcap::Channel<'_>, data: &[u8]) -> Result<serde_json::Value>
             MessageType::parse(&schema.name, text)?.decode(data)
         }
         ("json", _) => serde_json::from_slice(data).map_err(mcap_err),
+        ("protobuf", Some(schema)) if schema.name == "foxglove.FrameTransforms" => {
+            foxglove_json::<foxglove::messages::FrameTransforms>(data)
+        }
+        ("protobuf", Some(schema)) if schema.name == "foxglove.SceneUpdate" => {
+            foxglove_json::<foxglove::messages::SceneUpdate>(data)
+        }
         (other, _) => Err(mcap_err(format!(
             "{}: message encoding `{other}` is not read here",
             channel.topic
         ))),
     }
+}
+
+/// A Foxglove message as JSON (the SDK's own decoding and field names).
+fn foxglove_json<M: foxglove::Decode + serde::Serialize>(data: &[u8]) -> Result<serde_json::Value> {
+    let m = M::decode(data).map_err(mcap_err)?;
+    serde_json::to_value(&m).map_err(mcap_err)
 }

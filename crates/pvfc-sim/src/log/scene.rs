@@ -1,0 +1,277 @@
+//! What Foxglove's 3-D panel shows of an arm's run: every link's frame as
+//! `foxglove.FrameTransforms`, the arm as a line through its joints and the desired tool path
+//! as a closed line (`foxglove.SceneUpdate`), all in the robot's base frame. The messages are
+//! Foxglove's own (the `foxglove` crate), in protobuf with the SDK's schemas.
+
+use crate::arm::ArmController;
+use crate::error::{Result, SimError};
+use crate::scenario::Scenario;
+use crate::simulate::Trace;
+use foxglove::messages::{
+    line_primitive, Color, FrameTransform, FrameTransforms, LinePrimitive, Point3, Quaternion,
+    SceneEntity, SceneUpdate, Timestamp, Vector3,
+};
+use foxglove::Encode;
+use nalgebra::{Rotation3, UnitQuaternion};
+use pvfc_core::mechanics::Pose;
+use std::collections::BTreeMap;
+use std::io::{Seek, Write};
+
+/// Topic of the link frames (`foxglove.FrameTransforms`).
+pub const FRAMES_TOPIC: &str = "/tf";
+/// Topic of the arm drawn as a line through its joints (`foxglove.SceneUpdate`).
+pub const ARM_TOPIC: &str = "/scene/arm";
+/// Topic of the desired tool path, and the Cartesian path if one was given
+/// (`foxglove.SceneUpdate`, once at the start).
+pub const PATH_TOPIC: &str = "/scene/path";
+
+/// The 3-D frames are logged at most this often (Hz): enough for the panel's playback.
+pub const SCENE_RATE: f64 = 50.0;
+
+/// An arm run's 3-D scene: frame names, link poses at the logged samples, the paths.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ArmScene {
+    /// The base frame (the URDF's base link).
+    pub base: String,
+    /// The moving links' frames, base to tip, then `tool`.
+    pub frames: Vec<String>,
+    /// `(time in ns, the poses of `frames` in the base frame)` at the logged samples.
+    pub poses: Vec<(u64, Vec<Pose<f64>>)>,
+    /// The desired contour's tool path (the forward kinematics of `x_d(τ)` over a period).
+    pub desired: Vec<[f64; 3]>,
+    /// The Cartesian path the contour was made from, if any.
+    pub cartesian: Vec<[f64; 3]>,
+}
+
+impl ArmScene {
+    /// The scene of run `t` of scenario `s`; `None` when the scenario is not a URDF arm.
+    pub fn of_run(s: &Scenario, t: &Trace) -> Result<Option<Self>> {
+        if !s.is_chain() {
+            return Ok(None);
+        }
+        let robot = s.robot()?;
+        let ctl = ArmController::new(&robot, &s.arm_settings()?)?;
+        let d = robot.description();
+        let mut frames: Vec<String> = d.joints.iter().map(|j| j.child_link.clone()).collect();
+        frames.push("tool".into());
+        let every = match t.t.get(1).zip(t.t.first()) {
+            Some((t1, t0)) if t1 > t0 => ((1.0 / SCENE_RATE) / (t1 - t0)).round().max(1.0),
+            _ => 1.0,
+        } as usize;
+        let poses = (0..t.len())
+            .step_by(every)
+            .map(|i| Ok(((t.t[i] * 1e9).round() as u64, robot.link_poses(&t.q[i])?)))
+            .collect::<Result<Vec<_>>>()?;
+        let period = s.period();
+        let desired = (0..400)
+            .map(|k| {
+                let (_, p) = robot.tool_pose(&ctl.contour_point(period * k as f64 / 400.0))?;
+                Ok([p.x, p.y, p.z])
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let cartesian = match &s.contour.cartesian {
+            Some(c) => c
+                .polyline(&s.base_dir)?
+                .iter()
+                .map(|p| [p.x, p.y, p.z])
+                .collect(),
+            None => vec![],
+        };
+        Ok(Some(ArmScene {
+            base: d.base_link.clone(),
+            frames,
+            poses,
+            desired,
+            cartesian,
+        }))
+    }
+}
+
+fn mcap_err(e: impl std::fmt::Display) -> SimError {
+    SimError::Mcap(e.to_string())
+}
+
+fn timestamp(ns: u64) -> Timestamp {
+    Timestamp::new((ns / 1_000_000_000) as u32, (ns % 1_000_000_000) as u32)
+}
+
+fn point(p: &[f64; 3]) -> Point3 {
+    Point3 {
+        x: p[0],
+        y: p[1],
+        z: p[2],
+    }
+}
+
+fn line(
+    kind: line_primitive::Type,
+    points: &[[f64; 3]],
+    rgba: [f64; 4],
+    width: f64,
+) -> LinePrimitive {
+    LinePrimitive {
+        r#type: kind as i32,
+        pose: None,
+        thickness: width,
+        scale_invariant: false,
+        points: points.iter().map(point).collect(),
+        color: Some(Color {
+            r: rgba[0],
+            g: rgba[1],
+            b: rgba[2],
+            a: rgba[3],
+        }),
+        colors: vec![],
+        indices: vec![],
+    }
+}
+
+fn entity(id: &str, frame: &str, ns: u64, lines: Vec<LinePrimitive>) -> SceneEntity {
+    SceneEntity {
+        timestamp: Some(timestamp(ns)),
+        frame_id: frame.into(),
+        id: id.into(),
+        lines,
+        ..Default::default()
+    }
+}
+
+/// The link frames at one sample.
+pub fn frame_transforms(scene: &ArmScene, ns: u64, poses: &[Pose<f64>]) -> FrameTransforms {
+    let transforms = scene
+        .frames
+        .iter()
+        .zip(poses)
+        .map(|(name, pose)| {
+            let q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
+                pose.rotation,
+            ));
+            let t = pose.translation;
+            FrameTransform {
+                timestamp: Some(timestamp(ns)),
+                parent_frame_id: scene.base.clone(),
+                child_frame_id: name.clone(),
+                translation: Some(Vector3 {
+                    x: t.x,
+                    y: t.y,
+                    z: t.z,
+                }),
+                rotation: Some(Quaternion {
+                    x: q.i,
+                    y: q.j,
+                    z: q.k,
+                    w: q.w,
+                }),
+            }
+        })
+        .collect();
+    FrameTransforms { transforms }
+}
+
+/// The arm as one line from the base through every link frame's origin to the tool.
+pub fn arm_update(scene: &ArmScene, ns: u64, poses: &[Pose<f64>]) -> SceneUpdate {
+    let points: Vec<[f64; 3]> = std::iter::once([0.0; 3])
+        .chain(poses.iter().map(|p| {
+            let t = p.translation;
+            [t.x, t.y, t.z]
+        }))
+        .collect();
+    let arm = line(
+        line_primitive::Type::LineStrip,
+        &points,
+        [0.2, 0.4, 0.9, 1.0],
+        0.02,
+    );
+    SceneUpdate {
+        deletions: vec![],
+        entities: vec![entity("arm", &scene.base, ns, vec![arm])],
+    }
+}
+
+/// The desired tool path (and the Cartesian path), closed lines in the base frame.
+pub fn path_update(scene: &ArmScene, ns: u64) -> SceneUpdate {
+    let mut lines = vec![line(
+        line_primitive::Type::LineLoop,
+        &scene.desired,
+        [0.1, 0.7, 0.3, 1.0],
+        0.004,
+    )];
+    if !scene.cartesian.is_empty() {
+        lines.push(line(
+            line_primitive::Type::LineLoop,
+            &scene.cartesian,
+            [0.95, 0.5, 0.1, 1.0],
+            0.002,
+        ));
+    }
+    SceneUpdate {
+        deletions: vec![],
+        entities: vec![entity("desired_path", &scene.base, ns, lines)],
+    }
+}
+
+/// A channel for Foxglove message type `M` on `topic`.
+fn channel<M: Encode, W: Write + Seek>(
+    w: &mut mcap::Writer<W>,
+    topic: &str,
+    meta: &BTreeMap<String, String>,
+) -> Result<u16> {
+    let schema = M::get_schema().ok_or_else(|| mcap_err("a Foxglove schema is missing"))?;
+    let id = w
+        .add_schema(&schema.name, &schema.encoding, &schema.data)
+        .map_err(mcap_err)?;
+    w.add_channel(id, topic, &M::get_message_encoding(), meta)
+        .map_err(mcap_err)
+}
+
+fn put<M: Encode, W: Write + Seek>(
+    w: &mut mcap::Writer<W>,
+    channel_id: u16,
+    sequence: u32,
+    ns: u64,
+    message: &M,
+    buf: &mut Vec<u8>,
+) -> Result<()> {
+    buf.clear();
+    message.encode(buf).map_err(mcap_err)?;
+    let header = mcap::records::MessageHeader {
+        channel_id,
+        sequence,
+        log_time: ns,
+        publish_time: ns,
+    };
+    w.write_to_known_channel(&header, buf).map_err(mcap_err)
+}
+
+/// Writes the scene's channels into an open log.
+pub(crate) fn write_scene<W: Write + Seek>(
+    w: &mut mcap::Writer<W>,
+    scene: &ArmScene,
+    meta: &BTreeMap<String, String>,
+) -> Result<()> {
+    let frames = channel::<FrameTransforms, W>(w, FRAMES_TOPIC, meta)?;
+    let arm = channel::<SceneUpdate, W>(w, ARM_TOPIC, meta)?;
+    let path = channel::<SceneUpdate, W>(w, PATH_TOPIC, meta)?;
+    let mut buf = Vec::new();
+    let start = scene.poses.first().map(|(ns, _)| *ns).unwrap_or(0);
+    put(w, path, 0, start, &path_update(scene, start), &mut buf)?;
+    for (k, (ns, poses)) in scene.poses.iter().enumerate() {
+        put(
+            w,
+            frames,
+            k as u32,
+            *ns,
+            &frame_transforms(scene, *ns, poses),
+            &mut buf,
+        )?;
+        put(
+            w,
+            arm,
+            k as u32,
+            *ns,
+            &arm_update(scene, *ns, poses),
+            &mut buf,
+        )?;
+    }
+    Ok(())
+}
