@@ -22,11 +22,13 @@
 //! integration error only.
 
 use crate::error::{Result, SimError};
-use nalgebra::Vector2;
+use nalgebra::{SVector, Vector2};
 use pvfc_core::lie::{LieGroup, Torus};
 use pvfc_core::mechanics::ScaraParameters;
 use serde::{Deserialize, Serialize};
 
+#[cfg(feature = "contact")]
+pub mod spatial;
 #[cfg(feature = "contact")]
 mod world;
 #[cfg(feature = "contact")]
@@ -91,14 +93,15 @@ impl ContactLaw {
     /// pointing from the environment into the robot, `relative_velocity` the velocity of the
     /// robot's material point minus the environment's. Returns the force (N) and its normal
     /// part `f_n ≥ 0`.
-    pub fn force(
+    /// The same in the plane (`D = 2`) and in space (`D = 3`).
+    pub fn force<const D: usize>(
         &self,
         depth: f64,
-        normal: &Vector2<f64>,
-        relative_velocity: &Vector2<f64>,
-    ) -> (Vector2<f64>, f64) {
+        normal: &SVector<f64, D>,
+        relative_velocity: &SVector<f64, D>,
+    ) -> (SVector<f64, D>, f64) {
         if depth <= 0.0 {
-            return (Vector2::zeros(), 0.0);
+            return (SVector::zeros(), 0.0);
         }
         let vn = relative_velocity.dot(normal);
         let depth_rate = -vn;
@@ -108,7 +111,7 @@ impl ContactLaw {
         let ft = if speed > 0.0 {
             -vt * (self.friction * fn_ * (speed / self.slip_velocity).tanh() / speed)
         } else {
-            Vector2::zeros()
+            SVector::zeros()
         };
         (normal * fn_ + ft, fn_)
     }
