@@ -53,14 +53,6 @@ pub fn out1<'py>(py: Python<'py>, v: Vec<f64>) -> Bound<'py, PyArray1<f64>> {
     v.into_pyarray(py)
 }
 
-/// A fresh `(n, 2)` array from rows.
-pub fn out_rows<'py>(py: Python<'py>, rows: &[[f64; 2]]) -> Bound<'py, PyArray2<f64>> {
-    let flat: Vec<f64> = rows.iter().flat_map(|r| r.iter().cloned()).collect();
-    Array2::from_shape_vec((rows.len(), 2), flat)
-        .map(|a| a.into_pyarray(py))
-        .unwrap_or_else(|_| Array2::<f64>::zeros((0, 2)).into_pyarray(py))
-}
-
 /// A fresh matrix.
 pub fn out_matrix<'py, const R: usize, const C: usize>(
     py: Python<'py>,

@@ -1,7 +1,7 @@
 //! Scenarios and runs: `pvfc.Scenario`, `SimulationResult`, `simulate`, `simulate_many`,
 //! `simulate_timed`, `read_mcap`.
 
-use crate::convert::{out1, out_rows, out_series, vector};
+use crate::convert::{out1, out_series, vector};
 use crate::errors::sim_err;
 use numpy::{PyArray1, PyArray2};
 use pvfc_sim::scenario::Scenario as SimScenario;
@@ -173,24 +173,26 @@ impl SimulationResult {
         self.period
     }
 
-    /// The contact columns of a run with a `[contact]` world, or None: a dict of fresh
-    /// arrays `force` (n, 2), `normal_force`, `depth`, `torque` (n, 2, `F_e = Jᵀf`), `tool`
-    /// (n, 2), `work_contact` (∫F_eᵀq̇ dt), `work_friction`, `work_controller` (the
-    /// add-ons' work), `nominal_speed`, and `audit_residual` (energy − energy[0] − the works).
+    /// The contact columns of a run with a `[contact]` or `[contact_3d]` world, or None: a
+    /// dict of fresh arrays `force` (n, 2 or 3), `normal_force`, `depth`, `torque` (n, dof,
+    /// `F_e = Jᵀf`), `tool` (n, 2 or 3), `work_contact` (∫F_eᵀq̇ dt), `work_friction`,
+    /// `work_controller` (the add-ons' work), `work_gravity` (−∫g(q)ᵀq̇ dt), `nominal_speed`,
+    /// and `audit_residual` (energy − energy[0] − the works).
     #[getter]
     fn contact<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         let Some(c) = &self.t.contact else {
             return Ok(None);
         };
         let d = PyDict::new(py);
-        d.set_item("force", out_rows(py, &c.force))?;
+        d.set_item("force", out_series(py, &c.force))?;
         d.set_item("normal_force", out1(py, c.normal_force.clone()))?;
         d.set_item("depth", out1(py, c.depth.clone()))?;
-        d.set_item("torque", out_rows(py, &c.torque))?;
-        d.set_item("tool", out_rows(py, &c.tool))?;
+        d.set_item("torque", out_series(py, &c.torque))?;
+        d.set_item("tool", out_series(py, &c.tool))?;
         d.set_item("work_contact", out1(py, c.work_contact.clone()))?;
         d.set_item("work_friction", out1(py, c.work_friction.clone()))?;
         d.set_item("work_controller", out1(py, c.work_controller.clone()))?;
+        d.set_item("work_gravity", out1(py, c.work_gravity.clone()))?;
         d.set_item("nominal_speed", out1(py, c.nominal_speed.clone()))?;
         d.set_item("audit_residual", out1(py, c.audit_residual(&self.t.energy)))?;
         Ok(Some(d))

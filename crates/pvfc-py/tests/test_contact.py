@@ -69,3 +69,20 @@ def test_contact_example_script(repo, tmp_path):
                          check=True, capture_output=True, text=True).stdout
     assert "PVFC: peak force" in out and "timed tracker: peak force" in out
     assert (tmp_path / "contact_wall_python.png").stat().st_size > 10_000
+
+
+def test_urdf_arm_contact_3d_from_python(repo):
+    """A UR5 pressing its tool on a table ([contact_3d]): 3-D force and tool columns, one
+    torque per joint, gravity's work in the account, and the audit at integration error."""
+    d = pvfc.Scenario.from_file(repo / "scenarios" / "ur5_deburr.toml").to_dict()
+    d["duration"] = 2.0
+    r = pvfc.simulate(pvfc.Scenario.from_dict(d, base_dir=repo / "scenarios"))
+    c = r.contact
+    n = len(r)
+    assert c["force"].shape == (n, 3) and c["tool"].shape == (n, 3) and c["torque"].shape == (n, 6)
+    assert c["normal_force"].max() > 1.0
+    assert np.abs(c["work_gravity"]).max() > 1e-3
+    assert np.abs(c["audit_residual"]).max() < 1e-6 * r.energy[0]
+    with pytest.raises(pvfc.ScenarioError, match="contact_3d"):
+        bad = {**d, "contact_3d": {**d["contact_3d"], "tool_radius": -1.0}}
+        pvfc.Scenario.from_dict(bad, base_dir=repo / "scenarios")

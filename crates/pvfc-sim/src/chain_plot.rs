@@ -80,7 +80,16 @@ pub fn chain_figure(s: &Scenario, t: &Trace, path: &Path) -> Result<()> {
         v
     };
     let title = format!("{} ({} joints)", s.name, dof);
-    let panels = if distance.is_some() { 7 } else { 6 };
+    // With 3-D contact: the normal force and the energy audit's residual.
+    let contact = t.contact.as_ref().map(|c| {
+        let audit = c.audit_residual(&t.energy);
+        (
+            vec![series("normal force".into(), &|i| c.normal_force[i])],
+            vec![series("residual".into(), &|i| audit[i])],
+        )
+    });
+    let panels = 6 + usize::from(distance.is_some()) + 2 * usize::from(contact.is_some());
+    let extra = |i: usize| i - 6 - usize::from(distance.is_some());
     figure(path, panels, |i, a| match i {
         0 => panel(
             a,
@@ -136,6 +145,31 @@ pub fn chain_figure(s: &Scenario, t: &Trace, path: &Path) -> Result<()> {
             &projection(0, 2, "tool"),
             false,
         ),
+        _ if i >= 6 + usize::from(distance.is_some()) => {
+            let empty = (Vec::new(), Vec::new());
+            let (force, audit) = contact.as_ref().unwrap_or(&empty);
+            if extra(i) == 0 {
+                panel(
+                    a,
+                    path,
+                    "contact",
+                    "t [s]",
+                    "normal force [N]",
+                    force,
+                    false,
+                )
+            } else {
+                panel(
+                    a,
+                    path,
+                    "energy audit: κ_a − κ_a(0) − ΣW",
+                    "t [s]",
+                    "[J]",
+                    audit,
+                    false,
+                )
+            }
+        }
         _ => panel(
             a,
             path,

@@ -2,11 +2,13 @@
 //! or continuous PVFC loop for any number of joints (1 to 8), with gravity in the plant,
 //! joint friction, and the controller's gravity and friction compensation.
 
-use crate::arm::{arm_controller, ArmControllerN, ArmSettings};
+use crate::arm::{arm_controller, ArmControllerN, ArmField, ArmSettings};
+use crate::contact::spatial::SpatialContact;
 use crate::error::{Result, SimError};
-use crate::integrate::ClosedLoop;
+use crate::friction::JointFriction;
+use crate::integrate::{ClosedLoop, Derivative};
 use crate::scenario::{joint_vector, Mode, Scenario};
-use crate::simulate::{plant_rk4, timing, Row, Trace};
+use crate::simulate::{plant_rk4, timing, ContactSample, ContactTrace, Row, Trace, Work};
 use crate::stepper::{PassiveDrive, Stepper};
 use crate::with_dof;
 use nalgebra::SVector;
@@ -49,13 +51,35 @@ fn run<const N: usize>(
     let q = JointSpace::new(joint_vector::<N>(&s.initial.q, "initial.q")?, kinds);
     let v = joint_vector::<N>(&s.initial.v, "initial.v")?;
     let mut trace = Trace::with_capacity(s.name.clone(), N, n + 1);
+    let mut world = Contact::of(s)?;
+    let mut contact = world
+        .is_some()
+        .then(|| ContactTrace::with_capacity(n + 1, N, 3));
     match s.simulation.mode {
         Mode::Sampled => match &s.controller.passive {
-            None => sampled(s, &chain, ctl, q, v, &mut trace, progress)?,
+            None => sampled(
+                s,
+                &chain,
+                ctl,
+                (q, v),
+                &mut world,
+                &mut trace,
+                &mut contact,
+                progress,
+            )?,
             Some(spec) => {
                 let circular = kinds.map(|k| k == JointKind::Circular);
                 let drive = PassiveDrive::new(ctl, spec, circular)?;
-                sampled(s, &chain, drive, q, v, &mut trace, progress)?
+                sampled(
+                    s,
+                    &chain,
+                    drive,
+                    (q, v),
+                    &mut world,
+                    &mut trace,
+                    &mut contact,
+                    progress,
+                )?
             }
         },
         Mode::Continuous => {
@@ -68,9 +92,10 @@ fn run<const N: usize>(
                 tau_dot: i.tau_dot,
                 flywheel_speed: i.flywheel_speed,
             };
+            let mut work = Work::default();
             for k in 0..=n {
                 let t = k as f64 * dt;
-                let (torque, c) = sys.controller.evaluate(&st)?;
+                let mut first = stage(&sys, &world, &friction, &st)?;
                 trace.push(Row {
                     t,
                     q: st.q.coords().as_slice(),
@@ -78,19 +103,31 @@ fn run<const N: usize>(
                     tau: st.tau,
                     tau_dot: st.tau_dot,
                     flywheel_speed: st.flywheel_speed,
-                    beta: c.beta,
-                    potential: c.field.potential,
-                    lambda1: c.field.lambda1,
-                    lambda2: c.field.lambda2,
-                    torque: torque.robot.as_slice(),
+                    beta: first.beta,
+                    potential: first.potential,
+                    lambda1: first.lambda1,
+                    lambda2: first.lambda2,
+                    torque: first.torque.as_slice(),
                     energy: sys.kinetic_energy(&st),
-                    friction_power: friction.torque(&st.v).dot(&st.v),
+                    friction_power: first.power[1],
                 });
+                if let (Some(ct), Some(w)) = (contact.as_mut(), &world) {
+                    w.log(ct, &chain, &st.q, &first.contact, &work)?;
+                }
                 if k == n {
                     break;
                 }
-                for _ in 0..s.simulation.plant_substeps {
-                    st = sys.rk4_step_with(&st, h, |x| friction.torque(&x.v))?;
+                for j in 0..s.simulation.plant_substeps {
+                    if j > 0 {
+                        first = stage(&sys, &world, &friction, &st)?;
+                    }
+                    let mut p = [first.power; 4];
+                    st = sys.rk4_with_stages(&st, &first.derivative, h, |i, _, x| {
+                        let e = stage(&sys, &world, &friction, x)?;
+                        p[i] = e.power;
+                        Ok::<_, SimError>(e.derivative)
+                    })?;
+                    work.add(h, &p);
                 }
                 if k % 1000 == 0 {
                     progress(k as f64 / n as f64);
@@ -98,27 +135,158 @@ fn run<const N: usize>(
             }
         }
     }
+    trace.contact = contact;
     progress(1.0);
     Ok(trace)
 }
 
+/// A chain run's 3-D contact world, if the scenario has a `[contact_3d]` table.
+struct Contact {
+    #[cfg(feature = "contact")]
+    world: crate::contact::spatial::SpatialWorld,
+}
+
+impl Contact {
+    fn of(s: &Scenario) -> Result<Option<Self>> {
+        match &s.contact_3d {
+            None => Ok(None),
+            #[cfg(feature = "contact")]
+            Some(spec) => Ok(Some(Contact {
+                world: crate::contact::spatial::SpatialWorld::new(spec, &s.robot()?)?,
+            })),
+            #[cfg(not(feature = "contact"))]
+            Some(_) => Err(SimError::Setting(
+                "the scenario has a [contact_3d] table, but pvfc-sim was built without its `contact` feature".into(),
+            )),
+        }
+    }
+
+    /// The contact torque `F_e` on the arm at `(q, q̇)`, and what the log keeps of it.
+    fn forces<const N: usize>(
+        &self,
+        q: &JointSpace<f64, N>,
+        v: &SVector<f64, N>,
+    ) -> Result<(SVector<f64, N>, SpatialContact)> {
+        #[cfg(feature = "contact")]
+        {
+            let c = self.world.contact(q.coords().as_slice(), v.as_slice())?;
+            Ok((SVector::from_column_slice(&c.torque), c))
+        }
+        #[cfg(not(feature = "contact"))]
+        {
+            let _ = (q, v);
+            Ok((SVector::zeros(), SpatialContact::default()))
+        }
+    }
+
+    /// One sample of the contact columns.
+    fn log<const N: usize>(
+        &self,
+        ct: &mut ContactTrace,
+        chain: &SerialChain<f64, N>,
+        q: &JointSpace<f64, N>,
+        c: &SpatialContact,
+        work: &Work,
+    ) -> Result<()> {
+        let tool = chain.kinematics(q.coords()).link_poses[N - 1]
+            .compose(chain.tool())
+            .translation;
+        let torque = if c.torque.len() == N {
+            c.torque.clone()
+        } else {
+            vec![0.0; N]
+        };
+        ct.push_sample(
+            &ContactSample {
+                force: c.force.as_slice(),
+                normal_force: c.normal_force,
+                depth: c.depth,
+                torque: &torque,
+                tool: tool.as_slice(),
+            },
+            work,
+            0.0,
+        );
+        Ok(())
+    }
+}
+
+/// One evaluation of a chain's closed loop with its contact: the rate, what the log needs,
+/// and the powers `[contact, friction, controller add-ons, gravity]` on the arm.
+struct Stage<const N: usize> {
+    derivative: Derivative<f64, N>,
+    contact: SpatialContact,
+    torque: SVector<f64, N>,
+    beta: f64,
+    potential: f64,
+    lambda1: f64,
+    lambda2: f64,
+    power: [f64; 4],
+}
+
+fn stage<const N: usize>(
+    sys: &ClosedLoop<
+        f64,
+        JointSpace<f64, N>,
+        SerialChain<f64, N>,
+        SerialChain<f64, N>,
+        ArmField<N>,
+        N,
+    >,
+    world: &Option<Contact>,
+    friction: &JointFriction,
+    st: &AugmentedState<f64, JointSpace<f64, N>, N>,
+) -> Result<Stage<N>> {
+    let (fc, contact) = match world {
+        Some(w) => w.forces(&st.q, &st.v)?,
+        None => (SVector::zeros(), SpatialContact::default()),
+    };
+    let ff = friction.torque(&st.v);
+    let (torque, c) = sys.controller.evaluate(st)?;
+    let derivative = sys.rate(st, &torque, &(ff + fc))?;
+    let addon = torque - c.torque;
+    let controller =
+        addon.robot.dot(&st.v) + addon.tau * st.tau_dot + addon.flywheel * st.flywheel_speed;
+    let gravity = -sys.plant.gravity(&st.q).dot(&st.v);
+    Ok(Stage {
+        derivative,
+        contact,
+        torque: torque.robot,
+        beta: c.beta,
+        potential: c.field.potential,
+        lambda1: c.field.lambda1,
+        lambda2: c.field.lambda2,
+        power: [fc.dot(&st.v), ff.dot(&st.v), controller, gravity],
+    })
+}
+
 /// The sampled-data loop of a chain: the controller (`Controller::step` or the passive one) at
-/// its rate with zero-order hold, the plant (with gravity and friction) in RK4 substeps.
+/// its rate with zero-order hold, the plant (with gravity, friction and its 3-D contact, if
+/// any) in RK4 substeps. With contact, the works are integrated by the RK4 quadrature of the
+/// stages' powers and the add-ons' work is what the controller accounts.
+#[allow(clippy::too_many_arguments)]
 fn sampled<const N: usize, S: Stepper<JointSpace<f64, N>, N>>(
     s: &Scenario,
     chain: &SerialChain<f64, N>,
     mut ctl: S,
-    mut q: JointSpace<f64, N>,
-    mut v: SVector<f64, N>,
+    (mut q, mut v): (JointSpace<f64, N>, SVector<f64, N>),
+    world: &mut Option<Contact>,
     trace: &mut Trace,
+    contact: &mut Option<ContactTrace>,
     progress: &mut dyn FnMut(f64),
 ) -> Result<()> {
     let friction = s.plant.friction.clone();
     let (dt, h, n) = timing(s)?;
     let period = s.period();
+    let mut work = Work::default();
     for k in 0..=n {
         let t = k as f64 * dt;
+        let (fc0, c0) = match world.as_ref() {
+            Some(w) => w.forces(&q, &v)?,
+            None => (SVector::zeros(), SpatialContact::default()),
+        };
         let out = ctl.sample(&q, &v, dt)?;
+        work.0[2] += out.add_ons_ended;
         trace.push(Row::of_sample(
             t,
             (q.coords().as_slice(), v.as_slice()),
@@ -127,13 +295,27 @@ fn sampled<const N: usize, S: Stepper<JointSpace<f64, N>, N>>(
             chain.kinetic_energy(&q, &v),
             friction.torque(&v).dot(&v),
         ));
+        if let (Some(ct), Some(w)) = (contact.as_mut(), world.as_ref()) {
+            w.log(ct, chain, &q, &c0, &work)?;
+        }
         if k == n {
             break;
         }
-        for _ in 0..s.simulation.plant_substeps {
-            (q, v) = plant_rk4(chain, &q, &v, h, |_, _, _, v| {
-                Ok(out.torque + friction.torque(v))
+        work.0[2] += out.add_ons_next;
+        for j in 0..s.simulation.plant_substeps {
+            let mut p = [[0.0; 4]; 4];
+            (q, v) = plant_rk4(chain, &q, &v, h, |i, _, q, v| {
+                let ff = friction.torque(v);
+                // The first stage of the period is the sample itself: its contact is known.
+                let fc = match world.as_ref() {
+                    Some(_) if i == 0 && j == 0 => fc0,
+                    Some(w) => w.forces(q, v)?.0,
+                    None => SVector::zeros(),
+                };
+                p[i] = [fc.dot(v), ff.dot(v), 0.0, -chain.gravity(q).dot(v)];
+                Ok(out.torque + ff + fc)
             })?;
+            work.add(h, &p);
         }
         if k % 1000 == 0 {
             progress(k as f64 / n as f64);

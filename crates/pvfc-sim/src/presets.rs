@@ -55,6 +55,7 @@ fn forced(name: &str, description: &str, r_pacing: f64, compensation: bool, r: f
         simulation: SimulationSpec::default(),
         baseline: None,
         contact: None,
+        contact_3d: None,
         base_dir: Default::default(),
     }
 }

@@ -433,9 +433,12 @@ pub struct Scenario {
     /// A timed-trajectory baseline to run next to PVFC.
     #[serde(default)]
     pub baseline: Option<BaselineSpec>,
-    /// Contact with the world: obstacles, workpieces, the contact law.
+    /// Contact with the world: obstacles, workpieces, the contact law (the planar SCARA).
     #[serde(default)]
     pub contact: Option<ContactSpec>,
+    /// Contact in 3-D of a URDF arm: its collision capsules, the obstacles, the law.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_3d: Option<crate::contact::spatial::SpatialContactSpec>,
     /// Directory that relative paths in the scenario are resolved against (not in the file).
     #[serde(skip)]
     pub base_dir: PathBuf,
@@ -583,6 +586,9 @@ impl Scenario {
         if self.is_chain() {
             return self.validate_chain();
         }
+        if self.contact_3d.is_some() {
+            return bad("contact_3d: 3-D contact is for URDF arms; the SCARA's is [contact]");
+        }
         for (x, field) in [
             (&self.initial.q, "initial.q"),
             (&self.initial.v, "initial.v"),
@@ -685,7 +691,9 @@ impl Scenario {
     fn validate_chain(&self) -> Result<()> {
         let bad = |what: &str| Err(SimError::Setting(what.to_string()));
         if self.contact.is_some() {
-            return bad("contact: 3-D contact for URDF arms is not implemented yet (planar contact is for the SCARA)");
+            return bad(
+                "contact: the planar contact is for the SCARA; a URDF arm's is [contact_3d]",
+            );
         }
         if self.baseline.is_some() {
             return bad("baseline: the timed baseline is not implemented for URDF arms yet");
@@ -705,6 +713,9 @@ impl Scenario {
             }
         }
         self.plant.friction.validate_for(n)?;
+        if let Some(c) = &self.contact_3d {
+            c.validate(n)?;
+        }
         crate::arm::ArmController::new(&robot, &self.arm_settings()?)?;
         Ok(())
     }

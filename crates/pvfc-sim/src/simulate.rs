@@ -52,16 +52,17 @@ pub struct Trace {
 /// error only: [`ContactTrace::audit_residual`]).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ContactTrace {
-    /// The sum of the Cartesian contact forces on the arm (N).
-    pub force: Vec<[f64; 2]>,
+    /// The sum of the Cartesian contact forces on the arm (N; 2 numbers per sample for the
+    /// planar arm, 3 for a URDF arm).
+    pub force: JointSeries,
     /// The sum of the contact normal forces (N): the measured contact force.
     pub normal_force: Vec<f64>,
     /// The deepest penetration (m).
     pub depth: Vec<f64>,
-    /// The environment's joint torques `F_e = Jᵀf` (N·m).
-    pub torque: Vec<[f64; 2]>,
-    /// The tool centre (m).
-    pub tool: Vec<[f64; 2]>,
+    /// The environment's joint torques `F_e = Jᵀf` (N·m), one per joint.
+    pub torque: JointSeries,
+    /// The tool centre (m; 2 or 3 numbers, as `force`).
+    pub tool: JointSeries,
     /// `∫ F_eᵀq̇ dt`: the work the environment did on the arm (J); its negative is the
     /// energy the arm pumped into the contact.
     pub work_contact: Vec<f64>,
@@ -70,34 +71,55 @@ pub struct ContactTrace {
     /// The work of everything in the motor torques that is not the workless PVFC coupling:
     /// the add-ons (35) and (36) for PVFC, all of `∫ uᵀq̇ dt` for the timed baseline (J).
     pub work_controller: Vec<f64>,
+    /// `−∫ g(q)ᵀq̇ dt`: the work of gravity on the arm (J; 0 for the horizontal SCARA).
+    pub work_gravity: Vec<f64>,
     /// The nominal speed `r` of (36) in force (scheduled on the contact force); 0 without.
     pub nominal_speed: Vec<f64>,
 }
 
 impl ContactTrace {
-    pub(crate) fn with_capacity(n: usize) -> Self {
+    /// Empty columns for `n` samples of an arm with `dof` joints in a `dim`-D workspace.
+    pub(crate) fn with_capacity(n: usize, dof: usize, dim: usize) -> Self {
         ContactTrace {
-            force: Vec::with_capacity(n),
+            force: JointSeries::with_capacity(dim, n),
             normal_force: Vec::with_capacity(n),
             depth: Vec::with_capacity(n),
-            torque: Vec::with_capacity(n),
-            tool: Vec::with_capacity(n),
+            torque: JointSeries::with_capacity(dof, n),
+            tool: JointSeries::with_capacity(dim, n),
             work_contact: Vec::with_capacity(n),
             work_friction: Vec::with_capacity(n),
             work_controller: Vec::with_capacity(n),
+            work_gravity: Vec::with_capacity(n),
             nominal_speed: Vec::with_capacity(n),
         }
     }
 
+    /// One sample of the planar arm's contact.
     pub(crate) fn push(&mut self, c: &ContactForces, tool: Vector2<f64>, w: &Work, r: f64) {
-        self.force.push([c.force.x, c.force.y]);
+        self.push_sample(
+            &ContactSample {
+                force: &[c.force.x, c.force.y],
+                normal_force: c.normal_force,
+                depth: c.depth,
+                torque: c.torque.as_slice(),
+                tool: &[tool.x, tool.y],
+            },
+            w,
+            r,
+        );
+    }
+
+    /// One sample: the contact, the works so far, the nominal speed in force.
+    pub(crate) fn push_sample(&mut self, c: &ContactSample<'_>, w: &Work, r: f64) {
+        self.force.push(c.force);
         self.normal_force.push(c.normal_force);
         self.depth.push(c.depth);
-        self.torque.push([c.torque.x, c.torque.y]);
-        self.tool.push([tool.x, tool.y]);
+        self.torque.push(c.torque);
+        self.tool.push(c.tool);
         self.work_contact.push(w.0[0]);
         self.work_friction.push(w.0[1]);
         self.work_controller.push(w.0[2]);
+        self.work_gravity.push(w.0[3]);
         self.nominal_speed.push(r);
     }
 
@@ -106,9 +128,9 @@ impl ContactTrace {
         self.depth.get(i).is_some_and(|d| *d > 0.0)
     }
 
-    /// The energy audit `E(t) − E(0) − W_contact − W_friction − W_controller` at every
-    /// sample, for the trace's `energy` column `E` (`κ_a` for PVFC, the arm's kinetic energy
-    /// for the baseline).
+    /// The energy audit `E(t) − E(0) − W_contact − W_friction − W_controller − W_gravity` at
+    /// every sample, for the trace's `energy` column `E` (`κ_a` for PVFC, the arm's kinetic
+    /// energy for the baseline).
     pub fn audit_residual(&self, energy: &[f64]) -> Vec<f64> {
         let e0 = energy.first().copied().unwrap_or(0.0);
         energy
@@ -116,18 +138,28 @@ impl ContactTrace {
             .zip(&self.work_contact)
             .zip(&self.work_friction)
             .zip(&self.work_controller)
-            .map(|(((e, c), f), u)| e - e0 - c - f - u)
+            .zip(&self.work_gravity)
+            .map(|((((e, c), f), u), g)| e - e0 - c - f - u - g)
             .collect()
     }
 }
 
-/// Works `[contact, friction, controller]` accumulated along a run.
+/// The contact at one sample, as the trace logs it (any workspace and number of joints).
+pub(crate) struct ContactSample<'a> {
+    pub(crate) force: &'a [f64],
+    pub(crate) normal_force: f64,
+    pub(crate) depth: f64,
+    pub(crate) torque: &'a [f64],
+    pub(crate) tool: &'a [f64],
+}
+
+/// Works `[contact, friction, controller, gravity]` accumulated along a run.
 #[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Work(pub(crate) [f64; 3]);
+pub(crate) struct Work(pub(crate) [f64; 4]);
 
 impl Work {
     /// Adds one RK4 step of length `h` given the powers at its four stages.
-    pub(crate) fn add(&mut self, h: f64, p: &[[f64; 3]; 4]) {
+    pub(crate) fn add(&mut self, h: f64, p: &[[f64; 4]; 4]) {
         for (w, pi) in RK4_WEIGHTS.iter().zip(p) {
             for (acc, x) in self.0.iter_mut().zip(pi) {
                 *acc += h * w * x;
@@ -367,7 +399,7 @@ fn simulate_sampled<E: Environment + ?Sized, S: Stepper<Torus<f64, 2>, 2>>(
     let mut q = Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?);
     let mut v = joint_vector::<2>(&s.initial.v, "initial.v")?;
     let mut trace = Trace::with_capacity(s.name.clone(), 2, n + 1);
-    let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1));
+    let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1, 2, 2));
     let mut work = Work::default();
     for k in 0..=n {
         let t = k as f64 * dt;
@@ -397,7 +429,7 @@ fn simulate_sampled<E: Environment + ?Sized, S: Stepper<Torus<f64, 2>, 2>>(
         work.0[2] += out.add_ons_next;
         for j in 0..s.simulation.plant_substeps {
             let t0 = t + j as f64 * h;
-            let mut p = [[0.0; 3]; 4];
+            let mut p = [[0.0; 4]; 4];
             (q, v) = plant_rk4(&arm, &q, &v, h, |i, c, q, v| {
                 let ff = friction.torque(v);
                 // The first stage of the period is the sample itself: its contact is known.
@@ -406,7 +438,7 @@ fn simulate_sampled<E: Environment + ?Sized, S: Stepper<Torus<f64, 2>, 2>>(
                 } else {
                     env.contact(t0 + c, q, v)?.torque
                 };
-                p[i] = [fc.dot(v), ff.dot(v), 0.0];
+                p[i] = [fc.dot(v), ff.dot(v), 0.0, 0.0];
                 Ok(out.torque + ff + fc)
             })?;
             work.add(h, &p);
@@ -434,7 +466,7 @@ struct Stage {
     potential: f64,
     lambda1: f64,
     lambda2: f64,
-    power: [f64; 3],
+    power: [f64; 4],
 }
 
 fn stage<E: Environment + ?Sized>(
@@ -453,7 +485,7 @@ fn stage<E: Environment + ?Sized>(
     let controller =
         addon.robot.dot(&st.v) + addon.tau * st.tau_dot + addon.flywheel * st.flywheel_speed;
     Ok(Stage {
-        power: [contact.torque.dot(&st.v), ff.dot(&st.v), controller],
+        power: [contact.torque.dot(&st.v), ff.dot(&st.v), controller, 0.0],
         contact,
         friction: ff,
         derivative,
@@ -491,7 +523,7 @@ fn simulate_continuous<E: Environment + ?Sized>(
         flywheel_speed: i.flywheel_speed,
     };
     let mut trace = Trace::with_capacity(s.name.clone(), 2, n + 1);
-    let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1));
+    let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1, 2, 2));
     let mut work = Work::default();
     for k in 0..=n {
         let t = k as f64 * dt;
@@ -604,7 +636,7 @@ pub fn simulate_timed_in(
     let mut v = joint_vector::<2>(&s.initial.v, "initial.v")?;
     let kin = PlanarArm::from(&s.arm()?);
     let mut trace = Trace::with_capacity(format!("{}-timed", s.name), 2, n + 1);
-    let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1));
+    let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1, 2, 2));
     let mut work = Work::default();
     for k in 0..=n {
         let t = k as f64 * dt;
@@ -642,7 +674,7 @@ pub fn simulate_timed_in(
         }
         for j in 0..s.simulation.plant_substeps {
             let t0 = t + j as f64 * h;
-            let mut p = [[0.0; 3]; 4];
+            let mut p = [[0.0; 4]; 4];
             (q, v) = plant_rk4(&arm, &q, &v, h, |i, c, q, v| {
                 let ff = friction.torque(v);
                 // The first stage of the period is the sample itself: its contact is known.
@@ -651,7 +683,7 @@ pub fn simulate_timed_in(
                 } else {
                     env.contact(t0 + c, q, v)?.torque
                 };
-                p[i] = [fc.dot(v), ff.dot(v), u.dot(v)];
+                p[i] = [fc.dot(v), ff.dot(v), u.dot(v), 0.0];
                 Ok(u + ff + fc)
             })?;
             work.add(h, &p);

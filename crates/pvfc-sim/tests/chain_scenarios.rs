@@ -243,3 +243,63 @@ fn an_arm_log_carries_its_3d_scene_for_foxglove() {
     assert!(ArmScene::of_run(&planar, &tp).unwrap().is_none());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[cfg(feature = "contact")]
+fn ur5_on_a_table(mode: Mode) -> Scenario {
+    use pvfc_sim::contact::spatial::{SpatialContactSpec, SpatialObstacle, SpatialShape};
+    let mut s = Scenario::from_file(&file("ur5_cartesian.toml")).unwrap();
+    s.simulation.mode = mode;
+    if mode == Mode::Sampled {
+        // The passive digital controller: its account is exact at the samples.
+        s.controller.passive = Some(Default::default());
+    }
+    s.duration = 3.0;
+    // A table whose top is 3 mm above the tool ball's lowest point on the path (z = 0.30).
+    s.contact_3d = Some(SpatialContactSpec {
+        link_radius: 0.0,
+        link_radii: vec![],
+        tool_radius: 0.01,
+        obstacles: vec![SpatialObstacle {
+            shape: SpatialShape::Box {
+                half_extents: [0.3, 0.4, 0.05],
+            },
+            position: [0.55, 0.0, 0.30 - 0.01 + 0.003 - 0.05],
+            rpy: [0.0; 3],
+            law: None,
+        }],
+        law: pvfc_sim::contact::ContactLaw {
+            stiffness: 2.0e4,
+            damping: 0.5,
+            friction: 0.2,
+            slip_velocity: 0.01,
+        },
+    });
+    s.validate().unwrap();
+    s
+}
+
+#[cfg(feature = "contact")]
+#[test]
+fn a_urdf_arm_on_a_table_keeps_its_energy_audit() {
+    for (mode, tolerance) in [(Mode::Continuous, 1e-6), (Mode::Sampled, 1e-6)] {
+        let s = ur5_on_a_table(mode);
+        let t = simulate(&s, &mut |_| {}).unwrap();
+        let c = t.contact.as_ref().unwrap();
+        assert_eq!((c.force.dof(), c.torque.dof(), c.tool.dof()), (3, 6, 3));
+        let peak = c.normal_force.iter().fold(0.0_f64, |m, f| m.max(*f));
+        assert!(
+            peak > 1.0,
+            "{mode:?}: the tool never pressed on the table ({peak} N)"
+        );
+        assert!(c.work_gravity.iter().any(|w| w.abs() > 1e-3));
+        let audit = c
+            .audit_residual(&t.energy)
+            .iter()
+            .fold(0.0_f64, |m, r| m.max(r.abs()));
+        println!(
+            "{mode:?}: peak force {peak:.2} N, audit {audit:.2e} of {:.1} J",
+            t.energy[0]
+        );
+        assert!(audit < tolerance * t.energy[0], "{mode:?}: audit {audit:e}");
+    }
+}

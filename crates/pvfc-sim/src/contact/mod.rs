@@ -27,7 +27,6 @@ use pvfc_core::lie::{LieGroup, Torus};
 use pvfc_core::mechanics::ScaraParameters;
 use serde::{Deserialize, Serialize};
 
-#[cfg(feature = "contact")]
 pub mod spatial;
 #[cfg(feature = "contact")]
 mod world;

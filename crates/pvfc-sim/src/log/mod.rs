@@ -59,21 +59,23 @@ fn controller() -> MessageType {
     }
 }
 
-/// The contact columns' message: the works (the audit's) in `float64`.
-fn contact() -> MessageType {
+/// The contact columns' message for a `dim`-D workspace and `dof` joints: the works (the
+/// audit's) in `float64`.
+fn contact(dim: usize, dof: usize) -> MessageType {
     let f = |name| Field::scalar(name, Width::F32);
-    let pair = |name| Field::array(name, Width::F32, 2);
+    let vector = |name, n| Field::array(name, Width::F32, n);
     MessageType {
         name: "pvfc/msg/Contact".into(),
         fields: vec![
             Field::scalar("work_contact", Width::F64),
             Field::scalar("work_friction", Width::F64),
             Field::scalar("work_controller", Width::F64),
-            pair("force"),
+            Field::scalar("work_gravity", Width::F64),
+            vector("force", dim),
             f("normal_force"),
             f("depth"),
-            pair("torque"),
-            pair("tool"),
+            vector("torque", dof),
+            vector("tool", dim),
             f("nominal_speed"),
         ],
     }
@@ -100,11 +102,15 @@ pub fn write_mcap_with_scene(trace: &Trace, scene: Option<&ArmScene>, path: &Pat
             .map_err(mcap_err)?;
         w.add_channel(schema, topic, "cdr", &meta).map_err(mcap_err)
     };
-    let (jt, ct, kt) = (joint_state(trace.q.dof()), controller(), contact());
+    let kt = trace
+        .contact
+        .as_ref()
+        .map(|c| contact(c.force.dof(), c.torque.dof()));
+    let (jt, ct) = (joint_state(trace.q.dof()), controller());
     let jc = channel(&jt, JOINT_STATE_TOPIC)?;
     let cc = channel(&ct, CONTROLLER_TOPIC)?;
-    let kc = match &trace.contact {
-        Some(_) => Some(channel(&kt, CONTACT_TOPIC)?),
+    let kc = match &kt {
+        Some(kt) => Some((channel(kt, CONTACT_TOPIC)?, kt)),
         None => None,
     };
     if let Some(scene) = scene {
@@ -139,12 +145,13 @@ pub fn write_mcap_with_scene(trace: &Trace, scene: Option<&ArmScene>, path: &Pat
             &mut buf,
         )?;
         put(cc, &buf)?;
-        if let (Some(kc), Some(c)) = (kc, &trace.contact) {
+        if let (Some((kc, kt)), Some(c)) = (kc, &trace.contact) {
             kt.encode(
                 &[
                     &[c.work_contact[i]],
                     &[c.work_friction[i]],
                     &[c.work_controller[i]],
+                    &[c.work_gravity[i]],
                     &c.force[i],
                     &[c.normal_force[i]],
                     &[c.depth[i]],
