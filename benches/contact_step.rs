@@ -57,5 +57,64 @@ fn contact_step(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, contact_step);
+/// The same for a URDF arm in 3-D: one RKMK4 step of the UR5's closed loop
+/// (`scenarios/ur5_deburr.toml`: gravity, its compensation, the tool pressing on the box) with
+/// the 3-D contact (`contact::spatial`) at every stage. The target: ≤ 20 µs.
+fn spatial_contact_step(c: &mut Criterion) {
+    use nalgebra::SVector;
+    use pvfc::sim::contact::spatial::SpatialWorld;
+    use pvfc::sim::scenario::Scenario;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/ur5_deburr.toml");
+    let mut s = Scenario::from_file(&path).expect("the deburring scenario parses");
+    s.duration = 3.0;
+    let run = simulate(&s, &mut |_| {}).expect("the deburring scenario runs");
+    let k = run.len() - 1;
+    assert!(run.contact.as_ref().expect("contact columns").depth[k] > 0.0);
+    let robot = s.robot().expect("robot");
+    let chain =
+        pvfc::core::mechanics::SerialChain::<f64, 6>::try_from(robot.model()).expect("6 joints");
+    let ctl = pvfc::sim::arm::arm_controller(chain, &s.arm_settings().expect("settings"))
+        .expect("controller");
+    let sys = ClosedLoop::matched(ctl);
+    let kinds = chain.kinds();
+    let st = AugmentedState {
+        q: JointSpace::new(SVector::<f64, 6>::from_column_slice(&run.q[k]), kinds),
+        v: SVector::<f64, 6>::from_column_slice(&run.v[k]),
+        tau: run.tau[k],
+        tau_dot: run.tau_dot[k],
+        flywheel_speed: run.flywheel_speed[k],
+    };
+    let world =
+        SpatialWorld::new(s.contact_3d.as_ref().expect("contact_3d"), &robot).expect("world");
+    let force = |x: &AugmentedState<f64, JointSpace<f64, 6>, 6>| -> Result<SVector<f64, 6>, pvfc::sim::SimError> {
+        let c = world.contact(x.q.coords().as_slice(), x.v.as_slice())?;
+        Ok(SVector::from_column_slice(&c.torque))
+    };
+    let h = 1e-4;
+    let mut g = c.benchmark_group("contact_3d");
+    g.bench_function("ur5_rk4_step_with_contact", |b| {
+        b.iter(|| {
+            let st = black_box(&st);
+            let k1 = sys
+                .derivative(st, &force(st).expect("finite"))
+                .expect("finite");
+            sys.rk4_with_stages(st, &k1, h, |_, _, x| {
+                Ok::<_, pvfc::sim::SimError>(sys.derivative(x, &force(x)?)?)
+            })
+            .expect("finite")
+        })
+    });
+    g.bench_function("ur5_rk4_step_free", |b| {
+        b.iter(|| {
+            sys.rk4_step(black_box(&st), h, &SVector::zeros())
+                .expect("finite")
+        })
+    });
+    g.bench_function("ur5_contact_query", |b| {
+        b.iter(|| force(black_box(&st)).expect("finite"))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, contact_step, spatial_contact_step);
 criterion_main!(benches);
