@@ -7,7 +7,7 @@ use crate::contact::spatial::SpatialContact;
 use crate::error::{Result, SimError};
 use crate::friction::JointFriction;
 use crate::integrate::{ClosedLoop, Derivative};
-use crate::scenario::{joint_vector, Mode, Scenario};
+use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
 use crate::simulate::{plant_rk4, timing, ContactSample, ContactTrace, Row, Trace, Work};
 use crate::stepper::{PassiveDrive, Stepper};
 use crate::with_dof;
@@ -133,6 +133,127 @@ fn run<const N: usize>(
                     progress(k as f64 / n as f64);
                 }
             }
+        }
+    }
+    trace.contact = contact;
+    progress(1.0);
+    Ok(trace)
+}
+
+/// The timed-trajectory baseline for a URDF arm: computed torque + PD tracking `x_d(τ(t))`,
+/// `τ(t) = τ₀ + rate·t`, with gravity compensation,
+/// `T = M(q)(ẍ_d + K_d(ẋ_d − q̇) + K_p(x_d − q)) + C(q, q̇) q̇ + g(q)` (+ the scenario's
+/// friction compensation), on the same plant, friction and 3-D contact, held for each
+/// controller period.
+pub fn simulate_timed_chain(
+    s: &Scenario,
+    b: &BaselineSpec,
+    tau_rate: f64,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
+    if !tau_rate.is_finite() {
+        return Err(SimError::Setting("baseline: τ rate must be finite".into()));
+    }
+    let robot = s.robot()?;
+    let settings = s.arm_settings()?;
+    with_dof!(robot.dof(), N => {
+        let chain = SerialChain::<f64, N>::try_from(robot.model())?;
+        timed::<N>(s, b, tau_rate, chain, &settings, progress)
+    }, otherwise Err(SimError::Setting(format!(
+        "robot {}: {} joints; pvfc supports 1 to 8", robot.description().name, robot.dof()
+    ))))
+}
+
+fn timed<const N: usize>(
+    s: &Scenario,
+    b: &BaselineSpec,
+    tau_rate: f64,
+    chain: SerialChain<f64, N>,
+    settings: &ArmSettings,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
+    let ctl: ArmControllerN<N> = arm_controller(chain, settings)?;
+    let field = ctl.law().field();
+    let friction = s.plant.friction.clone();
+    let comp = match &settings.friction_compensation {
+        Some(f) => Some(
+            FrictionCompensation::new(joint_vector::<N>(f, "controller.friction_compensation")?)?
+                .with_band(settings.friction_band)?,
+        ),
+        None => None,
+    };
+    let (kp, kd) = (
+        joint_vector::<N>(&b.kp, "baseline.kp")?,
+        joint_vector::<N>(&b.kd, "baseline.kd")?,
+    );
+    let (dt, h, n) = timing(s)?;
+    let kinds = chain.kinds();
+    let mut q = JointSpace::new(joint_vector::<N>(&s.initial.q, "initial.q")?, kinds);
+    let mut v = joint_vector::<N>(&s.initial.v, "initial.v")?;
+    let world = Contact::of(s)?;
+    let mut trace = Trace::with_capacity(format!("{}-timed", s.name), N, n + 1);
+    let mut contact = world
+        .is_some()
+        .then(|| ContactTrace::with_capacity(n + 1, N, 3));
+    let mut work = Work::default();
+    for k in 0..=n {
+        let t = k as f64 * dt;
+        let tau = s.initial.tau + tau_rate * t;
+        let xd = field.contour().sample(tau);
+        let (xd_v, xd_a) = (
+            xd.velocity * tau_rate,
+            xd.acceleration * (tau_rate * tau_rate),
+        );
+        let e = xd.point.coords() - q.coords();
+        let (m, c) = chain.inertia_and_coriolis(&q, &v);
+        let mut u = m * (xd_a + (xd_v - v).component_mul(&kd) + e.component_mul(&kp))
+            + c * v
+            + chain.gravity(&q);
+        if let Some(fc) = &comp {
+            u += fc.torque(&v);
+        }
+        let err = q.compose(&xd.point.inverse());
+        trace.push(Row {
+            t,
+            q: q.coords().as_slice(),
+            v: v.as_slice(),
+            tau,
+            tau_dot: tau_rate,
+            flywheel_speed: 0.0,
+            beta: 0.0,
+            potential: field.navigation().value(&err),
+            lambda1: 1.0,
+            lambda2: 1.0,
+            torque: u.as_slice(),
+            energy: chain.kinetic_energy(&q, &v),
+            friction_power: friction.torque(&v).dot(&v),
+        });
+        let (fc0, c0) = match world.as_ref() {
+            Some(w) => w.forces(&q, &v)?,
+            None => (SVector::zeros(), SpatialContact::default()),
+        };
+        if let (Some(ct), Some(w)) = (contact.as_mut(), world.as_ref()) {
+            w.log(ct, &chain, &q, &c0, &work)?;
+        }
+        if k == n {
+            break;
+        }
+        for j in 0..s.simulation.plant_substeps {
+            let mut p = [[0.0; 4]; 4];
+            (q, v) = plant_rk4(&chain, &q, &v, h, |i, _, q, v| {
+                let ff = friction.torque(v);
+                let fc = match world.as_ref() {
+                    Some(_) if i == 0 && j == 0 => fc0,
+                    Some(w) => w.forces(q, v)?.0,
+                    None => SVector::zeros(),
+                };
+                p[i] = [fc.dot(v), ff.dot(v), u.dot(v), -chain.gravity(q).dot(v)];
+                Ok(u + ff + fc)
+            })?;
+            work.add(h, &p);
+        }
+        if k % 1000 == 0 {
+            progress(k as f64 / n as f64);
         }
     }
     trace.contact = contact;

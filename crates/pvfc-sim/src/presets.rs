@@ -132,8 +132,8 @@ pub fn fig1() -> Scenario {
     s.name = "fig1_pvfc_vs_timed".into();
     s.description = "Fig. 1: PVFC versus a timed-trajectory tracker at the same mean speed".into();
     s.baseline = Some(BaselineSpec {
-        kp: [400.0, 400.0],
-        kd: [40.0, 40.0],
+        kp: vec![400.0, 400.0],
+        kd: vec![40.0, 40.0],
         tau_rate: None,
     });
     s
@@ -272,8 +272,8 @@ fn contact_base(name: &str, description: &str, contact: ContactSpec) -> Scenario
     s.simulation.mode = Mode::Continuous;
     s.simulation.plant_substeps = 10;
     s.baseline = Some(BaselineSpec {
-        kp: [400.0, 400.0],
-        kd: [40.0, 40.0],
+        kp: vec![400.0, 400.0],
+        kd: vec![40.0, 40.0],
         tau_rate: Some(1.0),
     });
     s.contact = Some(contact);

@@ -395,10 +395,10 @@ impl Default for SimulationSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BaselineSpec {
-    /// Proportional gains (1/s²).
-    pub kp: [f64; 2],
-    /// Derivative gains (1/s).
-    pub kd: [f64; 2],
+    /// Proportional gains (1/s²), one per joint.
+    pub kp: Vec<f64>,
+    /// Derivative gains (1/s), one per joint.
+    pub kd: Vec<f64>,
     /// `dτ/dt`; default: the mean `τ̇` of the PVFC run of the same scenario.
     #[serde(default)]
     pub tau_rate: Option<f64>,
@@ -695,9 +695,6 @@ impl Scenario {
                 "contact: the planar contact is for the SCARA; a URDF arm's is [contact_3d]",
             );
         }
-        if self.baseline.is_some() {
-            return bad("baseline: the timed baseline is not implemented for URDF arms yet");
-        }
         let robot = self.robot()?;
         let n = robot.dof();
         for (x, field) in [
@@ -715,6 +712,13 @@ impl Scenario {
         self.plant.friction.validate_for(n)?;
         if let Some(c) = &self.contact_3d {
             c.validate(n)?;
+        }
+        if let Some(b) = &self.baseline {
+            if b.kp.len() != n || b.kd.len() != n {
+                return Err(SimError::Setting(format!(
+                    "baseline.kp, baseline.kd: one gain per joint ({n})"
+                )));
+            }
         }
         crate::arm::ArmController::new(&robot, &self.arm_settings()?)?;
         Ok(())

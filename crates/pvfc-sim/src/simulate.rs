@@ -594,6 +594,9 @@ pub fn simulate_timed(
     tau_rate: f64,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
+    if s.is_chain() {
+        return crate::chain_run::simulate_timed_chain(s, b, tau_rate, progress);
+    }
     match environment(s)? {
         Some(mut env) => simulate_timed_in(s, b, tau_rate, Some(&mut *env), progress),
         None => simulate_timed_in(s, b, tau_rate, None, progress),

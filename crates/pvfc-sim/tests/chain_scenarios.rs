@@ -303,3 +303,34 @@ fn a_urdf_arm_on_a_table_keeps_its_energy_audit() {
         assert!(audit < tolerance * t.energy[0], "{mode:?}: audit {audit:e}");
     }
 }
+
+#[cfg(feature = "contact")]
+#[test]
+fn the_deburring_scenario_runs_beside_its_timed_baseline() {
+    let mut s = Scenario::from_file(&file("ur5_deburr.toml")).unwrap();
+    s.duration = 4.0;
+    let runs = pvfc_sim::reproduce::run_scenario(&s, &mut |_| {}).unwrap();
+    assert_eq!(runs.len(), 2);
+    assert_eq!(runs[1].name, "ur5_deburr-timed");
+    for t in &runs {
+        let c = t.contact.as_ref().unwrap();
+        let peak = c.normal_force.iter().fold(0.0_f64, |m, f| m.max(*f));
+        let audit = c
+            .audit_residual(&t.energy)
+            .iter()
+            .fold(0.0_f64, |m, r| m.max(r.abs()));
+        println!("{}: peak {peak:.2} N, audit {audit:.1e} J", t.name);
+        assert!(peak > 1.0, "{}: no contact", t.name);
+        assert!(audit < 1e-8, "{}: audit {audit:e} J", t.name);
+    }
+    // A gain per joint, or a named error.
+    let mut bad = s.clone();
+    if let Some(b) = bad.baseline.as_mut() {
+        b.kp.pop();
+    }
+    assert!(bad
+        .validate()
+        .unwrap_err()
+        .to_string()
+        .contains("baseline.kp"));
+}
