@@ -87,7 +87,7 @@ fn spatial_contact_step(c: &mut Criterion) {
     let world =
         SpatialWorld::new(s.contact_3d.as_ref().expect("contact_3d"), &robot).expect("world");
     let force = |x: &AugmentedState<f64, JointSpace<f64, 6>, 6>| -> Result<SVector<f64, 6>, pvfc::sim::SimError> {
-        let c = world.contact(x.q.coords().as_slice(), x.v.as_slice())?;
+        let c = world.contact(2.0, x.q.coords().as_slice(), x.v.as_slice())?;
         Ok(SVector::from_column_slice(&c.torque))
     };
     let h = 1e-4;

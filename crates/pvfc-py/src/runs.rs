@@ -1,7 +1,7 @@
 //! Scenarios and runs: `pvfc.Scenario`, `SimulationResult`, `simulate`, `simulate_many`,
 //! `simulate_timed`, `read_mcap`.
 
-use crate::convert::{out1, out_series, vector};
+use crate::convert::{dyn_vector, out1, out_series};
 use crate::errors::sim_err;
 use numpy::{PyArray1, PyArray2};
 use pvfc_sim::scenario::Scenario as SimScenario;
@@ -311,9 +311,10 @@ pub(crate) fn simulate_timed(
     kd: &Bound<'_, PyAny>,
     tau_rate: f64,
 ) -> PyResult<SimulationResult> {
+    let n = scenario.s.dof().map_err(sim_err)?;
     let b = pvfc_sim::scenario::BaselineSpec {
-        kp: vector::<2>(kp, "kp")?,
-        kd: vector::<2>(kd, "kd")?,
+        kp: dyn_vector(kp, "kp", n)?,
+        kd: dyn_vector(kd, "kd", n)?,
         tau_rate: Some(tau_rate),
     };
     let s = scenario.s.clone();
@@ -322,7 +323,7 @@ pub(crate) fn simulate_timed(
         .map_err(sim_err)?;
     Ok(SimulationResult {
         t,
-        period: scenario.s.contour.period,
+        period: scenario.s.period(),
     })
 }
 

@@ -95,7 +95,7 @@ fn run<const N: usize>(
             let mut work = Work::default();
             for k in 0..=n {
                 let t = k as f64 * dt;
-                let mut first = stage(&sys, &world, &friction, &st)?;
+                let mut first = stage(&sys, &world, &friction, t, &st)?;
                 trace.push(Row {
                     t,
                     q: st.q.coords().as_slice(),
@@ -118,12 +118,13 @@ fn run<const N: usize>(
                     break;
                 }
                 for j in 0..s.simulation.plant_substeps {
+                    let t0 = t + j as f64 * h;
                     if j > 0 {
-                        first = stage(&sys, &world, &friction, &st)?;
+                        first = stage(&sys, &world, &friction, t0, &st)?;
                     }
                     let mut p = [first.power; 4];
-                    st = sys.rk4_with_stages(&st, &first.derivative, h, |i, _, x| {
-                        let e = stage(&sys, &world, &friction, x)?;
+                    st = sys.rk4_with_stages(&st, &first.derivative, h, |i, c, x| {
+                        let e = stage(&sys, &world, &friction, t0 + c, x)?;
                         p[i] = e.power;
                         Ok::<_, SimError>(e.derivative)
                     })?;
@@ -229,7 +230,7 @@ fn timed<const N: usize>(
             friction_power: friction.torque(&v).dot(&v),
         });
         let (fc0, c0) = match world.as_ref() {
-            Some(w) => w.forces(&q, &v)?,
+            Some(w) => w.forces(t, &q, &v)?,
             None => (SVector::zeros(), SpatialContact::default()),
         };
         if let (Some(ct), Some(w)) = (contact.as_mut(), world.as_ref()) {
@@ -239,12 +240,13 @@ fn timed<const N: usize>(
             break;
         }
         for j in 0..s.simulation.plant_substeps {
+            let t0 = t + j as f64 * h;
             let mut p = [[0.0; 4]; 4];
-            (q, v) = plant_rk4(&chain, &q, &v, h, |i, _, q, v| {
+            (q, v) = plant_rk4(&chain, &q, &v, h, |i, c, q, v| {
                 let ff = friction.torque(v);
                 let fc = match world.as_ref() {
                     Some(_) if i == 0 && j == 0 => fc0,
-                    Some(w) => w.forces(q, v)?.0,
+                    Some(w) => w.forces(t0 + c, q, v)?.0,
                     None => SVector::zeros(),
                 };
                 p[i] = [fc.dot(v), ff.dot(v), u.dot(v), -chain.gravity(q).dot(v)];
@@ -285,17 +287,18 @@ impl Contact {
     /// The contact torque `F_e` on the arm at `(q, q̇)`, and what the log keeps of it.
     fn forces<const N: usize>(
         &self,
+        t: f64,
         q: &JointSpace<f64, N>,
         v: &SVector<f64, N>,
     ) -> Result<(SVector<f64, N>, SpatialContact)> {
         #[cfg(feature = "contact")]
         {
-            let c = self.world.contact(q.coords().as_slice(), v.as_slice())?;
+            let c = self.world.contact(t, q.coords().as_slice(), v.as_slice())?;
             Ok((SVector::from_column_slice(&c.torque), c))
         }
         #[cfg(not(feature = "contact"))]
         {
-            let _ = (q, v);
+            let _ = (t, q, v);
             Ok((SVector::zeros(), SpatialContact::default()))
         }
     }
@@ -356,10 +359,11 @@ fn stage<const N: usize>(
     >,
     world: &Option<Contact>,
     friction: &JointFriction,
+    t: f64,
     st: &AugmentedState<f64, JointSpace<f64, N>, N>,
 ) -> Result<Stage<N>> {
     let (fc, contact) = match world {
-        Some(w) => w.forces(&st.q, &st.v)?,
+        Some(w) => w.forces(t, &st.q, &st.v)?,
         None => (SVector::zeros(), SpatialContact::default()),
     };
     let ff = friction.torque(&st.v);
@@ -403,7 +407,7 @@ fn sampled<const N: usize, S: Stepper<JointSpace<f64, N>, N>>(
     for k in 0..=n {
         let t = k as f64 * dt;
         let (fc0, c0) = match world.as_ref() {
-            Some(w) => w.forces(&q, &v)?,
+            Some(w) => w.forces(t, &q, &v)?,
             None => (SVector::zeros(), SpatialContact::default()),
         };
         let out = ctl.sample(&q, &v, dt)?;
@@ -424,13 +428,14 @@ fn sampled<const N: usize, S: Stepper<JointSpace<f64, N>, N>>(
         }
         work.0[2] += out.add_ons_next;
         for j in 0..s.simulation.plant_substeps {
+            let t0 = t + j as f64 * h;
             let mut p = [[0.0; 4]; 4];
-            (q, v) = plant_rk4(chain, &q, &v, h, |i, _, q, v| {
+            (q, v) = plant_rk4(chain, &q, &v, h, |i, c, q, v| {
                 let ff = friction.torque(v);
                 // The first stage of the period is the sample itself: its contact is known.
                 let fc = match world.as_ref() {
                     Some(_) if i == 0 && j == 0 => fc0,
-                    Some(w) => w.forces(q, v)?.0,
+                    Some(w) => w.forces(t0 + c, q, v)?.0,
                     None => SVector::zeros(),
                 };
                 p[i] = [fc.dot(v), ff.dot(v), 0.0, -chain.gravity(q).dot(v)];

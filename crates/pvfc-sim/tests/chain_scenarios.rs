@@ -266,6 +266,7 @@ fn ur5_on_a_table(mode: Mode) -> Scenario {
             position: [0.55, 0.0, 0.30 - 0.01 + 0.003 - 0.05],
             rpy: [0.0; 3],
             law: None,
+            motion: vec![],
         }],
         law: pvfc_sim::contact::ContactLaw {
             stiffness: 2.0e4,

@@ -37,6 +37,7 @@ fn table_under_tool(robot: &Robot, depth: f64, tool_radius: f64) -> SpatialObsta
         position: [p.x, p.y, top - 0.05],
         rpy: [0.0, 0.0, 0.0],
         law: None,
+        motion: vec![],
     }
 }
 
@@ -52,7 +53,7 @@ fn spec(obstacles: Vec<SpatialObstacle>, link_radius: f64, law: ContactLaw) -> S
 
 /// The elastic energy `Σ ½ k d²` of a pure-spring contact, from its forces `|f| = k d`.
 fn elastic_energy(world: &SpatialWorld, q: &[f64], k: f64) -> f64 {
-    let c = world.contact(q, &[0.0; 6]).unwrap();
+    let c = world.contact(0.0, q, &[0.0; 6]).unwrap();
     c.points
         .iter()
         .map(|(_, _, f)| f.norm_squared() / (2.0 * k))
@@ -78,12 +79,13 @@ fn a_spring_contact_pushes_down_its_energy_gradient() {
                 position: [mid.x + 0.08, mid.y, mid.z],
                 rpy: [0.0, 0.0, 0.0],
                 law: None,
+                motion: vec![],
             }
         }),
     ] {
         let world =
             SpatialWorld::new(&spec(vec![obstacle], link_radius, spring(k)), &robot).unwrap();
-        let c = world.contact(&Q0, &[0.0; 6]).unwrap();
+        let c = world.contact(0.0, &Q0, &[0.0; 6]).unwrap();
         assert!(!c.points.is_empty() && c.depth > 1e-3, "{c:?}");
         for j in 0..6 {
             let h = 1e-6;
@@ -115,7 +117,7 @@ fn the_table_pushes_the_tool_up_with_the_spring_force() {
         &robot,
     )
     .unwrap();
-    let c = world.contact(&Q0, &[0.0; 6]).unwrap();
+    let c = world.contact(0.0, &Q0, &[0.0; 6]).unwrap();
     assert_eq!(c.points.len(), 1);
     assert!((c.depth - 0.004).abs() < 1e-9, "{}", c.depth);
     assert!((c.normal_force - 80.0).abs() < 1e-5);
@@ -123,7 +125,11 @@ fn the_table_pushes_the_tool_up_with_the_spring_force() {
     // Lifted clear of the table: no contact.
     let mut up = Q0;
     up[1] -= 0.1;
-    assert!(world.contact(&up, &[0.0; 6]).unwrap().points.is_empty());
+    assert!(world
+        .contact(0.0, &up, &[0.0; 6])
+        .unwrap()
+        .points
+        .is_empty());
 }
 
 #[test]
@@ -178,7 +184,7 @@ fn damping_and_friction_only_take_energy() {
     };
     for _ in 0..50 {
         let qd: Vec<f64> = (0..6).map(|_| next()).collect();
-        let c = lossy.contact(&Q0, &qd).unwrap();
+        let c = lossy.contact(0.0, &Q0, &qd).unwrap();
         let power: f64 = c.torque.iter().zip(&qd).map(|(t, v)| t * v).sum();
         let h = 1e-6;
         let shift = |s: f64| -> Vec<f64> { Q0.iter().zip(&qd).map(|(q, v)| q + s * v).collect() };
@@ -210,6 +216,6 @@ fn bad_settings_name_the_field() {
     assert!(err(&s).contains("obstacles[0]"));
     s.obstacles[0].position[2] = 0.0;
     let world = SpatialWorld::new(&s, &robot).unwrap();
-    assert!(world.contact(&[f64::NAN; 6], &[0.0; 6]).is_err());
-    assert!(world.contact(&Q0, &[0.0; 5]).is_err());
+    assert!(world.contact(0.0, &[f64::NAN; 6], &[0.0; 6]).is_err());
+    assert!(world.contact(0.0, &Q0, &[0.0; 5]).is_err());
 }

@@ -153,6 +153,48 @@ pub struct Keyframe {
     pub offset: [f64; 2],
 }
 
+/// The smoothstep motion through `n` keyframes `key(i) = (t_i, offset_i)` (strictly increasing
+/// times): the displacement and velocity at `t` (see [`Keyframe`]; in the plane and in space).
+pub(crate) fn keyframe_motion<const D: usize>(
+    n: usize,
+    key: impl Fn(usize) -> (f64, SVector<f64, D>),
+    t: f64,
+) -> (SVector<f64, D>, SVector<f64, D>) {
+    if n == 0 {
+        return (SVector::zeros(), SVector::zeros());
+    }
+    let (first, last) = (key(0), key(n - 1));
+    if t <= first.0 {
+        return (first.1, SVector::zeros());
+    }
+    if t >= last.0 {
+        return (last.1, SVector::zeros());
+    }
+    for i in 1..n {
+        let (a, b) = (key(i - 1), key(i));
+        if t < b.0 {
+            let span = b.0 - a.0;
+            let s = (t - a.0) / span;
+            let (pa, pb) = (a.1, b.1);
+            let shape = s * s * (3.0 - 2.0 * s);
+            let rate = 6.0 * s * (1.0 - s) / span;
+            return (pa + (pb - pa) * shape, (pb - pa) * rate);
+        }
+    }
+    (last.1, SVector::zeros())
+}
+
+/// Keyframe times and offsets are finite, the times strictly increasing.
+pub(crate) fn keyframes_ok<const D: usize>(
+    keys: impl Iterator<Item = (f64, [f64; D])> + Clone,
+) -> bool {
+    let finite = keys
+        .clone()
+        .all(|(t, o)| t.is_finite() && o.iter().all(|x| x.is_finite()));
+    let times: Vec<f64> = keys.map(|(t, _)| t).collect();
+    finite && times.windows(2).all(|w| w[1] > w[0])
+}
+
 /// An obstacle or workpiece.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -178,27 +220,7 @@ impl ObstacleSpec {
     /// The displacement and velocity of the obstacle at time `t` (see [`Keyframe`]).
     pub fn motion_at(&self, t: f64) -> (Vector2<f64>, Vector2<f64>) {
         let k = &self.motion;
-        let (Some(first), Some(last)) = (k.first(), k.last()) else {
-            return (Vector2::zeros(), Vector2::zeros());
-        };
-        if t <= first.t {
-            return (Vector2::from(first.offset), Vector2::zeros());
-        }
-        if t >= last.t {
-            return (Vector2::from(last.offset), Vector2::zeros());
-        }
-        for w in k.windows(2) {
-            let (a, b) = (&w[0], &w[1]);
-            if t < b.t {
-                let span = b.t - a.t;
-                let s = (t - a.t) / span;
-                let (pa, pb) = (Vector2::from(a.offset), Vector2::from(b.offset));
-                let shape = s * s * (3.0 - 2.0 * s);
-                let rate = 6.0 * s * (1.0 - s) / span;
-                return (pa + (pb - pa) * shape, (pb - pa) * rate);
-            }
-        }
-        (Vector2::from(last.offset), Vector2::zeros())
+        keyframe_motion(k.len(), |i| (k[i].t, Vector2::from(k[i].offset)), t)
     }
 
     fn validate(&self) -> Result<()> {
@@ -226,12 +248,7 @@ impl ObstacleSpec {
             l.validate()
                 .map_err(|e| SimError::Setting(format!("obstacle {:?}: {e}", self.name)))?;
         }
-        let finite = self
-            .motion
-            .iter()
-            .all(|k| k.t.is_finite() && k.offset.iter().all(|x| x.is_finite()));
-        let increasing = self.motion.windows(2).all(|w| w[1].t > w[0].t);
-        if !(finite && increasing) {
+        if !keyframes_ok(self.motion.iter().map(|k| (k.t, k.offset))) {
             return bad("motion keyframes must be finite, with strictly increasing times");
         }
         Ok(())

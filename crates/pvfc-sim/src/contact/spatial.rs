@@ -49,7 +49,7 @@ pub enum SpatialShape {
 }
 
 /// A fixed obstacle or workpiece.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpatialObstacle {
     /// Its shape.
@@ -62,6 +62,28 @@ pub struct SpatialObstacle {
     /// Its contact law (default: the world's).
     #[serde(default)]
     pub law: Option<ContactLaw>,
+    /// Its motion: displacements at keyframes, a smoothstep between them (as in the plane,
+    /// [`Keyframe`](super::Keyframe)); empty: fixed.
+    #[serde(default)]
+    pub motion: Vec<SpatialKeyframe>,
+}
+
+/// A keyframe of a 3-D obstacle's motion: at time `t` it is displaced by `offset` (base frame).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpatialKeyframe {
+    /// Time (s).
+    pub t: f64,
+    /// Displacement from the obstacle's position (m).
+    pub offset: [f64; 3],
+}
+
+impl SpatialObstacle {
+    /// The displacement and velocity of the obstacle at time `t`.
+    pub fn motion_at(&self, t: f64) -> (Vector3<f64>, Vector3<f64>) {
+        let k = &self.motion;
+        super::keyframe_motion(k.len(), |i| (k[i].t, Vector3::from(k[i].offset)), t)
+    }
 }
 
 /// The 3-D contact of a URDF arm: its collision capsules, the obstacles and the law.
@@ -102,22 +124,22 @@ impl SpatialContactSpec {
     pub fn validate(&self, dof: usize) -> Result<()> {
         let finite = |x: &[f64]| x.iter().all(|v| v.is_finite());
         if !(self.link_radius.is_finite() && self.link_radius >= 0.0) {
-            return Err(setting("contact.link_radius: finite and ≥ 0 (m)"));
+            return Err(setting("contact_3d.link_radius: finite and ≥ 0 (m)"));
         }
         if !(self.link_radii.is_empty() || self.link_radii.len() == dof) {
             return Err(setting(format!(
-                "contact.link_radii: one radius per moving link ({dof}), or none"
+                "contact_3d.link_radii: one radius per moving link ({dof}), or none"
             )));
         }
         if !self.link_radii.iter().all(|r| r.is_finite() && *r >= 0.0) {
-            return Err(setting("contact.link_radii: each finite and ≥ 0 (m)"));
+            return Err(setting("contact_3d.link_radii: each finite and ≥ 0 (m)"));
         }
         if !(self.tool_radius.is_finite() && self.tool_radius > 0.0) {
-            return Err(setting("contact.tool_radius: finite and > 0 (m)"));
+            return Err(setting("contact_3d.tool_radius: finite and > 0 (m)"));
         }
         self.law.validate()?;
         for (k, o) in self.obstacles.iter().enumerate() {
-            let name = format!("contact.obstacles[{k}]");
+            let name = format!("contact_3d.obstacles[{k}]");
             if !(finite(&o.position) && finite(&o.rpy)) {
                 return Err(setting(format!("{name}: position and rpy must be finite")));
             }
@@ -135,6 +157,11 @@ impl SpatialContactSpec {
             }
             if let Some(l) = &o.law {
                 l.validate()?;
+            }
+            if !super::keyframes_ok(o.motion.iter().map(|k| (k.t, k.offset))) {
+                return Err(setting(format!(
+                    "{name}: motion keyframes must be finite, with strictly increasing times"
+                )));
             }
         }
         Ok(())

@@ -34,12 +34,13 @@ impl ShapeKind {
     }
 }
 
-/// An obstacle as the queries take it.
+/// An obstacle as the queries take it: its pose at rest, its shape, law and motion.
 #[derive(Clone, Debug)]
 struct Obstacle {
-    pose: RPose,
+    pose: Pose<f64>,
     shape: ObstacleShape,
     law: ContactLaw,
+    spec: super::SpatialObstacle,
 }
 
 #[derive(Clone, Debug)]
@@ -140,9 +141,10 @@ impl SpatialWorld {
                     }
                 };
                 Obstacle {
-                    pose: rpose(&pose),
+                    pose,
                     shape,
                     law: o.law.unwrap_or(spec.law),
+                    spec: o.clone(),
                 }
             })
             .collect();
@@ -190,8 +192,8 @@ impl SpatialWorld {
             .collect()
     }
 
-    /// The contact forces at `(q, q̇)`.
-    pub fn contact(&self, q: &[f64], v: &[f64]) -> Result<SpatialContact> {
+    /// The contact forces at time `t` (the obstacles' motion) and `(q, q̇)`.
+    pub fn contact(&self, t: f64, q: &[f64], v: &[f64]) -> Result<SpatialContact> {
         let n = self.robot.dof();
         if v.len() != n {
             return Err(setting(format!(
@@ -210,10 +212,20 @@ impl SpatialWorld {
             torque: vec![0.0; n],
             ..Default::default()
         };
+        let obstacles: Vec<(RPose, Vector3<f64>)> = self
+            .obstacles
+            .iter()
+            .map(|o| {
+                let (offset, velocity) = o.spec.motion_at(t);
+                let mut pose = o.pose;
+                pose.translation += offset;
+                (rpose(&pose), velocity)
+            })
+            .collect();
         for s in &self.shapes {
             let pose = rpose(&poses[s.link].compose(&s.offset));
-            for o in &self.obstacles {
-                let c = query::contact(&pose, s.shape.shape(), &o.pose, o.shape.shape(), 0.0)
+            for (o, (o_pose, o_velocity)) in self.obstacles.iter().zip(&obstacles) {
+                let c = query::contact(&pose, s.shape.shape(), o_pose, o.shape.shape(), 0.0)
                     .map_err(|e| setting(format!("contact query: {e:?}")))?;
                 let Some(c) = c else { continue };
                 let depth = -c.dist;
@@ -225,7 +237,7 @@ impl SpatialWorld {
                 let normal = -na(c.normal1);
                 let jac = self.point_jacobian(&poses, s.link, &p);
                 let velocity: Vector3<f64> = jac.iter().zip(v).map(|(col, qd)| col * *qd).sum();
-                let (f, f_n) = o.law.force(depth, &normal, &velocity);
+                let (f, f_n) = o.law.force(depth, &normal, &(velocity - o_velocity));
                 for (t, col) in out.torque.iter_mut().zip(&jac) {
                     *t += col.dot(&f);
                 }
