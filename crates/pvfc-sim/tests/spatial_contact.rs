@@ -219,3 +219,57 @@ fn bad_settings_name_the_field() {
     assert!(world.contact(0.0, &[f64::NAN; 6], &[0.0; 6]).is_err());
     assert!(world.contact(0.0, &Q0, &[0.0; 5]).is_err());
 }
+
+#[test]
+fn a_moving_obstacle_is_where_its_keyframes_put_it_and_its_speed_counts() {
+    use pvfc_sim::contact::spatial::SpatialKeyframe;
+    let robot = ur5();
+    let k = 2.0e4;
+    let c = 2.0;
+    let law = ContactLaw {
+        stiffness: k,
+        damping: c,
+        friction: 0.0,
+        slip_velocity: 0.01,
+    };
+    // A table 1 mm below touching that rises by 5 mm between t = 1 and t = 2 s.
+    let mut moving = table_under_tool(&robot, -0.001, 0.01);
+    moving.motion = vec![
+        SpatialKeyframe {
+            t: 1.0,
+            offset: [0.0; 3],
+        },
+        SpatialKeyframe {
+            t: 2.0,
+            offset: [0.0, 0.0, 0.005],
+        },
+    ];
+    let world = SpatialWorld::new(&spec(vec![moving.clone()], 0.0, law), &robot).unwrap();
+    assert!(world
+        .contact(0.5, &Q0, &[0.0; 6])
+        .unwrap()
+        .points
+        .is_empty());
+    // Mid-way (t = 1.5 s): displaced by 2.5 mm (depth 1.5 mm), rising at 7.5 mm/s.
+    let (offset, speed) = moving.motion_at(1.5);
+    assert!((offset.z - 0.0025).abs() < 1e-15 && (speed.z - 0.0075).abs() < 1e-15);
+    let at = world.contact(1.5, &Q0, &[0.0; 6]).unwrap();
+    assert!((at.depth - 0.0015).abs() < 1e-9, "{}", at.depth);
+    // Hunt–Crossley with the table's speed as the depth rate: f = k d (1 + c ḋ).
+    let expected = k * 0.0015 * (1.0 + c * 0.0075);
+    assert!(
+        (at.normal_force - expected).abs() < 1e-6,
+        "{} vs {expected}",
+        at.normal_force
+    );
+    // At rest at the end (t = 3 s): depth 4 mm, a pure spring.
+    let end = world.contact(3.0, &Q0, &[0.0; 6]).unwrap();
+    assert!((end.normal_force - k * 0.004).abs() < 1e-6);
+    // Keyframes out of order are an error naming the obstacle.
+    let mut bad = moving;
+    bad.motion.reverse();
+    assert!(SpatialWorld::new(&spec(vec![bad], 0.0, law), &robot)
+        .unwrap_err()
+        .to_string()
+        .contains("obstacles[0]"));
+}
