@@ -208,6 +208,11 @@ pub struct PathError {
     pub max: f64,
     /// The sample of the largest distance.
     pub worst: usize,
+    /// Where along the path that happens: the arc length (m) from the path's first point to
+    /// the path point closest to the worst sample.
+    pub along: f64,
+    /// The path's length (m, closed).
+    pub length: f64,
 }
 
 impl CartesianSpec {
@@ -231,10 +236,33 @@ impl CartesianSpec {
                 (0, 0.0f64),
                 |(wi, wm), (i, x)| if *x > wm { (i, *x) } else { (wi, wm) },
             );
+        let dense = self.polyline(base_dir)?;
+        let n = dense.len();
+        let (mut along, mut length, mut best) = (0.0, 0.0, f64::INFINITY);
+        if let Some(p) = tool.get(worst) {
+            for i in 0..n {
+                let (a, b) = (&dense[i], &dense[(i + 1) % n]);
+                let ab = b - a;
+                let l2 = ab.norm_squared();
+                let t = if l2 > 0.0 {
+                    ((p - a).dot(&ab) / l2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let dist = (p - (a + ab * t)).norm();
+                if dist < best {
+                    best = dist;
+                    along = length + t * l2.sqrt();
+                }
+                length += l2.sqrt();
+            }
+        }
         Ok(PathError {
             mean: d.iter().sum::<f64>() / d.len().max(1) as f64,
             max,
             worst,
+            along,
+            length,
         })
     }
 }

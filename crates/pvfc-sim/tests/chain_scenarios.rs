@@ -335,3 +335,29 @@ fn the_deburring_scenario_runs_beside_its_timed_baseline() {
         .to_string()
         .contains("baseline.kp"));
 }
+
+#[test]
+fn the_path_error_says_how_far_and_where_along_the_path() {
+    use nalgebra::Vector3;
+    let s = Scenario::from_file(&file("ur5_cartesian.toml")).unwrap();
+    let mut c = s.contour.cartesian.clone().unwrap();
+    // A square 0.2 m a side, no rounding: 0.8 m around, starting at (0.4, −0.1, 0.3).
+    c.points = vec![
+        [0.4, -0.1, 0.3],
+        [0.6, -0.1, 0.3],
+        [0.6, 0.1, 0.3],
+        [0.4, 0.1, 0.3],
+    ];
+    c.corner_radius = 0.0;
+    let tool = [
+        Vector3::new(0.45, -0.1, 0.301), // 1 mm above the first side, 50 mm along
+        Vector3::new(0.6 + 0.004, 0.05, 0.3), // 4 mm outside the second side, 350 mm along
+        Vector3::new(0.5, 0.1, 0.302),   // 2 mm above the third side
+    ];
+    let e = c.path_error(&s.base_dir, &tool).unwrap();
+    assert!((e.length - 0.8).abs() < 1e-12, "{}", e.length);
+    assert_eq!(e.worst, 1);
+    assert!((e.max - 0.004).abs() < 1e-12);
+    assert!((e.along - 0.35).abs() < 1e-12, "{}", e.along);
+    assert!((e.mean - 0.007 / 3.0).abs() < 1e-12);
+}

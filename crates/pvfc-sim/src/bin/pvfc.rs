@@ -137,9 +137,11 @@ fn run(path: &Path, out: &Path) -> Result<(), SimError> {
         );
         if let Some((e, when, speed)) = cartesian_error(s, t)? {
             println!(
-                "{name}: tool to the Cartesian path over the last pass: mean {:.2} mm, max {:.2} mm (at t = {when:.2} s); tool speed {:.0} mm/s",
+                "{name}: tool to the Cartesian path over the last pass: mean {:.2} mm, max {:.2} mm (at t = {when:.2} s, {:.0} mm along the {:.0} mm path); tool speed {:.0} mm/s",
                 e.mean * 1e3,
                 e.max * 1e3,
+                e.along * 1e3,
+                e.length * 1e3,
                 speed * 1e3,
             );
         }
