@@ -8,8 +8,22 @@ use crate::scenario::Scenario;
 use crate::simulate::Trace;
 use std::path::Path;
 
-/// Draws the figure of a URDF arm's run `t` of scenario `s` into `path` (PNG).
-pub fn chain_figure(s: &Scenario, t: &Trace, path: &Path) -> Result<()> {
+/// Up to 2,000 samples of `f` over a trace's time.
+fn thinned(t: &Trace, label: &str, f: &dyn Fn(usize) -> f64) -> Series {
+    let every = (t.len() / 2000).max(1);
+    Series {
+        label: label.into(),
+        points: (0..t.len())
+            .step_by(every)
+            .map(|i| (t.t[i], f(i)))
+            .collect(),
+        reference: false,
+    }
+}
+
+/// Draws the figure of a URDF arm's run `t` of scenario `s` into `path` (PNG), with the timed
+/// baseline's run beside it in the contact and path-error panels when given.
+pub fn chain_figure(s: &Scenario, t: &Trace, baseline: Option<&Trace>, path: &Path) -> Result<()> {
     let robot = s.robot()?;
     let ctl = ArmController::new(&robot, &s.arm_settings()?)?;
     let n = t.len();
@@ -80,13 +94,18 @@ pub fn chain_figure(s: &Scenario, t: &Trace, path: &Path) -> Result<()> {
         v
     };
     let title = format!("{} ({} joints)", s.name, dof);
-    // With 3-D contact: the normal force and the energy audit's residual.
+    // With 3-D contact: the normal force and the energy audit's residual, PVFC's and the
+    // timed baseline's.
     let contact = t.contact.as_ref().map(|c| {
         let audit = c.audit_residual(&t.energy);
-        (
-            vec![series("normal force".into(), &|i| c.normal_force[i])],
-            vec![series("residual".into(), &|i| audit[i])],
-        )
+        let mut force = vec![thinned(t, "PVFC", &|i| c.normal_force[i])];
+        let mut residual = vec![thinned(t, "PVFC", &|i| audit[i])];
+        if let Some((b, bc)) = baseline.and_then(|b| b.contact.as_ref().map(|c| (b, c))) {
+            let audit = bc.audit_residual(&b.energy);
+            force.push(thinned(b, "timed tracker", &|i| bc.normal_force[i]));
+            residual.push(thinned(b, "timed tracker", &|i| audit[i]));
+        }
+        (force, residual)
     });
     let panels = 6 + usize::from(distance.is_some()) + 2 * usize::from(contact.is_some());
     let extra = |i: usize| i - 6 - usize::from(distance.is_some());

@@ -160,7 +160,8 @@ fn run(path: &Path, out: &Path) -> Result<(), SimError> {
     if s.is_chain() {
         let p = out.join(format!("{}.png", s.name));
         if let Some((_, t)) = runs.runs.get(&s.name) {
-            pvfc_sim::chain_plot::chain_figure(&s, t, &p)?;
+            let baseline = runs.runs.get(&format!("{}-timed", s.name)).map(|(_, b)| b);
+            pvfc_sim::chain_plot::chain_figure(&s, t, baseline, &p)?;
             println!("wrote {}", p.display());
         }
     }
