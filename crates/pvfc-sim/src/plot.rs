@@ -105,11 +105,18 @@ pub fn panel(
         ($chart:expr) => {{
             let mut chart = $chart;
             let log_fmt = |y: &f64| format!("{y:.0e}");
+            // A range under 0.01 (an audit residual of 1e-14 J) in scientific notation: three
+            // decimals would print every tick as "0".
+            let tiny = (y1 - y0).abs() < 1e-2;
             let lin_fmt = |y: &f64| {
-                format!("{y:.3}")
-                    .trim_end_matches('0')
-                    .trim_end_matches('.')
-                    .to_string()
+                if tiny && *y != 0.0 {
+                    format!("{y:.1e}")
+                } else {
+                    format!("{y:.3}")
+                        .trim_end_matches('0')
+                        .trim_end_matches('.')
+                        .to_string()
+                }
             };
             chart
                 .configure_mesh()
