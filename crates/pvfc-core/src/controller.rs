@@ -269,13 +269,7 @@ where
             return Ok((coupling, total - coupling, d));
         }
         let out = self.law.evaluate(s)?;
-        let mut add_ons = AugmentedVector::zeros();
-        if let Some(n) = &self.nominal {
-            add_ons = n.torque(&out, &s.velocity());
-        }
-        if let Some(f) = &self.friction {
-            add_ons.robot += f.torque(&s.v);
-        }
+        let add_ons = self.add_ons_onto(AugmentedVector::zeros(), s, &out);
         Ok((out.torque, add_ons, Diagnostics::from(&out)))
     }
 
@@ -305,14 +299,24 @@ where
         s: &AugmentedState<T, G, D>,
         out: &CouplingOutput<T, G, D>,
     ) -> AugmentedVector<T, D> {
-        let mut total = out.torque;
+        self.add_ons_onto(out.torque, s, out)
+    }
+
+    /// `base` plus the nominal speed (36) and friction compensation (35), added in that order.
+    #[inline(always)]
+    fn add_ons_onto(
+        &self,
+        mut base: AugmentedVector<T, D>,
+        s: &AugmentedState<T, G, D>,
+        out: &CouplingOutput<T, G, D>,
+    ) -> AugmentedVector<T, D> {
         if let Some(n) = &self.nominal {
-            total = total + n.torque(out, &s.velocity());
+            base = base + n.torque(out, &s.velocity());
         }
         if let Some(f) = &self.friction {
-            total.robot += f.torque(&s.v);
+            base.robot += f.torque(&s.v);
         }
-        total
+        base
     }
 
     /// Wraps `τ` into `[0, period)` for a periodic contour, counting the laps: one period

@@ -162,14 +162,8 @@ def test_inverse_kinematics_lands_where_pinocchio_says(name: str) -> None:
         robot.inverse_kinematics([5.0, 0.0, 0.0], np.zeros(model.nq))
 
 
-UR5_WAYPOINTS = [
-    [0.0, -1.2, 1.4, -1.8, -1.57, 0.0],
-    [0.5, -1.0, 1.2, -1.7, -1.4, 0.3],
-    [0.8, -1.4, 1.6, -1.6, -1.2, 0.6],
-    [0.3, -1.7, 1.9, -1.9, -1.5, 0.2],
-    [-0.3, -1.5, 1.7, -2.0, -1.8, -0.3],
-    [-0.5, -1.1, 1.3, -1.8, -1.7, -0.4],
-]
+# The same closed joint contour as the Rust tests and test_arm.py.
+from test_arm import UR5_WAYPOINTS  # noqa: E402
 
 
 @pytest.mark.parametrize("rate", [1000.0, 100.0])

@@ -218,44 +218,32 @@ pub struct PathError {
 impl CartesianSpec {
     /// The distance (m) of every tool position in `tool` to the path (its dense polyline).
     pub fn distances(&self, base_dir: &Path, tool: &[Vector3<f64>]) -> Result<Vec<f64>> {
-        let dense = self.polyline(base_dir)?;
-        let n = dense.len();
-        let dist = |p: &Vector3<f64>| {
-            (0..n)
-                .map(|i| segment_distance(p, &dense[i], &dense[(i + 1) % n]))
-                .fold(f64::INFINITY, f64::min)
-        };
-        Ok(tool.iter().map(dist).collect())
+        Ok(distances_to(&self.polyline(base_dir)?, tool))
     }
 
     /// The distance of every tool position in `tool` to the path, summarised.
     pub fn path_error(&self, base_dir: &Path, tool: &[Vector3<f64>]) -> Result<PathError> {
-        let d = self.distances(base_dir, tool)?;
+        let dense = self.polyline(base_dir)?;
+        let d = distances_to(&dense, tool);
         let (worst, max) =
             d.iter().enumerate().fold(
                 (0, 0.0f64),
                 |(wi, wm), (i, x)| if *x > wm { (i, *x) } else { (wi, wm) },
             );
-        let dense = self.polyline(base_dir)?;
+        // Where along the path: the arc length to the worst sample's closest path point.
         let n = dense.len();
         let (mut along, mut length, mut best) = (0.0, 0.0, f64::INFINITY);
-        if let Some(p) = tool.get(worst) {
-            for i in 0..n {
-                let (a, b) = (&dense[i], &dense[(i + 1) % n]);
-                let ab = b - a;
-                let l2 = ab.norm_squared();
-                let t = if l2 > 0.0 {
-                    ((p - a).dot(&ab) / l2).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                let dist = (p - (a + ab * t)).norm();
+        for i in 0..n {
+            let (a, b) = (&dense[i], &dense[(i + 1) % n]);
+            let segment = (b - a).norm();
+            if let Some(p) = tool.get(worst) {
+                let (t, dist) = closest_on_segment(p, a, b);
                 if dist < best {
                     best = dist;
-                    along = length + t * l2.sqrt();
+                    along = length + t * segment;
                 }
-                length += l2.sqrt();
             }
+            length += segment;
         }
         Ok(PathError {
             mean: d.iter().sum::<f64>() / d.len().max(1) as f64,
@@ -267,8 +255,25 @@ impl CartesianSpec {
     }
 }
 
+/// The distance of every point of `tool` to the closed polyline `dense`.
+fn distances_to(dense: &[Vector3<f64>], tool: &[Vector3<f64>]) -> Vec<f64> {
+    let n = dense.len();
+    let dist = |p: &Vector3<f64>| {
+        (0..n)
+            .map(|i| segment_distance(p, &dense[i], &dense[(i + 1) % n]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    tool.iter().map(dist).collect()
+}
+
 /// The distance from `p` to the segment `ab`.
 fn segment_distance(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    closest_on_segment(p, a, b).1
+}
+
+/// The closest point of segment `ab` to `p`, as its fraction `t ∈ [0, 1]` along `ab`, and the
+/// distance to it.
+fn closest_on_segment(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> (f64, f64) {
     let ab = b - a;
     let l2 = ab.norm_squared();
     let t = if l2 > 0.0 {
@@ -276,7 +281,7 @@ fn segment_distance(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64
     } else {
         0.0
     };
-    (p - (a + ab * t)).norm()
+    (t, (p - (a + ab * t)).norm())
 }
 
 /// A dense closed polyline of the circle (256 points).

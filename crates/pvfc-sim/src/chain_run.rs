@@ -239,21 +239,16 @@ fn timed<const N: usize>(
         if k == n {
             break;
         }
-        for j in 0..s.simulation.plant_substeps {
-            let t0 = t + j as f64 * h;
-            let mut p = [[0.0; 4]; 4];
-            (q, v) = plant_rk4(&chain, &q, &v, h, |i, c, q, v| {
-                let ff = friction.torque(v);
-                let fc = match world.as_ref() {
-                    Some(_) if i == 0 && j == 0 => fc0,
-                    Some(w) => w.forces(t0 + c, q, v)?.0,
-                    None => SVector::zeros(),
-                };
-                p[i] = [fc.dot(v), ff.dot(v), u.dot(v), -chain.gravity(q).dot(v)];
-                Ok(u + ff + fc)
-            })?;
-            work.add(h, &p);
-        }
+        (q, v) = hold(
+            s,
+            &chain,
+            world.as_ref(),
+            (q, v),
+            (t, h),
+            (&u, true),
+            &fc0,
+            &mut work,
+        )?;
         if k % 1000 == 0 {
             progress(k as f64 / n as f64);
         }
@@ -427,25 +422,56 @@ fn sampled<const N: usize, S: Stepper<JointSpace<f64, N>, N>>(
             break;
         }
         work.0[2] += out.add_ons_next;
-        for j in 0..s.simulation.plant_substeps {
-            let t0 = t + j as f64 * h;
-            let mut p = [[0.0; 4]; 4];
-            (q, v) = plant_rk4(chain, &q, &v, h, |i, c, q, v| {
-                let ff = friction.torque(v);
-                // The first stage of the period is the sample itself: its contact is known.
-                let fc = match world.as_ref() {
-                    Some(_) if i == 0 && j == 0 => fc0,
-                    Some(w) => w.forces(t0 + c, q, v)?.0,
-                    None => SVector::zeros(),
-                };
-                p[i] = [fc.dot(v), ff.dot(v), 0.0, -chain.gravity(q).dot(v)];
-                Ok(out.torque + ff + fc)
-            })?;
-            work.add(h, &p);
-        }
+        (q, v) = hold(
+            s,
+            chain,
+            world.as_ref(),
+            (q, v),
+            (t, h),
+            (&out.torque, false),
+            &fc0,
+            &mut work,
+        )?;
         if k % 1000 == 0 {
             progress(k as f64 / n as f64);
         }
     }
     Ok(())
+}
+
+/// Holds the motor torque `u` over one controller period from time `t`: the plant (gravity,
+/// friction, its 3-D contact) in RK4 substeps of `h`, the works `[contact, friction, motor,
+/// gravity]` integrated by the stages' powers. The motor's power is counted only when asked
+/// (the timed baseline's; PVFC's add-ons are what its controller accounts). `fc0` is the
+/// contact torque at the sample, the first stage of the period.
+#[allow(clippy::too_many_arguments)]
+fn hold<const N: usize>(
+    s: &Scenario,
+    chain: &SerialChain<f64, N>,
+    world: Option<&Contact>,
+    (mut q, mut v): (JointSpace<f64, N>, SVector<f64, N>),
+    (t, h): (f64, f64),
+    (u, count_motor): (&SVector<f64, N>, bool),
+    fc0: &SVector<f64, N>,
+    work: &mut Work,
+) -> Result<(JointSpace<f64, N>, SVector<f64, N>)> {
+    let friction = &s.plant.friction;
+    for j in 0..s.simulation.plant_substeps {
+        let t0 = t + j as f64 * h;
+        let mut p = [[0.0; 4]; 4];
+        (q, v) = plant_rk4(chain, &q, &v, h, |i, c, q, v| {
+            let ff = friction.torque(v);
+            // The first stage of the period is the sample itself: its contact is known.
+            let fc = match world {
+                Some(_) if i == 0 && j == 0 => *fc0,
+                Some(w) => w.forces(t0 + c, q, v)?.0,
+                None => SVector::zeros(),
+            };
+            let motor = if count_motor { u.dot(v) } else { 0.0 };
+            p[i] = [fc.dot(v), ff.dot(v), motor, -chain.gravity(q).dot(v)];
+            Ok(u + ff + fc)
+        })?;
+        work.add(h, &p);
+    }
+    Ok((q, v))
 }
