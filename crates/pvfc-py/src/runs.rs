@@ -228,14 +228,24 @@ impl SimulationResult {
     }
 
     /// Writes the run as an MCAP log; given the run's scenario of a URDF arm, with its 3-D
-    /// scene for Foxglove (link frames, the arm, the desired tool path).
-    #[pyo3(signature = (path, scenario=None))]
-    fn write_mcap(&self, path: PathBuf, scenario: Option<&Scenario>) -> PyResult<()> {
+    /// scene for Foxglove (link frames, the arm, the desired tool path); `rate` (Hz) thins
+    /// the plot channels (default: every sample).
+    #[pyo3(signature = (path, scenario=None, rate=None))]
+    fn write_mcap(
+        &self,
+        path: PathBuf,
+        scenario: Option<&Scenario>,
+        rate: Option<f64>,
+    ) -> PyResult<()> {
         let scene = match scenario {
             Some(s) => pvfc_sim::log::scene::ArmScene::of_run(&s.s, &self.t).map_err(sim_err)?,
             None => None,
         };
-        pvfc_sim::log::write_mcap_with_scene(&self.t, scene.as_ref(), &path).map_err(sim_err)
+        let options = pvfc_sim::log::LogOptions {
+            scene: scene.as_ref(),
+            rate,
+        };
+        pvfc_sim::log::write_mcap_with(&self.t, &options, &path).map_err(sim_err)
     }
 
     fn __len__(&self) -> usize {

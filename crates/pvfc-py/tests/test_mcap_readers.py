@@ -52,3 +52,18 @@ def test_audit_columns_are_float64_and_plot_columns_float32(wall_log):
     # float32 is visible: the log's U is not the run's to the last bit everywhere.
     u = np.array([m["potential"] for m in ctl])
     assert np.any(u != r.potential) and np.allclose(u, r.potential, rtol=1e-6)
+
+
+def test_a_log_at_a_rate_keeps_one_sample_per_period_and_the_last(wall_log, tmp_path):
+    r, _ = wall_log
+    path = tmp_path / "wall_100hz.mcap"
+    r.write_mcap(path, rate=100.0)
+    ctl = [(m[1], m[2]) for m in pvfc.read_mcap(path) if m[0] == "/pvfc/controller"]
+    times = np.array([t for t, _ in ctl]) * 1e-9
+    # 0.5 s at 100 Hz: 0, 0.01, ..., 0.5 (the last sample is on the grid too).
+    np.testing.assert_allclose(times, np.arange(51) * 0.01, atol=1e-9)
+    kept = np.searchsorted(r.t, times - 1e-12)
+    np.testing.assert_array_equal([m["energy"] for _, m in ctl], r.energy[kept])
+    for bad in (0.0, -1.0, float("nan"), float("inf")):
+        with pytest.raises(pvfc.PvfcError, match="log rate"):
+            r.write_mcap(tmp_path / "bad.mcap", rate=bad)

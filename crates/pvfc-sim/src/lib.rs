@@ -26,6 +26,7 @@ pub mod plot;
 mod plot_digital;
 pub mod presets;
 pub mod report;
+mod report_arms;
 mod report_digital;
 pub mod reproduce;
 pub mod robot;

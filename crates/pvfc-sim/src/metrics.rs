@@ -141,13 +141,14 @@ pub struct ContactSummary {
     pub audit_max: f64,
     /// The smallest audit residual (J): energy that disappeared unaccounted for.
     pub audit_min: f64,
-    /// `min_t (E(0) + W_controller(t) + W_contact(t))`: the passivity bound on what the arm
-    /// can give the world is `−W_contact(t) ≤ E(0) + W_controller(t)` (W_controller = 0 for
-    /// PVFC without add-ons); this is its margin, ≥ 0 when it holds.
+    /// `min_t (E(0) + W_controller(t) + W_gravity(t) + W_contact(t))`: the passivity bound on
+    /// what the arm can give the world is `−W_contact(t) ≤ E(0) + W_controller(t) +
+    /// W_gravity(t)` (W_controller = 0 for PVFC without add-ons; with gravity compensation,
+    /// an add-on, W_controller + W_gravity ≈ 0); this is its margin, ≥ 0 when it holds.
     pub passivity_margin: f64,
-    /// `min_t (E(0) + W_contact(t) + W_controller(t) − E(t))`: the arm's energy never exceeds
-    /// its initial energy plus the work done on it (friction only takes away); ≥ 0 (up to
-    /// the audit's residual) when it holds.
+    /// `min_t (E(0) + W_contact(t) + W_controller(t) + W_gravity(t) − E(t))`: the arm's
+    /// energy never exceeds its initial energy plus the work done on it (friction only takes
+    /// away); ≥ 0 (up to the audit's residual) when it holds.
     pub energy_bound_margin: f64,
     /// The time of the last sample in contact (s), if any.
     pub last_contact: Option<f64>,
@@ -171,6 +172,10 @@ pub fn contact_summary(trace: &Trace) -> Option<ContactSummary> {
     let fold_min = |xs: &mut dyn Iterator<Item = f64>| xs.fold(f64::INFINITY, f64::min);
     let n = trace.len();
     let residual = c.audit_residual(&trace.energy);
+    // The energy given to the arm by the contact, the controller's add-ons and gravity (an
+    // arm's gravity compensation is an add-on: the two cancel, up to the hold of a sampled
+    // controller; the planar arm has no gravity work).
+    let supplied = |i: usize| c.work_contact[i] + c.work_controller[i] + c.work_gravity[i];
     Some(ContactSummary {
         peak_force: fold_max(&mut c.normal_force.iter().cloned()).max(0.0),
         energy_pumped: fold_max(&mut c.work_contact.iter().map(|w| -w)).max(0.0),
@@ -179,12 +184,47 @@ pub fn contact_summary(trace: &Trace) -> Option<ContactSummary> {
         audit: fold_max(&mut residual.iter().map(|r| r.abs())) / scale,
         audit_max: fold_max(&mut residual.iter().cloned()),
         audit_min: fold_min(&mut residual.iter().cloned()),
-        passivity_margin: fold_min(
-            &mut (0..n).map(|i| e0 + c.work_controller[i] + c.work_contact[i]),
-        ),
-        energy_bound_margin: fold_min(
-            &mut (0..n).map(|i| e0 + c.work_contact[i] + c.work_controller[i] - trace.energy[i]),
-        ),
+        passivity_margin: fold_min(&mut (0..n).map(|i| e0 + supplied(i))),
+        energy_bound_margin: fold_min(&mut (0..n).map(|i| e0 + supplied(i) - trace.energy[i])),
         last_contact: (0..n).rev().find(|&i| c.contacts_at(i)).map(|i| trace.t[i]),
     })
+}
+
+/// How a URDF arm's tool followed its Cartesian path over the last pass of the contour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CartesianTracking {
+    /// The tool's distance to the path (m): mean, largest, and where along the path.
+    pub error: crate::cartesian::PathError,
+    /// The time of the largest distance (s).
+    pub when: f64,
+    /// The tool's mean speed over the pass (m/s): the length it travelled over the time.
+    pub speed: f64,
+}
+
+/// For a scenario with a Cartesian path (`[contour.cartesian]`): how its run `t` followed
+/// the path over the last complete pass; `None` for a joint-space contour or a run shorter
+/// than a pass.
+pub fn cartesian_tracking(
+    s: &crate::scenario::Scenario,
+    t: &Trace,
+) -> crate::error::Result<Option<CartesianTracking>> {
+    let Some(c) = &s.contour.cartesian else {
+        return Ok(None);
+    };
+    let Some(range) = last_pass(t, s.period()) else {
+        return Ok(None);
+    };
+    let robot = s.robot()?;
+    let tool =
+        t.q.rows(range.clone())
+            .map(|q| robot.tool_pose(q).map(|(_, p)| p))
+            .collect::<Result<Vec<_>, _>>()?;
+    let error = c.path_error(&s.base_dir, &tool)?;
+    let length: f64 = tool.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let duration = t.t[range.end - 1] - t.t[range.start];
+    Ok(Some(CartesianTracking {
+        error,
+        when: t.t[range.start + error.worst],
+        speed: length / duration.max(f64::MIN_POSITIVE),
+    }))
 }

@@ -472,6 +472,22 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
             files.push(p);
         }
     }
+    files.extend(chain_figures(runs, dir)?);
+    Ok(files)
+}
+
+/// Draws the figure of every URDF arm's run into `dir/NAME.png`, beside its timed baseline
+/// when there is one; returns the files written.
+pub fn chain_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for (name, (s, t)) in &runs.runs {
+        if s.is_chain() && !name.ends_with("-timed") {
+            let p = dir.join(format!("{name}.png"));
+            let baseline = runs.runs.get(&format!("{name}-timed")).map(|(_, b)| b);
+            crate::chain_plot::chain_figure(s, t, baseline, &p)?;
+            files.push(p);
+        }
+    }
     Ok(files)
 }
 

@@ -442,3 +442,26 @@ pub fn contact() -> Vec<Scenario> {
         contact_obstacle(),
     ]
 }
+
+/// The 3-D contact scenarios of a UR5 (issue 12), read from the workspace's `scenarios/`
+/// (`ur5_deburr.toml`, `ur5_wall.toml`, `ur5_push.toml`; their URDF is `models/ur5`), each
+/// beside its timed baseline, and the deburring run again in continuous time
+/// (`ur5_deburr_continuous`: the closed loop's own audit, without sampling).
+pub fn arms_3d() -> crate::error::Result<Vec<Scenario>> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let mut v = ARMS_3D
+        .iter()
+        .map(|name| Scenario::from_file(&dir.join(format!("{name}.toml"))))
+        .collect::<crate::error::Result<Vec<_>>>()?;
+    let mut continuous = v[0].clone();
+    continuous.name = format!("{}_continuous", continuous.name);
+    continuous.description = format!("{}, in continuous time", continuous.description);
+    continuous.simulation.mode = Mode::Continuous;
+    continuous.controller.passive = None;
+    continuous.baseline = None;
+    v.push(continuous);
+    Ok(v)
+}
+
+/// The names of the 3-D contact scenarios of [`arms_3d`], deburring first.
+pub const ARMS_3D: [&str; 3] = ["ur5_deburr", "ur5_wall", "ur5_push"];

@@ -260,6 +260,10 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     );
     contact_claims(r, &mut push)?;
     crate::report_digital::digital_claims(r, &mut push)?;
+    // The 3-D arm runs are part of `pvfc reproduce`, not of every set of runs.
+    if r.runs.contains_key(crate::presets::ARMS_3D[0]) {
+        crate::report_arms::arm_claims(r, &mut push)?;
+    }
     Ok(out)
 }
 

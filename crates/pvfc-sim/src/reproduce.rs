@@ -49,8 +49,9 @@ fn write(path: &Path, text: &str) -> Result<()> {
     std::fs::write(path, text).map_err(|e| SimError::io(path, e))
 }
 
-/// Writes an MCAP log per run into `dir/logs`; returns the files.
-pub fn write_logs(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
+/// Writes an MCAP log per run into `dir/logs`, its plot channels at `rate` (Hz; `None`: every
+/// sample, see [`crate::log::LogOptions`]); returns the files.
+pub fn write_logs(runs: &Runs, dir: &Path, rate: Option<f64>) -> Result<Vec<PathBuf>> {
     let logs = dir.join("logs");
     std::fs::create_dir_all(&logs).map_err(|e| SimError::io(&logs, e))?;
     runs.runs
@@ -58,7 +59,11 @@ pub fn write_logs(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
         .map(|(name, (s, t))| {
             let p = logs.join(format!("{name}.mcap"));
             let scene = crate::log::scene::ArmScene::of_run(s, t)?;
-            crate::log::write_mcap_with_scene(t, scene.as_ref(), &p)?;
+            let options = crate::log::LogOptions {
+                scene: scene.as_ref(),
+                rate,
+            };
+            crate::log::write_mcap_with(t, &options, &p)?;
             Ok(p)
         })
         .collect()

@@ -207,7 +207,7 @@ fn a_cartesian_tool_path_becomes_joint_waypoints_or_a_named_error() {
 #[test]
 fn an_arm_log_carries_its_3d_scene_for_foxglove() {
     use pvfc_sim::log::scene::{ArmScene, ARM_TOPIC, FRAMES_TOPIC, PATH_TOPIC};
-    use pvfc_sim::log::{read_mcap, write_mcap_with_scene};
+    use pvfc_sim::log::{read_mcap, write_mcap_with, LogOptions};
     let mut s = ur5();
     s.duration = 0.2;
     let t = pvfc_sim::simulate::simulate(&s, &mut |_| {}).unwrap();
@@ -217,7 +217,15 @@ fn an_arm_log_carries_its_3d_scene_for_foxglove() {
     let dir = std::env::temp_dir().join(format!("pvfc-scene-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let p = dir.join("ur5.mcap");
-    write_mcap_with_scene(&t, Some(&scene), &p).unwrap();
+    write_mcap_with(
+        &t,
+        &LogOptions {
+            scene: Some(&scene),
+            rate: None,
+        },
+        &p,
+    )
+    .unwrap();
     let msgs = read_mcap(&p).unwrap();
     let count = |topic: &str| msgs.iter().filter(|m| m.topic == topic).count();
     // 0.2 s at the controller's rate, frames at 50 Hz (t = 0 and 0.2 included).

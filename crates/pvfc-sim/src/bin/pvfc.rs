@@ -29,6 +29,10 @@ enum Command {
         /// Skip the MCAP logs.
         #[arg(long)]
         no_logs: bool,
+        /// The logs' plot channels at this rate (Hz); 0 writes every sample (1 kHz). The
+        /// claims and figures always use every sample.
+        #[arg(long, default_value_t = 250.0)]
+        log_rate: f64,
     },
     /// Run one scenario file; write its MCAP log(s).
     Run {
@@ -37,6 +41,9 @@ enum Command {
         /// Output directory.
         #[arg(long, default_value = "results")]
         out: PathBuf,
+        /// The log's plot channels at this rate (Hz); 0 (the default) writes every sample.
+        #[arg(long, default_value_t = 0.0)]
+        log_rate: f64,
     },
     /// Write the built-in scenarios as TOML files.
     Presets {
@@ -71,8 +78,16 @@ fn mkdir(p: &Path) -> Result<(), SimError> {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Reproduce { out, no_logs } => reproduce(&out, !no_logs),
-        Command::Run { scenario, out } => run(&scenario, &out),
+        Command::Reproduce {
+            out,
+            no_logs,
+            log_rate,
+        } => reproduce(&out, (!no_logs).then_some(log_rate)),
+        Command::Run {
+            scenario,
+            out,
+            log_rate,
+        } => run(&scenario, &out, log_rate),
         Command::Presets { out } => write_presets(&out),
     };
     match result {
@@ -84,11 +99,19 @@ fn main() -> ExitCode {
     }
 }
 
-fn reproduce(out: &Path, logs: bool) -> Result<(), SimError> {
+/// A log rate from the command line: 0 means every sample.
+fn log_rate(rate: f64) -> Option<f64> {
+    (rate != 0.0).then_some(rate)
+}
+
+/// `log_rate`: `None` skips the logs.
+fn reproduce(out: &Path, log_rate_hz: Option<f64>) -> Result<(), SimError> {
     mkdir(out)?;
-    let runs = run_all(&presets::all(), bar)?;
-    if logs {
-        let files = write_logs(&runs, out)?;
+    let mut scenarios = presets::all();
+    scenarios.extend(presets::arms_3d()?);
+    let runs = run_all(&scenarios, bar)?;
+    if let Some(rate) = log_rate_hz {
+        let files = write_logs(&runs, out, log_rate(rate))?;
         println!(
             "wrote {} MCAP logs to {}",
             files.len(),
@@ -115,11 +138,11 @@ fn reproduce(out: &Path, logs: bool) -> Result<(), SimError> {
     Ok(())
 }
 
-fn run(path: &Path, out: &Path) -> Result<(), SimError> {
+fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
     let s = Scenario::from_file(path)?;
     mkdir(out)?;
     let runs = run_all(std::slice::from_ref(&s), bar)?;
-    for f in write_logs(&runs, out)? {
+    for f in write_logs(&runs, out, log_rate(rate))? {
         println!("wrote {}", f.display());
     }
     for (name, (s, t)) in &runs.runs {
@@ -135,14 +158,15 @@ fn run(path: &Path, out: &Path) -> Result<(), SimError> {
                 .map(|u| format!("{u:.3e}"))
                 .unwrap_or_else(|| "(no complete pass)".into())
         );
-        if let Some((e, when, speed)) = cartesian_error(s, t)? {
+        if let Some(c) = pvfc_sim::metrics::cartesian_tracking(s, t)? {
             println!(
-                "{name}: tool to the Cartesian path over the last pass: mean {:.2} mm, max {:.2} mm (at t = {when:.2} s, {:.0} mm along the {:.0} mm path); tool speed {:.0} mm/s",
-                e.mean * 1e3,
-                e.max * 1e3,
-                e.along * 1e3,
-                e.length * 1e3,
-                speed * 1e3,
+                "{name}: tool to the Cartesian path over the last pass: mean {:.2} mm, max {:.2} mm (at t = {:.2} s, {:.0} mm along the {:.0} mm path); tool speed {:.0} mm/s",
+                c.error.mean * 1e3,
+                c.error.max * 1e3,
+                c.when,
+                c.error.along * 1e3,
+                c.error.length * 1e3,
+                c.speed * 1e3,
             );
         }
         if let Some(c) = pvfc_sim::metrics::contact_summary(t) {
@@ -158,39 +182,11 @@ fn run(path: &Path, out: &Path) -> Result<(), SimError> {
         println!("wrote {}", p.display());
     }
     if s.is_chain() {
-        let p = out.join(format!("{}.png", s.name));
-        if let Some((_, t)) = runs.runs.get(&s.name) {
-            let baseline = runs.runs.get(&format!("{}-timed", s.name)).map(|(_, b)| b);
-            pvfc_sim::chain_plot::chain_figure(&s, t, baseline, &p)?;
+        for p in plot::chain_figures(&runs, out)? {
             println!("wrote {}", p.display());
         }
     }
     Ok(())
-}
-
-/// For a scenario with a Cartesian path: the tool's distance to it over the last pass, the
-/// time of the largest (s), and the tool's mean speed (m/s).
-fn cartesian_error(
-    s: &Scenario,
-    t: &pvfc_sim::simulate::Trace,
-) -> Result<Option<(pvfc_sim::cartesian::PathError, f64, f64)>, SimError> {
-    let Some(c) = &s.contour.cartesian else {
-        return Ok(None);
-    };
-    let Some(range) = pvfc_sim::metrics::last_pass(t, s.period()) else {
-        return Ok(None);
-    };
-    let robot = s.robot()?;
-    let tool =
-        t.q.rows(range.clone())
-            .map(|q| robot.tool_pose(q).map(|(_, p)| p))
-            .collect::<Result<Vec<_>, _>>()?;
-    let e = c.path_error(&s.base_dir, &tool)?;
-    // The tool's mean speed over the pass: path length / time.
-    let length: f64 = tool.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-    let duration = t.t[range.end - 1] - t.t[range.start];
-    let speed = length / duration.max(f64::MIN_POSITIVE);
-    Ok(Some((e, t.t[range.start + e.worst], speed)))
 }
 
 fn write_presets(out: &Path) -> Result<(), SimError> {

@@ -81,13 +81,50 @@ fn contact(dim: usize, dof: usize) -> MessageType {
     }
 }
 
-/// Writes a trace to an MCAP file, one message per sample on each topic.
-pub fn write_mcap(trace: &Trace, path: &Path) -> Result<()> {
-    write_mcap_with_scene(trace, None, path)
+/// What a log holds beside the plot channels, and how densely they are sampled.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LogOptions<'a> {
+    /// An arm's 3-D scene for Foxglove's 3-D panel ([`scene`]).
+    pub scene: Option<&'a ArmScene>,
+    /// The plot channels' rate (Hz): a sample is written when its time reaches the next
+    /// multiple of `1/rate`, and the last sample always is. `None` writes every sample of the
+    /// trace. The audit's claims are computed from the full trace, never from a log.
+    pub rate: Option<f64>,
 }
 
-/// [`write_mcap`], plus an arm's 3-D scene for Foxglove's 3-D panel ([`scene`]).
-pub fn write_mcap_with_scene(trace: &Trace, scene: Option<&ArmScene>, path: &Path) -> Result<()> {
+/// The indexes of the samples a log at `rate` (Hz) keeps: the first, the first at or after
+/// each multiple of `1/rate`, and the last.
+fn decimate(t: &[f64], rate: Option<f64>) -> Result<Vec<usize>> {
+    let Some(rate) = rate else {
+        return Ok((0..t.len()).collect());
+    };
+    if !(rate.is_finite() && rate > 0.0) {
+        return Err(SimError::Setting(format!(
+            "log rate {rate} Hz: must be finite and positive"
+        )));
+    }
+    let mut keep = Vec::new();
+    let mut last = None;
+    for (i, &ti) in t.iter().enumerate() {
+        // The period `ti` falls in; a millionth of a period of slack keeps the samples that
+        // sit on the grid but round just below it.
+        let period = (ti * rate + 1e-6).floor();
+        if last != Some(period) || i + 1 == t.len() {
+            keep.push(i);
+            last = Some(period);
+        }
+    }
+    Ok(keep)
+}
+
+/// Writes a trace to an MCAP file, one message per sample on each topic.
+pub fn write_mcap(trace: &Trace, path: &Path) -> Result<()> {
+    write_mcap_with(trace, &LogOptions::default(), path)
+}
+
+/// [`write_mcap`] with [`LogOptions`]: an arm's 3-D scene, a lower rate.
+pub fn write_mcap_with(trace: &Trace, options: &LogOptions<'_>, path: &Path) -> Result<()> {
+    let keep = decimate(&trace.t, options.rate)?;
     let file = std::fs::File::create(path).map_err(|e| SimError::io(path, e))?;
     let mut w = mcap::WriteOptions::default()
         .compression(Some(mcap::Compression::Zstd))
@@ -113,16 +150,16 @@ pub fn write_mcap_with_scene(trace: &Trace, scene: Option<&ArmScene>, path: &Pat
         Some(kt) => Some((channel(kt, CONTACT_TOPIC)?, kt)),
         None => None,
     };
-    if let Some(scene) = scene {
+    if let Some(scene) = options.scene {
         scene::write_scene(&mut w, scene, &meta)?;
     }
     let mut buf = Vec::new();
-    for i in 0..trace.len() {
+    for (sequence, &i) in keep.iter().enumerate() {
         let time = (trace.t[i] * 1e9).round() as u64;
         let mut put = |channel_id, data: &[u8]| {
             let header = mcap::records::MessageHeader {
                 channel_id,
-                sequence: i as u32,
+                sequence: sequence as u32,
                 log_time: time,
                 publish_time: time,
             };
@@ -219,4 +256,26 @@ fn decode(channel: &mcap::Channel<'_>, data: &[u8]) -> Result<serde_json::Value>
 fn foxglove_json<M: foxglove::Decode + serde::Serialize>(data: &[u8]) -> Result<serde_json::Value> {
     let m = M::decode(data).map_err(mcap_err)?;
     serde_json::to_value(&m).map_err(mcap_err)
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)] // tests: a failure is the point
+mod tests {
+    use super::decimate;
+
+    #[test]
+    fn decimation_keeps_one_sample_per_period_and_the_last() {
+        let t: Vec<f64> = (0..=1000).map(|i| i as f64 * 1e-3).collect();
+        let keep = decimate(&t, Some(250.0)).unwrap();
+        assert_eq!(keep.len(), 251);
+        assert!(keep.windows(2).all(|w| w[1] - w[0] == 4), "{keep:?}");
+        assert_eq!(*keep.last().unwrap(), 1000);
+        // A rate that does not divide the samples: still the first and the last.
+        let keep = decimate(&t[..1000], Some(300.0)).unwrap();
+        assert_eq!((keep[0], *keep.last().unwrap()), (0, 999));
+        assert_eq!(decimate(&t, None).unwrap().len(), 1001);
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(decimate(&t, Some(bad)).is_err());
+        }
+    }
 }
