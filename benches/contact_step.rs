@@ -113,6 +113,34 @@ fn spatial_contact_step(c: &mut Criterion) {
     g.bench_function("ur5_contact_query", |b| {
         b.iter(|| force(black_box(&st)).expect("finite"))
     });
+    // The same arm with the URDF's collision meshes as convex hulls (`arm = "urdf"`) instead
+    // of capsules: 8 shapes against the box.
+    let mut hulls = s.contact_3d.clone().expect("contact_3d");
+    hulls.arm = pvfc::sim::contact::spatial::ArmGeometry::Urdf;
+    hulls.packages.insert(
+        "example-robot-data".into(),
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/example-robot-data"),
+    );
+    let hull_world = SpatialWorld::new(&hulls, &robot).expect("world with hulls");
+    let hull_force = |x: &AugmentedState<f64, JointSpace<f64, 6>, 6>| -> Result<SVector<f64, 6>, pvfc::sim::SimError> {
+        let c = hull_world.contact(2.0, x.q.coords().as_slice(), x.v.as_slice())?;
+        Ok(SVector::from_column_slice(&c.torque))
+    };
+    g.bench_function("ur5_rk4_step_with_contact_hulls", |b| {
+        b.iter(|| {
+            let st = black_box(&st);
+            let k1 = sys
+                .derivative(st, &hull_force(st).expect("finite"))
+                .expect("finite");
+            sys.rk4_with_stages(st, &k1, h, |_, _, x| {
+                Ok::<_, pvfc::sim::SimError>(sys.derivative(x, &hull_force(x)?)?)
+            })
+            .expect("finite")
+        })
+    });
+    g.bench_function("ur5_contact_query_hulls", |b| {
+        b.iter(|| hull_force(black_box(&st)).expect("finite"))
+    });
     g.finish();
 }
 

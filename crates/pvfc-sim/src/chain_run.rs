@@ -270,7 +270,7 @@ impl Contact {
             None => Ok(None),
             #[cfg(feature = "contact")]
             Some(spec) => Ok(Some(Contact {
-                world: crate::contact::spatial::SpatialWorld::new(spec, &s.robot()?)?,
+                world: crate::contact::spatial::SpatialWorld::new_in(spec, &s.robot()?, &s.base_dir)?,
             })),
             #[cfg(not(feature = "contact"))]
             Some(_) => Err(SimError::Setting(

@@ -264,6 +264,8 @@ fn ur5_on_a_table(mode: Mode) -> Scenario {
     s.duration = 3.0;
     // A table whose top is 3 mm above the tool ball's lowest point on the path (z = 0.30).
     s.contact_3d = Some(SpatialContactSpec {
+        arm: Default::default(),
+        packages: Default::default(),
         link_radius: 0.0,
         link_radii: vec![],
         tool_radius: 0.01,

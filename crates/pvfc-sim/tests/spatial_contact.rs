@@ -5,7 +5,9 @@
 #![cfg(feature = "contact")]
 
 use nalgebra::Vector3;
-use pvfc_sim::contact::spatial::{SpatialContactSpec, SpatialObstacle, SpatialShape, SpatialWorld};
+use pvfc_sim::contact::spatial::{
+    ArmGeometry, SpatialContactSpec, SpatialObstacle, SpatialShape, SpatialWorld,
+};
 use pvfc_sim::contact::ContactLaw;
 use pvfc_sim::robot::Robot;
 use std::path::Path;
@@ -43,6 +45,8 @@ fn table_under_tool(robot: &Robot, depth: f64, tool_radius: f64) -> SpatialObsta
 
 fn spec(obstacles: Vec<SpatialObstacle>, link_radius: f64, law: ContactLaw) -> SpatialContactSpec {
     SpatialContactSpec {
+        arm: ArmGeometry::Capsules,
+        packages: Default::default(),
         link_radius,
         link_radii: vec![],
         tool_radius: 0.01,
@@ -85,6 +89,13 @@ fn a_spring_contact_pushes_down_its_energy_gradient() {
     ] {
         let world =
             SpatialWorld::new(&spec(vec![obstacle], link_radius, spring(k)), &robot).unwrap();
+        assert_spring_gradient(&world, k);
+    }
+}
+
+/// `F_e` at `Q0` equals minus the central-difference gradient of the elastic energy.
+fn assert_spring_gradient(world: &SpatialWorld, k: f64) {
+    {
         let c = world.contact(0.0, &Q0, &[0.0; 6]).unwrap();
         assert!(!c.points.is_empty() && c.depth > 1e-3, "{c:?}");
         for j in 0..6 {
@@ -92,8 +103,7 @@ fn a_spring_contact_pushes_down_its_energy_gradient() {
             let (mut qp, mut qm) = (Q0, Q0);
             qp[j] += h;
             qm[j] -= h;
-            let grad =
-                (elastic_energy(&world, &qp, k) - elastic_energy(&world, &qm, k)) / (2.0 * h);
+            let grad = (elastic_energy(world, &qp, k) - elastic_energy(world, &qm, k)) / (2.0 * h);
             let scale = c.torque.iter().fold(1.0_f64, |m, t| m.max(t.abs()));
             assert!(
                 (c.torque[j] + grad).abs() < 1e-5 * scale,
@@ -272,4 +282,223 @@ fn a_moving_obstacle_is_where_its_keyframes_put_it_and_its_speed_counts() {
         .unwrap_err()
         .to_string()
         .contains("obstacles[0]"));
+}
+
+/// The UR5 with its URDF's collision meshes as convex hulls (`arm = "urdf"`), the meshes
+/// resolved through `packages` as ROS resolves `package://`.
+fn urdf_spec(obstacles: Vec<SpatialObstacle>, law: ContactLaw) -> SpatialContactSpec {
+    let mut s = spec(obstacles, 0.0, law);
+    s.arm = ArmGeometry::Urdf;
+    s.packages.insert(
+        "example-robot-data".into(),
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models/example-robot-data"),
+    );
+    s
+}
+
+#[test]
+fn the_urdf_meshes_become_convex_hulls_that_obey_the_energy_gradient() {
+    let robot = ur5();
+    // Six meshes on the moving bodies (shoulder … wrist 3; the base's does not move),
+    // ee_link's 1 cm box folded onto wrist 3, and the tool ball.
+    let d = robot.description();
+    assert_eq!(d.collisions.len(), 7, "{:?}", d.collisions);
+    let k = 2.0e4;
+    let world = SpatialWorld::new(&urdf_spec(vec![], spring(k)), &robot).unwrap();
+    assert_eq!(world.arm_shapes(), 8);
+    // A pillar pressed into the forearm's hull (not its capsule: 2 cm beside the segment
+    // that a 5 cm capsule would cover, the mesh is there too).
+    let poses = robot.link_poses(&Q0).unwrap();
+    let mid = (poses[2].translation + poses[3].translation) * 0.5;
+    let pillar = |x: f64| SpatialObstacle {
+        shape: SpatialShape::Cylinder {
+            radius: 0.05,
+            length: 2.0,
+        },
+        position: [mid.x + x, mid.y, mid.z],
+        rpy: [0.0, 0.0, 0.0],
+        law: None,
+        motion: vec![],
+    };
+    // Find where the pillar first touches the hull, then press 3 mm further.
+    let touches = |x: f64| {
+        let w = SpatialWorld::new(&urdf_spec(vec![pillar(x)], spring(k)), &robot).unwrap();
+        !w.contact(0.0, &Q0, &[0.0; 6]).unwrap().points.is_empty()
+    };
+    let (mut inside, mut outside) = (0.0, 0.3);
+    assert!(touches(inside) && !touches(outside));
+    for _ in 0..40 {
+        let m = 0.5 * (inside + outside);
+        if touches(m) {
+            inside = m
+        } else {
+            outside = m
+        }
+    }
+    let world =
+        SpatialWorld::new(&urdf_spec(vec![pillar(inside - 0.003)], spring(k)), &robot).unwrap();
+    let c = world.contact(0.0, &Q0, &[0.0; 6]).unwrap();
+    // 3 mm along x; along the face's normal a little less (the face is not square to x).
+    assert!(c.depth > 0.002 && c.depth <= 0.003 + 1e-9, "{c:?}");
+    assert_spring_gradient(&world, k);
+}
+
+#[test]
+fn urdf_collision_primitives_are_placed_on_their_bodies() {
+    // A two-joint arm: link1 carries a box and, through a fixed joint, a sphere; link2 a
+    // cylinder and a capsule; the base's mesh (a file that does not exist) is never opened.
+    let urdf = r#"<robot name="prims">
+      <link name="base"><collision><geometry><mesh filename="package://nowhere/base.stl"/></geometry></collision></link>
+      <link name="link1">
+        <inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+        <collision><origin xyz="0 0 0.2"/><geometry><box size="0.1 0.1 0.4"/></geometry></collision>
+      </link>
+      <link name="knob"><collision><geometry><sphere radius="0.03"/></geometry></collision></link>
+      <link name="link2">
+        <inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+        <collision><origin xyz="0.15 0 0" rpy="0 1.5707963267948966 0"/><geometry><cylinder radius="0.04" length="0.3"/></geometry></collision>
+        <collision><origin xyz="0.15 0 0.1" rpy="0 1.5707963267948966 0"/><geometry><capsule radius="0.02" length="0.2"/></geometry></collision>
+      </link>
+      <link name="tip"/>
+      <joint name="j1" type="revolute"><parent link="base"/><child link="link1"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="10" velocity="1"/></joint>
+      <joint name="knob_fix" type="fixed"><parent link="link1"/><child link="knob"/><origin xyz="0.2 0 0.3"/></joint>
+      <joint name="j2" type="revolute"><parent link="link1"/><child link="link2"/><origin xyz="0 0 0.4"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="10" velocity="1"/></joint>
+      <joint name="tip_fix" type="fixed"><parent link="link2"/><child link="tip"/><origin xyz="0.3 0 0"/></joint>
+    </robot>"#;
+    let d = pvfc_sim::urdf::ChainDescription::from_str(
+        urdf,
+        Path::new("prims.urdf"),
+        None,
+        Some("tip"),
+    )
+    .unwrap();
+    let robot = Robot::from_description(d).unwrap();
+    let bodies: Vec<(usize, &str)> = robot
+        .description()
+        .collisions
+        .iter()
+        .map(|c| (c.body, c.link.as_str()))
+        .collect();
+    assert_eq!(bodies.len(), 4, "{bodies:?}");
+    assert!(bodies.contains(&(0, "knob")) && bodies.contains(&(0, "link1")));
+    assert_eq!(bodies.iter().filter(|b| **b == (1, "link2")).count(), 2);
+    // Each primitive is where the URDF puts it: probe with a small ball obstacle at a point
+    // just inside each shape's surface, for q = (0.4, -0.3).
+    let q = [0.4, -0.3];
+    let poses = robot.link_poses(&q).unwrap();
+    let at = |body: usize, p: Vector3<f64>| {
+        let pose = &poses[body];
+        pose.rotation * p + pose.translation
+    };
+    let mut s = spec(vec![], 0.0, spring(1e4));
+    s.arm = ArmGeometry::Urdf;
+    s.tool_radius = 1e-3;
+    let probe = |p: Vector3<f64>| {
+        let mut s = s.clone();
+        s.obstacles = vec![SpatialObstacle {
+            shape: SpatialShape::Ball { radius: 0.005 },
+            position: [p.x, p.y, p.z],
+            rpy: [0.0; 3],
+            law: None,
+            motion: vec![],
+        }];
+        let w = SpatialWorld::new(&s, &robot).unwrap();
+        w.contact(0.0, &q, &[0.0; 2]).unwrap()
+    };
+    // (body, a point in its frame 4 mm outside a face, the depth expected: 1 mm).
+    let cases = [
+        (0, Vector3::new(0.054, 0.0, 0.1)), // the box's +x face (half 0.05)
+        (0, Vector3::new(0.2, 0.0, 0.3 + 0.034)), // the fixed knob's top (r 0.03)
+        (1, Vector3::new(0.15, 0.044, 0.0)), // the cylinder's side (r 0.04, along x)
+        (1, Vector3::new(0.27 + 0.004, 0.0, 0.1)), // the capsule's end cap (0.15 + 0.1 + r)
+    ];
+    for (body, p) in cases {
+        let c = probe(at(body, p));
+        assert_eq!(c.points.len(), 1, "{body} {p:?}: {c:?}");
+        assert!(
+            (c.depth - 0.001).abs() < 1e-9,
+            "{body} {p:?}: depth {}",
+            c.depth
+        );
+        assert_eq!(c.points[0].0, body);
+    }
+    // Bad sizes name the link; an unknown package names the link, the mesh and the fix.
+    let bad = urdf.replace(r#"radius="0.03""#, r#"radius="-0.03""#);
+    let e =
+        pvfc_sim::urdf::ChainDescription::from_str(&bad, Path::new("p.urdf"), None, Some("tip"))
+            .unwrap_err()
+            .to_string();
+    assert!(
+        e.contains("link knob <collision>") && e.contains("> 0"),
+        "{e}"
+    );
+    let with_mesh = urdf.replace(
+        r#"<link name="knob"><collision><geometry><sphere radius="0.03"/>"#,
+        r#"<link name="knob"><collision><geometry><mesh filename="package://tools/knob.stl"/>"#,
+    );
+    let d = pvfc_sim::urdf::ChainDescription::from_str(
+        &with_mesh,
+        Path::new("p.urdf"),
+        None,
+        Some("tip"),
+    )
+    .unwrap();
+    let robot = Robot::from_description(d).unwrap();
+    let e = SpatialWorld::new(&s, &robot).unwrap_err().to_string();
+    assert!(
+        e.contains("link knob")
+            && e.contains("package://tools/knob.stl")
+            && e.contains("contact_3d.packages"),
+        "{e}"
+    );
+    // Capsules (the default) do not read the URDF's geometry at all.
+    s.arm = ArmGeometry::Capsules;
+    assert!(SpatialWorld::new(&s, &robot).is_ok());
+}
+
+#[test]
+fn a_convex_obstacle_of_a_boxs_corners_touches_as_the_box_does() {
+    let robot = ur5();
+    let table = table_under_tool(&robot, 0.004, 0.01);
+    let SpatialShape::Box { half_extents: h } = table.shape else {
+        unreachable!()
+    };
+    let mut corners = vec![];
+    for sx in [-1.0, 1.0] {
+        for sy in [-1.0, 1.0] {
+            for sz in [-1.0, 1.0] {
+                corners.push([sx * h[0], sy * h[1], sz * h[2]]);
+            }
+        }
+    }
+    let hull = SpatialObstacle {
+        shape: SpatialShape::Convex { points: corners },
+        ..table.clone()
+    };
+    let v = [0.1, -0.2, 0.3, 0.1, 0.0, 0.2];
+    let by = |o: SpatialObstacle| {
+        SpatialWorld::new(&spec(vec![o], 0.0, spring(2.0e4)), &robot)
+            .unwrap()
+            .contact(0.0, &Q0, &v)
+            .unwrap()
+    };
+    let (b, c) = (by(table), by(hull));
+    assert!((b.depth - c.depth).abs() < 1e-12 && (b.depth - 0.004).abs() < 1e-9);
+    for (x, y) in b.torque.iter().zip(&c.torque) {
+        assert!((x - y).abs() < 1e-9, "{:?} vs {:?}", b.torque, c.torque);
+    }
+    // Points in one plane have no hull: an error naming the obstacle.
+    let flat = SpatialObstacle {
+        shape: SpatialShape::Convex {
+            points: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]],
+        },
+        ..table_under_tool(&robot, 0.004, 0.01)
+    };
+    let e = SpatialWorld::new(&spec(vec![flat], 0.0, spring(1.0)), &robot)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("contact_3d.obstacles[0]") && e.contains("convex hull"),
+        "{e}"
+    );
 }

@@ -1,14 +1,18 @@
 //! Contact in 3-D for URDF arms, on Rapier's collision layer (`rapier3d-f64`, whose parry3d
 //! contact queries give the deepest point, normal and depth of each arm–obstacle pair).
 //!
-//! * The arm: every moving link is a capsule from its frame's origin to the next link's frame
-//!   origin (the last link's to the tool frame), and the tool is a ball at the tool frame.
-//!   Meshes are not read. The UR5 and Panda of `example-robot-data` describe their collision
-//!   geometry only as meshes, so a capsule along the link's kinematic segment, with a radius
-//!   the scenario sets, stands in for each one. This is an approximation: a convex hull of the
-//!   mesh would follow the link's real shape.
-//! * The world: boxes, balls and cylinders, each with a position and roll–pitch–yaw in the
-//!   robot's base frame, fixed, each with its own [`ContactLaw`].
+//! * The arm, one of two ways ([`ArmGeometry`]), and a ball at the tool frame in both:
+//!   - `capsules` (the default): every moving link is a capsule from its frame's origin to
+//!     the next link's frame origin (the last link's to the tool frame), with a radius the
+//!     scenario sets. Nothing of the URDF's geometry is read.
+//!   - `urdf`: the URDF's `<collision>` elements on the moving bodies. Boxes, spheres,
+//!     cylinders and capsules are taken as they are; a mesh (STL, binary or ASCII) is replaced
+//!     by the convex hull of its vertices (parry's quickhull), which contains the mesh: a
+//!     concave link (a fork, a hollow) touches a little earlier than the real one would. The
+//!     UR5 and Panda of `example-robot-data` give their collision geometry only as meshes.
+//! * The world: boxes, balls, cylinders and convex meshes, each with a position and
+//!   roll–pitch–yaw in the robot's base frame, fixed or moved on keyframes, each with its own
+//!   [`ContactLaw`].
 //! * The force: at each arm–obstacle pair in penetration, the law's force `f` at the arm's
 //!   contact point `p` on link `k`, and `F_e = Σ J_p(q)ᵀ f` with the point's Jacobian
 //!   `J_p = [a_j × (p − o_j)]` (revolute joint `j ≤ k`, axis `a_j` through `o_j`) or `[a_j]`
@@ -19,6 +23,8 @@ use super::ContactLaw;
 use crate::error::{Result, SimError};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
 
 #[cfg(feature = "contact")]
 mod world;
@@ -26,7 +32,7 @@ mod world;
 pub use world::SpatialWorld;
 
 /// The shape of a 3-D obstacle, in its own frame.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, rename_all = "snake_case")]
 pub enum SpatialShape {
     /// A box with these half extents along its x, y, z (m).
@@ -46,6 +52,24 @@ pub enum SpatialShape {
         /// Length along z (m).
         length: f64,
     },
+    /// The convex hull of these points (m, in the obstacle's frame; at least 4, not all in
+    /// one plane).
+    Convex {
+        /// The points.
+        points: Vec<[f64; 3]>,
+    },
+}
+
+/// Where the arm's collision shapes come from (the tool ball is added in both cases).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ArmGeometry {
+    /// A capsule along each link's kinematic segment (`link_radius`, `link_radii`).
+    #[default]
+    Capsules,
+    /// The URDF's `<collision>` elements, meshes as their convex hulls (`packages` resolves
+    /// `package://` names); `link_radius` and `link_radii` are not used.
+    Urdf,
 }
 
 /// A fixed obstacle or workpiece.
@@ -90,6 +114,14 @@ impl SpatialObstacle {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpatialContactSpec {
+    /// Where the arm's shapes come from: capsules along the links (default) or the URDF's
+    /// `<collision>` elements.
+    #[serde(default)]
+    pub arm: ArmGeometry,
+    /// The directories of the packages that `package://NAME/…` mesh names refer to, by name
+    /// (relative to the scenario file), for `arm = "urdf"`.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub packages: BTreeMap<String, PathBuf>,
     /// The radius of every link's capsule (m; 0: links do not collide, only the tool does).
     #[serde(default = "default_link_radius")]
     pub link_radius: f64,
@@ -143,13 +175,16 @@ impl SpatialContactSpec {
             if !(finite(&o.position) && finite(&o.rpy)) {
                 return Err(setting(format!("{name}: position and rpy must be finite")));
             }
-            let ok = match o.shape {
+            let ok = match &o.shape {
                 SpatialShape::Box { half_extents } => {
-                    finite(&half_extents) && half_extents.iter().all(|h| *h > 0.0)
+                    finite(half_extents) && half_extents.iter().all(|h| *h > 0.0)
                 }
-                SpatialShape::Ball { radius } => radius.is_finite() && radius > 0.0,
+                SpatialShape::Ball { radius } => radius.is_finite() && *radius > 0.0,
                 SpatialShape::Cylinder { radius, length } => {
-                    radius.is_finite() && radius > 0.0 && length.is_finite() && length > 0.0
+                    radius.is_finite() && *radius > 0.0 && length.is_finite() && *length > 0.0
+                }
+                SpatialShape::Convex { points } => {
+                    points.len() >= 4 && points.iter().all(|p| finite(p))
                 }
             };
             if !ok {

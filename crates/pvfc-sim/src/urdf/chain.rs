@@ -1,6 +1,7 @@
 //! Any serial chain from a URDF: the joints between a base and a tip link, with fixed joints
 //! and side branches folded into the links that carry them.
 
+use super::collision::{link_collisions, LinkCollision};
 use super::err;
 use crate::error::{Result, SimError};
 use pvfc_core::lie::JointKind;
@@ -47,7 +48,9 @@ pub struct JointDescription {
 ///   listed in [`locked_joints`](Self::locked_joints)); Pinocchio's `buildReducedModel` with
 ///   those joints locked at 0 gives the same model;
 /// * links fixed to the base do not move and are left out;
-/// * `<visual>` and `<collision>` are not read: mesh files need not exist.
+/// * `<collision>` elements of the moving bodies are kept ([`collisions`](Self::collisions))
+///   with mesh files by name: a mesh file need not exist unless a 3-D contact world uses it;
+///   `<visual>` is not read.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ChainDescription {
     /// The robot's name.
@@ -65,6 +68,10 @@ pub struct ChainDescription {
     pub tool: Pose<f64>,
     /// Movable joints of side branches locked at 0 and folded into the chain.
     pub locked_joints: Vec<String>,
+    /// The `<collision>` elements of the moving bodies (with what is folded into them).
+    pub collisions: Vec<LinkCollision>,
+    /// The directory of the URDF file (relative mesh names resolve against it).
+    pub urdf_dir: std::path::PathBuf,
 }
 
 /// The largest number of joints the run-time dispatch supports.
@@ -130,6 +137,8 @@ impl ChainDescription {
             links,
             tool,
             locked_joints: vec![],
+            collisions: vec![],
+            urdf_dir: std::path::PathBuf::from("."),
         })
     }
 
@@ -374,16 +383,19 @@ impl<'a> Reader<'a> {
         }
         // Side branches: every link hanging from a moving chain link, off the path, is
         // locked at 0 and folded into the body that carries it.
+        let mut collisions = Vec::new();
         for (link, body, from_body) in &carriers {
             let Some(b) = *body else {
                 continue; // fixed to the base: does not move
             };
+            collisions.extend(link_collisions(self.path, self.link(link)?, b, from_body)?);
             for side in self.child_joints.get(link).into_iter().flatten() {
                 if on_path.contains(&side.child.link.as_str()) {
                     continue;
                 }
                 let at = from_body.compose(&pose_of(&side.origin));
                 bodies[b] = self.fold_subtree(bodies[b], side, &at, &mut locked)?;
+                self.subtree_collisions(b, side, &at, &mut collisions)?;
             }
         }
         let tool = to_link;
@@ -403,7 +415,33 @@ impl<'a> Reader<'a> {
             links: bodies,
             tool,
             locked_joints: locked,
+            collisions,
+            urdf_dir: self
+                .path
+                .parent()
+                .map_or_else(|| std::path::PathBuf::from("."), Path::to_path_buf),
         })
+    }
+
+    /// The collision elements of a side branch (joint `j` and below, locked at 0) on body `b`.
+    fn subtree_collisions(
+        &self,
+        b: usize,
+        j: &urdf_rs::Joint,
+        at: &Pose<f64>,
+        out: &mut Vec<LinkCollision>,
+    ) -> Result<()> {
+        let link = self.link(&j.child.link)?;
+        out.extend(link_collisions(self.path, link, b, at)?);
+        for below in self
+            .child_joints
+            .get(link.name.as_str())
+            .into_iter()
+            .flatten()
+        {
+            self.subtree_collisions(b, below, &at.compose(&pose_of(&below.origin)), out)?;
+        }
+        Ok(())
     }
 
     fn link(&self, name: &str) -> Result<&'a urdf_rs::Link> {

@@ -2,9 +2,11 @@
 //! ([`chain`]) and the paper's planar two-link arm in closed form ([`scara`]).
 
 pub mod chain;
+pub mod collision;
 pub mod scara;
 
 pub use chain::{ChainDescription, JointDescription, JointLimits};
+pub use collision::{CollisionGeometry, LinkCollision};
 pub use scara::{scara_from_urdf, scara_from_urdf_str};
 
 use crate::error::SimError;

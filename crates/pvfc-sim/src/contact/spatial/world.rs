@@ -1,63 +1,163 @@
 //! The 3-D contact world on Rapier's collision layer (feature `contact`).
 
-use super::{setting, SpatialContact, SpatialContactSpec, SpatialShape};
+use super::{setting, ArmGeometry, SpatialContact, SpatialContactSpec, SpatialShape};
 use crate::contact::ContactLaw;
 use crate::error::{Result, SimError};
 use crate::robot::Robot;
+use crate::urdf::collision::{resolve_mesh, CollisionGeometry, LinkCollision};
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use pvfc_core::lie::JointKind;
 use pvfc_core::mechanics::Pose;
 use rapier3d_f64::math::{Pose as RPose, Vector as RVector};
 use rapier3d_f64::parry::query;
-use rapier3d_f64::parry::shape::{Ball, Capsule, Cuboid, Cylinder, Shape};
+use rapier3d_f64::parry::shape::{Ball, Capsule, ConvexPolyhedron, Cuboid, Cylinder, Shape};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
 
 /// One of the arm's collision shapes, fixed to a link at an offset from its frame.
 #[derive(Clone, Debug)]
 struct ArmShape {
     link: usize,
     offset: Pose<f64>,
-    shape: ShapeKind,
+    shape: Solid,
 }
 
+/// A shape as parry's queries take it.
 #[derive(Clone, Debug)]
-enum ShapeKind {
+enum Solid {
     Capsule(Capsule),
     Ball(Ball),
+    Cuboid(Cuboid),
+    Cylinder(Cylinder),
+    Convex(ConvexPolyhedron),
 }
 
-impl ShapeKind {
+impl Solid {
     fn shape(&self) -> &dyn Shape {
         match self {
-            ShapeKind::Capsule(c) => c,
-            ShapeKind::Ball(b) => b,
+            Solid::Capsule(s) => s,
+            Solid::Ball(s) => s,
+            Solid::Cuboid(s) => s,
+            Solid::Cylinder(s) => s,
+            Solid::Convex(s) => s,
         }
     }
+
+    /// A URDF-style solid along z (cylinder, capsule: parry's run along y), placed at `pose`:
+    /// the solid and the pose of parry's frame.
+    fn along_z(solid: Solid, pose: Pose<f64>) -> (Solid, Pose<f64>) {
+        let y_to_z = Rotation3::from_axis_angle(&Vector3::x_axis(), std::f64::consts::FRAC_PI_2);
+        let mut pose = pose;
+        pose.rotation *= y_to_z.matrix();
+        (solid, pose)
+    }
+
+    /// An obstacle's shape at `pose` (its frame in the base frame).
+    fn obstacle(shape: &SpatialShape, pose: Pose<f64>, name: &str) -> Result<(Solid, Pose<f64>)> {
+        Ok(match shape {
+            SpatialShape::Box { half_extents } => (
+                Solid::Cuboid(Cuboid::new(RVector::from_array(*half_extents))),
+                pose,
+            ),
+            SpatialShape::Ball { radius } => (Solid::Ball(Ball::new(*radius)), pose),
+            SpatialShape::Cylinder { radius, length } => {
+                Self::along_z(Solid::Cylinder(Cylinder::new(0.5 * length, *radius)), pose)
+            }
+            SpatialShape::Convex { points } => {
+                let points: Vec<RVector> = points.iter().map(|p| RVector::from_array(*p)).collect();
+                (Self::hull(&points, name)?, pose)
+            }
+        })
+    }
+
+    /// The convex hull of `points`; `what` names them in the error.
+    fn hull(points: &[RVector], what: &str) -> Result<Solid> {
+        if !spans_space(points) {
+            return Err(setting(format!(
+                "{what}: its {} points have no convex hull with a volume (all in one plane?)",
+                points.len()
+            )));
+        }
+        ConvexPolyhedron::from_convex_hull(points)
+            .map(Solid::Convex)
+            .ok_or_else(|| {
+                setting(format!(
+                    "{what}: no convex hull of its {} points (all in one plane?)",
+                    points.len()
+                ))
+            })
+    }
+
+    /// A URDF `<collision>` element at `origin` on its body: the solid and its offset.
+    fn collision(
+        c: &LinkCollision,
+        urdf_dir: &Path,
+        packages: &BTreeMap<String, PathBuf>,
+    ) -> Result<(Solid, Pose<f64>)> {
+        Ok(match &c.geometry {
+            CollisionGeometry::Box { size } => (
+                Solid::Cuboid(Cuboid::new(RVector::from_array(*size) * 0.5)),
+                c.origin,
+            ),
+            CollisionGeometry::Sphere { radius } => (Solid::Ball(Ball::new(*radius)), c.origin),
+            CollisionGeometry::Cylinder { radius, length } => Self::along_z(
+                Solid::Cylinder(Cylinder::new(0.5 * length, *radius)),
+                c.origin,
+            ),
+            CollisionGeometry::Capsule { radius, length } => (
+                Solid::Capsule(Capsule::new_z(0.5 * length, *radius)),
+                c.origin,
+            ),
+            CollisionGeometry::Mesh { filename, scale } => {
+                let path = resolve_mesh(filename, &c.link, urdf_dir, packages)?;
+                let what = format!("link {}: mesh {}", c.link, path.display());
+                let file = std::fs::File::open(&path).map_err(|e| SimError::io(&path, e))?;
+                let mesh = stl_io::read_stl(&mut std::io::BufReader::new(file))
+                    .map_err(|e| setting(format!("{what}: not a readable STL file: {e}")))?;
+                let points: Vec<RVector> = mesh
+                    .vertices
+                    .iter()
+                    .map(|v| {
+                        RVector::new(
+                            f64::from(v[0]) * scale[0],
+                            f64::from(v[1]) * scale[1],
+                            f64::from(v[2]) * scale[2],
+                        )
+                    })
+                    .collect();
+                (Self::hull(&points, &what)?, c.origin)
+            }
+        })
+    }
+}
+
+/// Whether `points` are not all in one plane: the farthest point from the first, the farthest
+/// from their line, and the farthest from their plane are each a millionth of the extent away.
+fn spans_space(points: &[RVector]) -> bool {
+    let Some(&p0) = points.first() else {
+        return false;
+    };
+    let farthest = |f: &dyn Fn(RVector) -> f64| {
+        points
+            .iter()
+            .map(|&p| (f(p), p))
+            .fold((0.0, p0), |a, b| if b.0 > a.0 { b } else { a })
+    };
+    let (extent, p1) = farthest(&|p| (p - p0).length());
+    let axis = (p1 - p0).normalize_or_zero();
+    let (_, p2) = farthest(&|p| (p - p0).cross(axis).length());
+    let normal = axis.cross(p2 - p0).normalize_or_zero();
+    let (height, _) = farthest(&|p| (p - p0).dot(normal).abs());
+    extent > 0.0 && height > 1e-6 * extent
 }
 
 /// An obstacle as the queries take it: its pose at rest, its shape, law and motion.
 #[derive(Clone, Debug)]
 struct Obstacle {
     pose: Pose<f64>,
-    shape: ObstacleShape,
+    shape: Solid,
     law: ContactLaw,
     spec: super::SpatialObstacle,
-}
-
-#[derive(Clone, Debug)]
-enum ObstacleShape {
-    Box(Cuboid),
-    Ball(Ball),
-    Cylinder(Cylinder),
-}
-
-impl ObstacleShape {
-    fn shape(&self) -> &dyn Shape {
-        match self {
-            ObstacleShape::Box(s) => s,
-            ObstacleShape::Ball(s) => s,
-            ObstacleShape::Cylinder(s) => s,
-        }
-    }
 }
 
 fn rvec(v: &Vector3<f64>) -> RVector {
@@ -87,23 +187,51 @@ pub struct SpatialWorld {
 }
 
 impl SpatialWorld {
-    /// The world of `spec` around `robot`.
+    /// The world of `spec` around `robot`, with `package://` directories relative to the
+    /// working directory (see [`new_in`](Self::new_in)).
     pub fn new(spec: &SpatialContactSpec, robot: &Robot) -> Result<Self> {
+        Self::new_in(spec, robot, Path::new("."))
+    }
+
+    /// The world of `spec` around `robot`; the directories of `spec.packages` are relative to
+    /// `base_dir` (the scenario file's directory).
+    pub fn new_in(spec: &SpatialContactSpec, robot: &Robot, base_dir: &Path) -> Result<Self> {
         let n = robot.dof();
         spec.validate(n)?;
         // Each link's segment, from its frame's origin to the next frame's, in its own frame
         // (constant: the next joint's origin is fixed in this link).
         let poses = robot.link_poses(&vec![0.0; n])?;
         let mut shapes = Vec::new();
-        for k in 0..n {
-            let radius = spec.link_radii.get(k).copied().unwrap_or(spec.link_radius);
-            let next = poses[k].inverse().compose(&poses[k + 1]).translation;
-            if radius > 0.0 && next.norm() > 1e-9 {
-                shapes.push(ArmShape {
-                    link: k,
-                    offset: Pose::identity(),
-                    shape: ShapeKind::Capsule(Capsule::new(RVector::ZERO, rvec(&next), radius)),
-                });
+        match spec.arm {
+            ArmGeometry::Capsules => {
+                for k in 0..n {
+                    let radius = spec.link_radii.get(k).copied().unwrap_or(spec.link_radius);
+                    let next = poses[k].inverse().compose(&poses[k + 1]).translation;
+                    if radius > 0.0 && next.norm() > 1e-9 {
+                        let capsule = Capsule::new(RVector::ZERO, rvec(&next), radius);
+                        shapes.push(ArmShape {
+                            link: k,
+                            offset: Pose::identity(),
+                            shape: Solid::Capsule(capsule),
+                        });
+                    }
+                }
+            }
+            ArmGeometry::Urdf => {
+                let d = robot.description();
+                let packages: BTreeMap<String, PathBuf> = spec
+                    .packages
+                    .iter()
+                    .map(|(name, dir)| (name.clone(), base_dir.join(dir)))
+                    .collect();
+                for c in &d.collisions {
+                    let (shape, offset) = Solid::collision(c, &d.urdf_dir, &packages)?;
+                    shapes.push(ArmShape {
+                        link: c.body,
+                        offset,
+                        shape,
+                    });
+                }
             }
         }
         // The tool ball, on the last link at the tool frame's origin.
@@ -114,40 +242,28 @@ impl SpatialWorld {
                 rotation: nalgebra::Matrix3::identity(),
                 translation: tool,
             },
-            shape: ShapeKind::Ball(Ball::new(spec.tool_radius)),
+            shape: Solid::Ball(Ball::new(spec.tool_radius)),
         });
         let obstacles = spec
             .obstacles
             .iter()
-            .map(|o| {
+            .enumerate()
+            .map(|(k, o)| {
                 let r = Rotation3::from_euler_angles(o.rpy[0], o.rpy[1], o.rpy[2]);
-                let mut pose = Pose {
+                let at = Pose {
                     rotation: *r.matrix(),
                     translation: Vector3::from(o.position),
                 };
-                let shape = match o.shape {
-                    SpatialShape::Box { half_extents } => {
-                        ObstacleShape::Box(Cuboid::new(RVector::from_array(half_extents)))
-                    }
-                    SpatialShape::Ball { radius } => ObstacleShape::Ball(Ball::new(radius)),
-                    SpatialShape::Cylinder { radius, length } => {
-                        // parry's cylinder runs along its y axis: turn it onto z.
-                        let y_to_z = Rotation3::from_axis_angle(
-                            &Vector3::x_axis(),
-                            std::f64::consts::FRAC_PI_2,
-                        );
-                        pose.rotation *= y_to_z.matrix();
-                        ObstacleShape::Cylinder(Cylinder::new(0.5 * length, radius))
-                    }
-                };
-                Obstacle {
+                let (shape, pose) =
+                    Solid::obstacle(&o.shape, at, &format!("contact_3d.obstacles[{k}]"))?;
+                Ok(Obstacle {
                     pose,
                     shape,
                     law: o.law.unwrap_or(spec.law),
                     spec: o.clone(),
-                }
+                })
             })
-            .collect();
+            .collect::<Result<Vec<_>>>()?;
         let joints = robot
             .description()
             .joints
@@ -162,8 +278,8 @@ impl SpatialWorld {
         })
     }
 
-    /// The number of the arm's collision shapes (capsules of the links with a radius, and the
-    /// tool).
+    /// The number of the arm's collision shapes (the links' capsules or the URDF's elements,
+    /// and the tool ball).
     pub fn arm_shapes(&self) -> usize {
         self.shapes.len()
     }
