@@ -92,10 +92,17 @@ fn run<const N: usize>(
                 tau_dot: i.tau_dot,
                 flywheel_speed: i.flywheel_speed,
             };
+            let mut sys = sys;
             let mut work = Work::default();
             for k in 0..=n {
                 let t = k as f64 * dt;
                 let mut first = stage(&sys, &world, &friction, t, &st)?;
+                if let Some(r) = schedule(s, sys.controller.nominal_speed_mut(), &first.contact)? {
+                    if r.changed {
+                        first = stage(&sys, &world, &friction, t, &st)?;
+                    }
+                }
+                let r = sys.controller.nominal_speed_mut().map_or(0.0, |n| n.speed());
                 trace.push(Row {
                     t,
                     q: st.q.coords().as_slice(),
@@ -112,7 +119,7 @@ fn run<const N: usize>(
                     friction_power: first.power[1],
                 });
                 if let (Some(ct), Some(w)) = (contact.as_mut(), &world) {
-                    w.log(ct, &chain, &st.q, &first.contact, &work)?;
+                    w.log(ct, &chain, &st.q, &first.contact, &work, r)?;
                 }
                 if k == n {
                     break;
@@ -234,7 +241,7 @@ fn timed<const N: usize>(
             None => (SVector::zeros(), SpatialContact::default()),
         };
         if let (Some(ct), Some(w)) = (contact.as_mut(), world.as_ref()) {
-            w.log(ct, &chain, &q, &c0, &work)?;
+            w.log(ct, &chain, &q, &c0, &work, 0.0)?;
         }
         if k == n {
             break;
@@ -306,6 +313,7 @@ impl Contact {
         q: &JointSpace<f64, N>,
         c: &SpatialContact,
         work: &Work,
+        nominal_speed: f64,
     ) -> Result<()> {
         let tool = chain.kinematics(q.coords()).link_poses[N - 1]
             .compose(chain.tool())
@@ -324,7 +332,7 @@ impl Contact {
                 tool: tool.as_slice(),
             },
             work,
-            0.0,
+            nominal_speed,
         );
         Ok(())
     }
@@ -405,6 +413,8 @@ fn sampled<const N: usize, S: Stepper<JointSpace<f64, N>, N>>(
             Some(w) => w.forces(t, &q, &v)?,
             None => (SVector::zeros(), SpatialContact::default()),
         };
+        schedule(s, ctl.nominal_speed_mut(), &c0)?;
+        let r = ctl.nominal_speed_mut().map_or(0.0, |n| n.speed());
         let out = ctl.sample(&q, &v, dt)?;
         work.0[2] += out.add_ons_ended;
         trace.push(Row::of_sample(
@@ -416,7 +426,7 @@ fn sampled<const N: usize, S: Stepper<JointSpace<f64, N>, N>>(
             friction.torque(&v).dot(&v),
         ));
         if let (Some(ct), Some(w)) = (contact.as_mut(), world.as_ref()) {
-            w.log(ct, chain, &q, &c0, &work)?;
+            w.log(ct, chain, &q, &c0, &work, r)?;
         }
         if k == n {
             break;
@@ -437,6 +447,30 @@ fn sampled<const N: usize, S: Stepper<JointSpace<f64, N>, N>>(
         }
     }
     Ok(())
+}
+
+/// The outcome of scheduling the nominal speed on the contact force.
+struct Scheduled {
+    /// Whether `r` changed (a stage evaluated before must be evaluated again).
+    changed: bool,
+}
+
+/// Sets the nominal speed `r` of (36) from the contact's normal force when the scenario's
+/// `[contact_3d]` schedules it (`force_schedule`); `None` when it does not.
+fn schedule(
+    s: &Scenario,
+    nominal: Option<&mut NominalSpeed<f64>>,
+    contact: &SpatialContact,
+) -> Result<Option<Scheduled>> {
+    let sch = s.contact_3d.as_ref().and_then(|c| c.force_schedule);
+    let r0 = s.controller.nominal_speed.map(|n| n.r);
+    let (Some(sch), Some(r0), Some(ns)) = (sch, r0, nominal) else {
+        return Ok(None);
+    };
+    let r = sch.speed(r0, contact.normal_force);
+    let changed = r != ns.speed();
+    ns.set_speed(r)?;
+    Ok(Some(Scheduled { changed }))
 }
 
 /// Holds the motor torque `u` over one controller period from time `t`: the plant (gravity,

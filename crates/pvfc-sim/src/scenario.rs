@@ -712,6 +712,11 @@ impl Scenario {
         self.plant.friction.validate_for(n)?;
         if let Some(c) = &self.contact_3d {
             c.validate(n)?;
+            if c.force_schedule.is_some() && self.controller.nominal_speed.is_none() {
+                return Err(SimError::Setting(
+                    "contact_3d.force_schedule needs controller.nominal_speed (eq. 36)".into(),
+                ));
+            }
         }
         if let Some(b) = &self.baseline {
             if b.kp.len() != n || b.kd.len() != n {

@@ -266,6 +266,7 @@ fn ur5_on_a_table(mode: Mode) -> Scenario {
     s.contact_3d = Some(SpatialContactSpec {
         arm: Default::default(),
         packages: Default::default(),
+        force_schedule: None,
         link_radius: 0.0,
         link_radii: vec![],
         tool_radius: 0.01,
@@ -334,6 +335,20 @@ fn the_deburring_scenario_runs_beside_its_timed_baseline() {
         assert!(peak > 1.0, "{}: no contact", t.name);
         assert!(audit < 1e-8, "{}: audit {audit:e} J", t.name);
     }
+    // PVFC's nominal speed follows the force schedule at every sample, and the schedule acts:
+    // r goes below its nominal 1 while the tool presses.
+    let sch = s.contact_3d.as_ref().unwrap().force_schedule.unwrap();
+    let r0 = s.controller.nominal_speed.unwrap().r;
+    let c = runs[0].contact.as_ref().unwrap();
+    for (r, f) in c.nominal_speed.iter().zip(&c.normal_force) {
+        assert!((r - sch.speed(r0, *f)).abs() < 1e-12, "r = {r} at {f} N");
+    }
+    assert!(c.nominal_speed.iter().any(|r| *r < 0.9 * r0));
+    // The schedule needs the nominal-speed add-on.
+    let mut bad = s.clone();
+    bad.controller.nominal_speed = None;
+    let e = bad.validate().unwrap_err().to_string();
+    assert!(e.contains("contact_3d.force_schedule"), "{e}");
     // A gain per joint, or a named error.
     let mut bad = s.clone();
     if let Some(b) = bad.baseline.as_mut() {

@@ -47,6 +47,7 @@ fn spec(obstacles: Vec<SpatialObstacle>, link_radius: f64, law: ContactLaw) -> S
     SpatialContactSpec {
         arm: ArmGeometry::Capsules,
         packages: Default::default(),
+        force_schedule: None,
         link_radius,
         link_radii: vec![],
         tool_radius: 0.01,

@@ -278,7 +278,7 @@ impl ForceSchedule {
         r0 * x.clamp(self.min_fraction, 1.0)
     }
 
-    fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         let ok = self.onset.is_finite()
             && self.limit.is_finite()
             && self.onset >= 0.0

@@ -137,6 +137,10 @@ pub struct SpatialContactSpec {
     /// The contact law of obstacles without their own.
     #[serde(default)]
     pub law: ContactLaw,
+    /// Scheduling of the nominal speed `r` of (36) on the total normal force (as in the
+    /// plane, [`ForceSchedule`](super::ForceSchedule); needs `controller.nominal_speed`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub force_schedule: Option<super::ForceSchedule>,
 }
 
 fn default_link_radius() -> f64 {
@@ -170,6 +174,9 @@ impl SpatialContactSpec {
             return Err(setting("contact_3d.tool_radius: finite and > 0 (m)"));
         }
         self.law.validate()?;
+        if let Some(f) = &self.force_schedule {
+            f.validate()?;
+        }
         for (k, o) in self.obstacles.iter().enumerate() {
             let name = format!("contact_3d.obstacles[{k}]");
             if !(finite(&o.position) && finite(&o.rpy)) {
