@@ -102,7 +102,10 @@ fn run<const N: usize>(
                         first = stage(&sys, &world, &friction, t, &st)?;
                     }
                 }
-                let r = sys.controller.nominal_speed_mut().map_or(0.0, |n| n.speed());
+                let r = sys
+                    .controller
+                    .nominal_speed_mut()
+                    .map_or(0.0, |n| n.speed());
                 trace.push(Row {
                     t,
                     q: st.q.coords().as_slice(),

@@ -458,7 +458,7 @@ fn urdf_collision_primitives_are_placed_on_their_bodies() {
 }
 
 #[test]
-fn a_convex_obstacle_of_a_boxs_corners_touches_as_the_box_does() {
+fn a_convex_obstacle_of_a_boxs_corners_or_its_stl_file_touches_as_the_box_does() {
     let robot = ur5();
     let table = table_under_tool(&robot, 0.004, 0.01);
     let SpatialShape::Box { half_extents: h } = table.shape else {
@@ -483,11 +483,65 @@ fn a_convex_obstacle_of_a_boxs_corners_touches_as_the_box_does() {
             .contact(0.0, &Q0, &v)
             .unwrap()
     };
+    // The same box as an ASCII STL file in millimetres (12 triangles), scaled to metres.
+    let dir = std::env::temp_dir().join(format!("pvfc-stl-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let SpatialShape::Convex { points } = &hull.shape else {
+        unreachable!()
+    };
+    let mm = |i: usize| points[i].map(|x| x * 1e3);
+    let mut stl = String::from("solid box\n");
+    // Corner i has bits (x, y, z) = (i >> 2, i >> 1, i) & 1; two triangles per face.
+    for f in [
+        [0, 1, 3, 2],
+        [4, 6, 7, 5],
+        [0, 4, 5, 1],
+        [2, 3, 7, 6],
+        [0, 2, 6, 4],
+        [1, 5, 7, 3],
+    ] {
+        for t in [[f[0], f[1], f[2]], [f[0], f[2], f[3]]] {
+            stl.push_str("facet normal 0 0 0\nouter loop\n");
+            for i in t {
+                let p = mm(i);
+                stl.push_str(&format!("vertex {} {} {}\n", p[0], p[1], p[2]));
+            }
+            stl.push_str("endloop\nendfacet\n");
+        }
+    }
+    stl.push_str("endsolid box\n");
+    std::fs::write(dir.join("box.stl"), stl).unwrap();
+    let mesh = SpatialObstacle {
+        shape: SpatialShape::Mesh {
+            file: "box.stl".into(),
+            scale: [1e-3; 3],
+        },
+        ..table.clone()
+    };
+    let from_file = SpatialWorld::new_in(&spec(vec![mesh], 0.0, spring(2.0e4)), &robot, &dir)
+        .unwrap()
+        .contact(0.0, &Q0, &v)
+        .unwrap();
     let (b, c) = (by(table), by(hull));
     assert!((b.depth - c.depth).abs() < 1e-12 && (b.depth - 0.004).abs() < 1e-9);
-    for (x, y) in b.torque.iter().zip(&c.torque) {
-        assert!((x - y).abs() < 1e-9, "{:?} vs {:?}", b.torque, c.torque);
+    for other in [&c, &from_file] {
+        for (x, y) in b.torque.iter().zip(&other.torque) {
+            assert!((x - y).abs() < 1e-9, "{:?} vs {:?}", b.torque, other.torque);
+        }
     }
+    // A file that is not there: an I/O error naming it.
+    let missing = SpatialObstacle {
+        shape: SpatialShape::Mesh {
+            file: "nowhere.stl".into(),
+            scale: [1.0; 3],
+        },
+        ..table_under_tool(&robot, 0.004, 0.01)
+    };
+    let e = SpatialWorld::new_in(&spec(vec![missing], 0.0, spring(1.0)), &robot, &dir)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("nowhere.stl"), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
     // Points in one plane have no hull: an error naming the obstacle.
     let flat = SpatialObstacle {
         shape: SpatialShape::Convex {

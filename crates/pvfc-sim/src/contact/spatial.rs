@@ -10,8 +10,8 @@
 //!     by the convex hull of its vertices (parry's quickhull), which contains the mesh: a
 //!     concave link (a fork, a hollow) touches a little earlier than the real one would. The
 //!     UR5 and Panda of `example-robot-data` give their collision geometry only as meshes.
-//! * The world: boxes, balls, cylinders and convex meshes, each with a position and
-//!   roll–pitch–yaw in the robot's base frame, fixed or moved on keyframes, each with its own
+//! * The world: boxes, balls, cylinders, convex hulls of points or of an STL mesh, each with a
+//!   position and roll–pitch–yaw in the robot's base frame, fixed or moved on keyframes, each with its own
 //!   [`ContactLaw`].
 //! * The force: at each arm–obstacle pair in penetration, the law's force `f` at the arm's
 //!   contact point `p` on link `k`, and `F_e = Σ J_p(q)ᵀ f` with the point's Jacobian
@@ -58,6 +58,18 @@ pub enum SpatialShape {
         /// The points.
         points: Vec<[f64; 3]>,
     },
+    /// The convex hull of an STL mesh's vertices (binary or ASCII), in the obstacle's frame.
+    Mesh {
+        /// The file, relative to the scenario file.
+        file: PathBuf,
+        /// Scale along x, y, z (default 1; e.g. 0.001 for a mesh in millimetres).
+        #[serde(default = "unit_scale")]
+        scale: [f64; 3],
+    },
+}
+
+fn unit_scale() -> [f64; 3] {
+    [1.0; 3]
 }
 
 /// Where the arm's collision shapes come from (the tool ball is added in both cases).
@@ -193,6 +205,7 @@ impl SpatialContactSpec {
                 SpatialShape::Convex { points } => {
                     points.len() >= 4 && points.iter().all(|p| finite(p))
                 }
+                SpatialShape::Mesh { scale, .. } => finite(scale) && scale.iter().all(|x| *x > 0.0),
             };
             if !ok {
                 return Err(setting(format!("{name}: sizes must be finite and > 0")));

@@ -52,8 +52,14 @@ impl Solid {
         (solid, pose)
     }
 
-    /// An obstacle's shape at `pose` (its frame in the base frame).
-    fn obstacle(shape: &SpatialShape, pose: Pose<f64>, name: &str) -> Result<(Solid, Pose<f64>)> {
+    /// An obstacle's shape at `pose` (its frame in the base frame); mesh files relative to
+    /// `base_dir`.
+    fn obstacle(
+        shape: &SpatialShape,
+        pose: Pose<f64>,
+        name: &str,
+        base_dir: &Path,
+    ) -> Result<(Solid, Pose<f64>)> {
         Ok(match shape {
             SpatialShape::Box { half_extents } => (
                 Solid::Cuboid(Cuboid::new(RVector::from_array(*half_extents))),
@@ -66,6 +72,14 @@ impl Solid {
             SpatialShape::Convex { points } => {
                 let points: Vec<RVector> = points.iter().map(|p| RVector::from_array(*p)).collect();
                 (Self::hull(&points, name)?, pose)
+            }
+            SpatialShape::Mesh { file, scale } => {
+                let path = base_dir.join(file);
+                let what = format!("{name}: mesh {}", path.display());
+                (
+                    Self::hull(&stl_vertices(&path, scale, &what)?, &what)?,
+                    pose,
+                )
             }
         })
     }
@@ -111,24 +125,31 @@ impl Solid {
             CollisionGeometry::Mesh { filename, scale } => {
                 let path = resolve_mesh(filename, &c.link, urdf_dir, packages)?;
                 let what = format!("link {}: mesh {}", c.link, path.display());
-                let file = std::fs::File::open(&path).map_err(|e| SimError::io(&path, e))?;
-                let mesh = stl_io::read_stl(&mut std::io::BufReader::new(file))
-                    .map_err(|e| setting(format!("{what}: not a readable STL file: {e}")))?;
-                let points: Vec<RVector> = mesh
-                    .vertices
-                    .iter()
-                    .map(|v| {
-                        RVector::new(
-                            f64::from(v[0]) * scale[0],
-                            f64::from(v[1]) * scale[1],
-                            f64::from(v[2]) * scale[2],
-                        )
-                    })
-                    .collect();
-                (Self::hull(&points, &what)?, c.origin)
+                (
+                    Self::hull(&stl_vertices(&path, scale, &what)?, &what)?,
+                    c.origin,
+                )
             }
         })
     }
+}
+
+/// The vertices of an STL file (binary or ASCII), scaled; `what` names it in errors.
+fn stl_vertices(path: &Path, scale: &[f64; 3], what: &str) -> Result<Vec<RVector>> {
+    let file = std::fs::File::open(path).map_err(|e| SimError::io(path, e))?;
+    let mesh = stl_io::read_stl(&mut std::io::BufReader::new(file))
+        .map_err(|e| setting(format!("{what}: not a readable STL file: {e}")))?;
+    Ok(mesh
+        .vertices
+        .iter()
+        .map(|v| {
+            RVector::new(
+                f64::from(v[0]) * scale[0],
+                f64::from(v[1]) * scale[1],
+                f64::from(v[2]) * scale[2],
+            )
+        })
+        .collect())
 }
 
 /// Whether `points` are not all in one plane: the farthest point from the first, the farthest
@@ -254,8 +275,8 @@ impl SpatialWorld {
                     rotation: *r.matrix(),
                     translation: Vector3::from(o.position),
                 };
-                let (shape, pose) =
-                    Solid::obstacle(&o.shape, at, &format!("contact_3d.obstacles[{k}]"))?;
+                let name = format!("contact_3d.obstacles[{k}]");
+                let (shape, pose) = Solid::obstacle(&o.shape, at, &name, base_dir)?;
                 Ok(Obstacle {
                     pose,
                     shape,
