@@ -13,7 +13,8 @@ use pyo3::prelude::*;
 use std::path::PathBuf;
 
 /// A closed tool path: give `points` (an `(n, 3)` polyline, corners rounded to
-/// `corner_radius`), or `circle=(center, radius, normal)`, or `csv` (a file of `x,y,z` lines).
+/// `corner_radius`; with `orientations`, `(n, 3)` roll–pitch–yaw of the tool at each, a path
+/// in SE(3)), or `circle=(center, radius, normal)`, or `csv` (a file of `x,y,z` lines).
 #[pyclass(module = "pvfc")]
 pub(crate) struct CartesianPath {
     spec: CartesianSpec,
@@ -22,22 +23,27 @@ pub(crate) struct CartesianPath {
 #[pymethods]
 impl CartesianPath {
     #[new]
-    #[pyo3(signature = (points=None, corner_radius=0.0, circle=None, csv=None, samples=24))]
+    #[pyo3(signature = (points=None, corner_radius=0.0, circle=None, csv=None, samples=24, orientations=None))]
     fn new(
         points: Option<&Bound<'_, PyAny>>,
         corner_radius: f64,
         circle: Option<(Bound<'_, PyAny>, f64, Bound<'_, PyAny>)>,
         csv: Option<PathBuf>,
         samples: usize,
+        orientations: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let points = match points {
-            Some(p) => {
-                let n = p.len()?;
-                let flat = array(p, "points", &[n, 3])?;
-                flat.chunks(3).map(|c| [c[0], c[1], c[2]]).collect()
+        let triples = |p: Option<&Bound<'_, PyAny>>, name: &str| -> PyResult<Vec<[f64; 3]>> {
+            match p {
+                Some(p) => {
+                    let n = p.len()?;
+                    let flat = array(p, name, &[n, 3])?;
+                    Ok(flat.chunks(3).map(|c| [c[0], c[1], c[2]]).collect())
+                }
+                None => Ok(Vec::new()),
             }
-            None => Vec::new(),
         };
+        let points = triples(points, "points")?;
+        let orientations = triples(orientations, "orientations")?;
         let circle = match circle {
             Some((c, r, n)) => {
                 let c = array(&c, "circle center", &[3])?;
@@ -56,10 +62,12 @@ impl CartesianPath {
             circle,
             csv,
             samples,
+            orientations,
             ..CartesianSpec::default()
         };
-        // Checked now (shape, counts, geometry), not at first use.
-        spec.sample(std::path::Path::new(".")).map_err(sim_err)?;
+        // Checked now (shape, counts, geometry, orientations), not at first use.
+        let sampled = spec.sample(std::path::Path::new(".")).map_err(sim_err)?;
+        spec.sampled_orientations(&sampled).map_err(sim_err)?;
         Ok(CartesianPath { spec })
     }
 
@@ -78,8 +86,11 @@ impl CartesianPath {
     /// The joint waypoints `(samples, dof)` of the path for `robot`: inverse kinematics at
     /// every sample from `seed` (the tool's orientation free, or held at the seed's), checked
     /// for reach, singularity (`min_manipulability`), joint limits and branch jumps
-    /// (`max_jump`); a failure raises `InvalidParameterError` naming the waypoint.
-    #[pyo3(signature = (robot, seed, fixed_orientation=false, max_jump=0.6, min_manipulability=1e-4))]
+    /// (`max_jump`); a failure raises `InvalidParameterError` naming the waypoint. For a
+    /// redundant arm, `rest` (a posture) is pulled towards in the task's null space with
+    /// `rest_gain`.
+    #[pyo3(signature = (robot, seed, fixed_orientation=false, max_jump=0.6, min_manipulability=1e-4, rest=None, rest_gain=0.1))]
+    #[allow(clippy::too_many_arguments)]
     fn joint_waypoints<'py>(
         &self,
         py: Python<'py>,
@@ -88,6 +99,8 @@ impl CartesianPath {
         fixed_orientation: bool,
         max_jump: f64,
         min_manipulability: f64,
+        rest: Option<&Bound<'_, PyAny>>,
+        rest_gain: f64,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let dof = robot.robot.dof();
         let spec = CartesianSpec {
@@ -95,6 +108,8 @@ impl CartesianPath {
             fixed_orientation,
             max_jump: Some(max_jump),
             min_manipulability: Some(min_manipulability),
+            rest: rest.map(|r| array(r, "rest", &[dof])).transpose()?,
+            rest_gain: Some(rest_gain),
             ..self.spec.clone()
         };
         let q = spec

@@ -45,3 +45,43 @@ def test_failures_name_the_waypoint(ur5):
         pvfc.CartesianPath(points=RECTANGLE, samples=2)
     with pytest.raises(ValueError):
         path.joint_waypoints(ur5, [0.0, 0.0])
+
+
+def test_a_path_in_se3_and_a_rest_posture(ur5, repo):
+    # The tool pointing down as at the seed (roll π about x), turned about z per corner.
+    yaw = [0.0, 0.4, -0.3, 0.2]
+    r0 = ur5.tool_pose(SEED)[:3, :3]
+
+    def rpy(r):
+        return [np.arctan2(r[2, 1], r[2, 2]), -np.arcsin(r[2, 0]), np.arctan2(r[1, 0], r[0, 0])]
+
+    def rz(a):
+        return np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+
+    orientations = [rpy(rz(a) @ r0) for a in yaw]
+    path = pvfc.CartesianPath(points=RECTANGLE, corner_radius=0.03, samples=24, orientations=orientations)
+    q = path.joint_waypoints(ur5, SEED)
+    # At the first sample (on corner 0's rounding) the tool is near corner 0's orientation;
+    # the path turns the tool away from the seed's by more than 0.3 rad somewhere.
+    angles = [
+        np.arccos(np.clip((np.trace(ur5.tool_pose(qk)[:3, :3] @ r0.T) - 1) / 2, -1, 1)) for qk in q
+    ]
+    assert max(angles) > 0.3
+    with pytest.raises(pvfc.InvalidParameterError, match="orientations"):
+        pvfc.CartesianPath(points=RECTANGLE, orientations=orientations[:3])
+    with pytest.raises(ValueError, match="orientations"):
+        pvfc.CartesianPath(points=RECTANGLE, orientations=[[0.0, 0.0]] * 4)
+    # A 7-joint arm pulled towards a rest posture in the null space still reaches the points.
+    panda = pvfc.Robot.from_urdf(repo / "models" / "panda" / "panda.urdf", tip="panda_hand_tcp")
+    seed = [0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8]
+    p0 = panda.tool_pose(seed)[:3, 3]
+    circle = pvfc.CartesianPath(circle=(p0 + [0.0, 0.1, 0.0], 0.1, [0.0, 0.0, 1.0]), samples=16)
+    rest = [0.0, -0.3, 0.8, -2.2, 0.0, 2.0, 0.8]
+    free = circle.joint_waypoints(panda, seed)
+    pulled = circle.joint_waypoints(panda, seed, rest=rest, rest_gain=0.5)
+    for qs in (free, pulled):
+        tool = np.array([panda.tool_pose(qk)[:3, 3] for qk in qs])
+        np.testing.assert_allclose(tool, circle.sample(), atol=1e-6)
+    assert np.linalg.norm(pulled - rest, axis=1).mean() < 0.7 * np.linalg.norm(free - rest, axis=1).mean()
+    with pytest.raises(ValueError, match="rest"):
+        circle.joint_waypoints(panda, seed, rest=[0.0] * 6)

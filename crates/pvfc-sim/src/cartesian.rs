@@ -44,6 +44,19 @@ pub struct CartesianSpec {
     pub seed: Vec<f64>,
     /// Hold the tool's orientation at the seed's (else it is free).
     pub fixed_orientation: bool,
+    /// The tool's orientation at each of `points` (roll, pitch, yaw in the base frame, URDF's
+    /// convention), for a path in SE(3): between two corners the orientation turns at
+    /// constant rate (slerp) with the position's progress along the sharp polyline. Empty:
+    /// position only (with `fixed_orientation` or free).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub orientations: Vec<[f64; 3]>,
+    /// A rest posture for redundant arms (7 joints): each inverse-kinematics iteration pulls
+    /// towards it in the null space of the task, with `rest_gain`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rest: Option<Vec<f64>>,
+    /// The gain (0 to 1) of the pull towards `rest`; default 0.1.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rest_gain: Option<f64>,
     /// The largest joint change between neighbouring waypoints (rad or m) before it counts as
     /// a jump to another branch of the inverse kinematics; default 0.6.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -119,9 +132,25 @@ impl CartesianSpec {
         let min_w = self.min_manipulability.unwrap_or(1e-4);
         let seed = SVector::<f64, N>::from_column_slice(&self.seed);
         let rotation = chain.tool_pose(&seed).rotation;
+        let rest = match &self.rest {
+            None => None,
+            Some(r) if r.len() == N && r.iter().all(|x| x.is_finite()) => {
+                let gain = self.rest_gain.unwrap_or(0.1);
+                if !(gain.is_finite() && gain > 0.0 && gain <= 1.0) {
+                    return Err(bad("rest_gain: in (0, 1]"));
+                }
+                Some((SVector::<f64, N>::from_column_slice(r), gain))
+            }
+            Some(_) => return Err(bad(format!("rest: {N} finite joint coordinates"))),
+        };
+        let orientations = self.sampled_orientations(points)?;
+        if orientations.is_some() && self.fixed_orientation {
+            return Err(bad("give orientations or fixed_orientation, not both"));
+        }
         let settings = IkSettings::<f64, N> {
             tolerance: 1e-7,
             max_iterations: 500,
+            rest,
             ..IkSettings::default()
         };
         let names: Vec<&str> = robot
@@ -138,13 +167,16 @@ impl CartesianSpec {
                 point: [p.x, p.y, p.z],
                 problem,
             };
-            let target = if self.fixed_orientation {
-                IkTarget::Pose(pvfc_core::mechanics::Pose {
+            let target = match (&orientations, self.fixed_orientation) {
+                (Some(r), _) => IkTarget::Pose(pvfc_core::mechanics::Pose {
+                    rotation: r[index],
+                    translation: *p,
+                }),
+                (None, true) => IkTarget::Pose(pvfc_core::mechanics::Pose {
                     rotation,
                     translation: *p,
-                })
-            } else {
-                IkTarget::Position(*p)
+                }),
+                (None, false) => IkTarget::Position(*p),
             };
             let q = chain
                 .inverse_kinematics(&target, &from, &settings)
@@ -252,6 +284,61 @@ impl CartesianSpec {
             along,
             length,
         })
+    }
+}
+
+impl CartesianSpec {
+    /// The tool's orientation at each sampled point of a path with `orientations`: the
+    /// points' sharp polygon segment closest to the sample, and the slerp between its two
+    /// corners' orientations at the sample's fraction along it. `None` without orientations.
+    pub fn sampled_orientations(
+        &self,
+        samples: &[Vector3<f64>],
+    ) -> Result<Option<Vec<nalgebra::Matrix3<f64>>>> {
+        if self.orientations.is_empty() {
+            return Ok(None);
+        }
+        let n = self.points.len();
+        if self.orientations.len() != n || n == 0 {
+            return Err(bad(format!(
+                "orientations: one (roll, pitch, yaw) per point ({n}); only with points"
+            )));
+        }
+        if !self.orientations.iter().flatten().all(|x| x.is_finite()) {
+            return Err(bad("orientations must be finite"));
+        }
+        let corner = |i: usize| Vector3::from(self.points[i % n]);
+        let rot = |i: usize| {
+            let [r, p, y] = self.orientations[i % n];
+            nalgebra::UnitQuaternion::from_euler_angles(r, p, y)
+        };
+        samples
+            .iter()
+            .map(|x| {
+                let (i, t, _) = (0..n)
+                    .map(|i| {
+                        let (t, d) = closest_on_segment(x, &corner(i), &corner(i + 1));
+                        (i, t, d)
+                    })
+                    .fold((0, 0.0, f64::INFINITY), |a, b| if b.2 < a.2 { b } else { a });
+                // The shorter way round; half a turn (quaternions orthogonal) has two
+                // equally short ways and is an error.
+                let (a, b) = (rot(i), rot(i + 1));
+                let half_turn = || {
+                    bad(format!(
+                        "orientations: points {i} and {} differ by half a turn (no unique way between them)",
+                        (i + 1) % n
+                    ))
+                };
+                if a.coords.dot(&b.coords).abs() < 1e-6 {
+                    return Err(half_turn());
+                }
+                a.try_slerp(&b, t, 1e-9)
+                    .map(|q| q.to_rotation_matrix().into_inner())
+                    .ok_or_else(half_turn)
+            })
+            .collect::<Result<Vec<_>>>()
+            .map(Some)
     }
 }
 

@@ -85,6 +85,7 @@ class CartesianPath:
         circle: Optional[Tuple[_ArrayLike, float, _ArrayLike]] = None,
         csv: Optional[_PathLike] = None,
         samples: int = 24,
+        orientations: Optional[_ArrayLike] = None,
     ) -> CartesianPath: ...
     def sample(self) -> _F64Array: ...
     def joint_waypoints(
@@ -94,6 +95,8 @@ class CartesianPath:
         fixed_orientation: bool = False,
         max_jump: float = 0.6,
         min_manipulability: float = 1e-4,
+        rest: Optional[_ArrayLike] = None,
+        rest_gain: float = 0.1,
     ) -> _F64Array: ...
     def distances(self, tool: _ArrayLike) -> _F64Array: ...
 
