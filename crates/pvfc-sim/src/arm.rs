@@ -355,3 +355,32 @@ impl PassiveArm {
         })
     }
 }
+
+/// A URDF arm's scenario built once, as the data flows (file → system → run): the robot (its
+/// URDF read once, with the scenario's gravity), the controller's settings (a Cartesian
+/// path's inverse kinematics solved once) and the controller built from them. The runs, the
+/// logs' 3-D scenes, the figures and the Cartesian metrics all take it instead of reading
+/// the scenario's files again.
+#[derive(Clone, Debug)]
+pub struct ArmSystem {
+    /// The robot model.
+    pub robot: Robot,
+    /// The controller's settings.
+    pub settings: ArmSettings,
+    /// The controller, at its initial state.
+    pub controller: ArmController,
+}
+
+impl ArmSystem {
+    /// Builds the system of a URDF arm's scenario (`[plant] urdf`).
+    pub fn build(s: &crate::scenario::Scenario) -> Result<Self> {
+        let robot = s.robot()?;
+        let settings = s.arm_settings_for(&robot)?;
+        let controller = ArmController::new(&robot, &settings)?;
+        Ok(ArmSystem {
+            robot,
+            settings,
+            controller,
+        })
+    }
+}

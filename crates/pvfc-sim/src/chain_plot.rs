@@ -1,7 +1,7 @@
 //! The figure of a URDF arm's run: joint errors, `U`, `τ̇`, `κ_a`, and the tool's path in 3-D
 //! projected on two planes, against the desired contour's.
 
-use crate::arm::ArmController;
+use crate::arm::ArmSystem;
 use crate::error::Result;
 use crate::plot::{figure, panel, Series};
 use crate::scenario::Scenario;
@@ -21,11 +21,18 @@ fn thinned(t: &Trace, label: &str, f: &dyn Fn(usize) -> f64) -> Series {
     }
 }
 
-/// Draws the figure of a URDF arm's run `t` of scenario `s` into `path` (PNG), with the timed
-/// baseline's run beside it in the contact and path-error panels when given.
-pub fn chain_figure(s: &Scenario, t: &Trace, baseline: Option<&Trace>, path: &Path) -> Result<()> {
-    let robot = s.robot()?;
-    let ctl = ArmController::new(&robot, &s.arm_settings()?)?;
+/// Draws the figure of a URDF arm's run `t` of scenario `s` (its system built) into `path`
+/// (PNG), with the timed baseline's run beside it in the contact and path-error panels when
+/// given.
+pub fn chain_figure(
+    s: &Scenario,
+    system: &ArmSystem,
+    t: &Trace,
+    baseline: Option<&Trace>,
+    path: &Path,
+) -> Result<()> {
+    let robot = &system.robot;
+    let ctl = &system.controller;
     let n = t.len();
     let every = (n / 2000).max(1);
     let samples: Vec<usize> = (0..n).step_by(every).collect();

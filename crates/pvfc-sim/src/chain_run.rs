@@ -2,7 +2,7 @@
 //! or continuous PVFC loop for any number of joints (1 to 8), with gravity in the plant,
 //! joint friction, and the controller's gravity and friction compensation.
 
-use crate::arm::{arm_controller, ArmControllerN, ArmField, ArmSettings};
+use crate::arm::{arm_controller, ArmControllerN, ArmField, ArmSystem};
 use crate::contact::spatial::SpatialContact;
 use crate::error::{Result, SimError};
 use crate::friction::JointFriction;
@@ -17,12 +17,19 @@ use pvfc_core::prelude::*;
 
 /// Runs the PVFC loop of a URDF arm's scenario. `progress` is called with the fraction done.
 pub fn simulate_chain(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
-    // The model as `Scenario::robot` built it (with the scenario's gravity).
-    let robot = s.robot()?;
-    let settings = s.arm_settings()?;
+    simulate_chain_with(s, &ArmSystem::build(s)?, progress)
+}
+
+/// [`simulate_chain`] with the scenario's system already built.
+pub fn simulate_chain_with(
+    s: &Scenario,
+    system: &ArmSystem,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
+    let robot = &system.robot;
     with_dof!(robot.dof(), N => {
         let chain = SerialChain::<f64, N>::try_from(robot.model())?;
-        run::<N>(s, chain, &settings, progress)
+        run::<N>(s, chain, system, progress)
     }, otherwise Err(SimError::Setting(format!(
         "robot {}: {} joints; pvfc supports 1 to 8", robot.description().name, robot.dof()
     ))))
@@ -31,10 +38,10 @@ pub fn simulate_chain(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Tra
 fn run<const N: usize>(
     s: &Scenario,
     chain: SerialChain<f64, N>,
-    settings: &ArmSettings,
+    system: &ArmSystem,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    let base: ArmControllerN<N> = arm_controller(chain, settings)?;
+    let base: ArmControllerN<N> = arm_controller(chain, &system.settings)?;
     let flywheel = *base.law().flywheel();
     let ctl = base.with_state(InternalState {
         tau: s.initial.tau,
@@ -51,7 +58,7 @@ fn run<const N: usize>(
     let q = JointSpace::new(joint_vector::<N>(&s.initial.q, "initial.q")?, kinds);
     let v = joint_vector::<N>(&s.initial.v, "initial.v")?;
     let mut trace = Trace::with_capacity(s.name.clone(), N, n + 1);
-    let mut world = Contact::of(s)?;
+    let mut world = Contact::of(s, &system.robot)?;
     let mut contact = world
         .is_some()
         .then(|| ContactTrace::with_capacity(n + 1, N, 3));
@@ -162,14 +169,24 @@ pub fn simulate_timed_chain(
     tau_rate: f64,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
+    simulate_timed_chain_with(s, &ArmSystem::build(s)?, b, tau_rate, progress)
+}
+
+/// [`simulate_timed_chain`] with the scenario's system already built.
+pub fn simulate_timed_chain_with(
+    s: &Scenario,
+    system: &ArmSystem,
+    b: &BaselineSpec,
+    tau_rate: f64,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
     if !tau_rate.is_finite() {
         return Err(SimError::Setting("baseline: τ rate must be finite".into()));
     }
-    let robot = s.robot()?;
-    let settings = s.arm_settings()?;
+    let robot = &system.robot;
     with_dof!(robot.dof(), N => {
         let chain = SerialChain::<f64, N>::try_from(robot.model())?;
-        timed::<N>(s, b, tau_rate, chain, &settings, progress)
+        timed::<N>(s, b, tau_rate, chain, system, progress)
     }, otherwise Err(SimError::Setting(format!(
         "robot {}: {} joints; pvfc supports 1 to 8", robot.description().name, robot.dof()
     ))))
@@ -180,9 +197,10 @@ fn timed<const N: usize>(
     b: &BaselineSpec,
     tau_rate: f64,
     chain: SerialChain<f64, N>,
-    settings: &ArmSettings,
+    system: &ArmSystem,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
+    let settings = &system.settings;
     let ctl: ArmControllerN<N> = arm_controller(chain, settings)?;
     let field = ctl.law().field();
     let friction = s.plant.friction.clone();
@@ -201,7 +219,7 @@ fn timed<const N: usize>(
     let kinds = chain.kinds();
     let mut q = JointSpace::new(joint_vector::<N>(&s.initial.q, "initial.q")?, kinds);
     let mut v = joint_vector::<N>(&s.initial.v, "initial.v")?;
-    let world = Contact::of(s)?;
+    let world = Contact::of(s, &system.robot)?;
     let mut trace = Trace::with_capacity(format!("{}-timed", s.name), N, n + 1);
     let mut contact = world
         .is_some()
@@ -275,17 +293,20 @@ struct Contact {
 }
 
 impl Contact {
-    fn of(s: &Scenario) -> Result<Option<Self>> {
+    fn of(s: &Scenario, robot: &crate::robot::Robot) -> Result<Option<Self>> {
         match &s.contact_3d {
             None => Ok(None),
             #[cfg(feature = "contact")]
             Some(spec) => Ok(Some(Contact {
-                world: crate::contact::spatial::SpatialWorld::new_in(spec, &s.robot()?, &s.base_dir)?,
+                world: crate::contact::spatial::SpatialWorld::new_in(spec, robot, &s.base_dir)?,
             })),
             #[cfg(not(feature = "contact"))]
-            Some(_) => Err(SimError::Setting(
-                "the scenario has a [contact_3d] table, but pvfc-sim was built without its `contact` feature".into(),
-            )),
+            Some(_) => {
+                let _ = robot;
+                Err(SimError::Setting(
+                    "the scenario has a [contact_3d] table, but pvfc-sim was built without its `contact` feature".into(),
+                ))
+            }
         }
     }
 

@@ -201,11 +201,12 @@ pub struct CartesianTracking {
     pub speed: f64,
 }
 
-/// For a scenario with a Cartesian path (`[contour.cartesian]`): how its run `t` followed
-/// the path over the last complete pass; `None` for a joint-space contour or a run shorter
-/// than a pass.
+/// For a scenario with a Cartesian path (`[contour.cartesian]`) of `robot`: how its run `t`
+/// followed the path over the last complete pass; `None` for a joint-space contour or a run
+/// shorter than a pass.
 pub fn cartesian_tracking(
     s: &crate::scenario::Scenario,
+    robot: &crate::robot::Robot,
     t: &Trace,
 ) -> crate::error::Result<Option<CartesianTracking>> {
     let Some(c) = &s.contour.cartesian else {
@@ -214,7 +215,6 @@ pub fn cartesian_tracking(
     let Some(range) = last_pass(t, s.period()) else {
         return Ok(None);
     };
-    let robot = s.robot()?;
     let tool =
         t.q.rows(range.clone())
             .map(|q| robot.tool_pose(q).map(|(_, p)| p))

@@ -484,7 +484,9 @@ pub fn chain_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
         if s.is_chain() && !name.ends_with("-timed") {
             let p = dir.join(format!("{name}.png"));
             let baseline = runs.runs.get(&format!("{name}-timed")).map(|(_, b)| b);
-            crate::chain_plot::chain_figure(s, t, baseline, &p)?;
+            if let Some(system) = runs.arm_system(s)? {
+                crate::chain_plot::chain_figure(s, &system, t, baseline, &p)?;
+            }
             files.push(p);
         }
     }

@@ -13,9 +13,26 @@ use std::fmt::Write as _;
 pub struct Runs {
     /// Scenario and trace, by the scenario's name (the timed baseline as `NAME-timed`).
     pub runs: BTreeMap<String, (Scenario, Trace)>,
+    /// The URDF arms' systems, built once per scenario, by the scenario's name.
+    pub arms: BTreeMap<String, crate::arm::ArmSystem>,
 }
 
 impl Runs {
+    /// The system of scenario `s` if it is a URDF arm: the one built for its runs, or built
+    /// now if these runs did not keep it; `None` for the SCARA.
+    pub fn arm_system(
+        &self,
+        s: &Scenario,
+    ) -> Result<Option<std::borrow::Cow<'_, crate::arm::ArmSystem>>> {
+        if !s.is_chain() {
+            return Ok(None);
+        }
+        Ok(Some(match self.arms.get(&s.name) {
+            Some(sys) => std::borrow::Cow::Borrowed(sys),
+            None => std::borrow::Cow::Owned(crate::arm::ArmSystem::build(s)?),
+        }))
+    }
+
     /// The trace of a run.
     pub fn trace(&self, name: &str) -> Result<&Trace> {
         self.runs

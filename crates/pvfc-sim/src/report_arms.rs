@@ -113,7 +113,10 @@ pub(crate) fn arm_claims(
             .runs
             .get(&name)
             .ok_or_else(|| SimError::Setting(format!("run `{name}` is missing")))?;
-        let c = cartesian_tracking(s, t)?.ok_or_else(|| {
+        let system = r
+            .arm_system(s)?
+            .ok_or_else(|| SimError::Setting(format!("run `{name}` is not a URDF arm's")))?;
+        let c = cartesian_tracking(s, &system.robot, t)?.ok_or_else(|| {
             SimError::Setting(format!(
                 "run `{name}` has no Cartesian path or no full pass"
             ))

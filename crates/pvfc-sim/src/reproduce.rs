@@ -1,5 +1,6 @@
 //! Running scenarios and writing what they produce: MCAP logs, figures, the summary table.
 
+use crate::arm::ArmSystem;
 use crate::error::{Result, SimError};
 use crate::report::{self, Runs};
 use crate::scenario::Scenario;
@@ -9,7 +10,25 @@ use std::path::{Path, PathBuf};
 /// Runs one scenario: the PVFC loop, and the timed baseline if the scenario asks for one
 /// (at PVFC's mean `τ̇` over its last 12 s unless the scenario fixes the rate).
 pub fn run_scenario(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Vec<Trace>> {
-    let pvfc = simulate(s, progress)?;
+    let system = if s.is_chain() {
+        Some(ArmSystem::build(s)?)
+    } else {
+        None
+    };
+    run_scenario_with(s, system.as_ref(), progress)
+}
+
+/// [`run_scenario`] with a URDF arm's system already built (`None` for the SCARA): the URDF
+/// is read and a Cartesian path solved once for both runs.
+pub fn run_scenario_with(
+    s: &Scenario,
+    system: Option<&ArmSystem>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Vec<Trace>> {
+    let pvfc = match system {
+        Some(sys) => crate::chain_run::simulate_chain_with(s, sys, progress)?,
+        None => simulate(s, progress)?,
+    };
     let mut out = vec![];
     if let Some(b) = &s.baseline {
         let rate = match b.tau_rate {
@@ -24,7 +43,10 @@ pub fn run_scenario(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Vec<T
                 (pvfc.tau[n] - pvfc.tau[from]) / (pvfc.t[n] - pvfc.t[from]).max(f64::EPSILON)
             }
         };
-        out.push(simulate_timed(s, b, rate, &mut |_| {})?);
+        out.push(match system {
+            Some(sys) => crate::chain_run::simulate_timed_chain_with(s, sys, b, rate, &mut |_| {})?,
+            None => simulate_timed(s, b, rate, &mut |_| {})?,
+        });
     }
     out.insert(0, pvfc);
     Ok(out)
@@ -38,8 +60,16 @@ pub fn run_all(
     let mut runs = Runs::default();
     for s in scenarios {
         let mut p = progress(&s.name);
-        for t in run_scenario(s, &mut *p)? {
+        let system = if s.is_chain() {
+            Some(ArmSystem::build(s)?)
+        } else {
+            None
+        };
+        for t in run_scenario_with(s, system.as_ref(), &mut *p)? {
             runs.runs.insert(t.name.clone(), (s.clone(), t));
+        }
+        if let Some(sys) = system {
+            runs.arms.insert(s.name.clone(), sys);
         }
     }
     Ok(runs)
@@ -58,7 +88,10 @@ pub fn write_logs(runs: &Runs, dir: &Path, rate: Option<f64>) -> Result<Vec<Path
         .iter()
         .map(|(name, (s, t))| {
             let p = logs.join(format!("{name}.mcap"));
-            let scene = crate::log::scene::ArmScene::of_run(s, t)?;
+            let scene = match runs.arm_system(s)? {
+                Some(sys) => Some(crate::log::scene::ArmScene::of_run_with(s, &sys, t)?),
+                None => None,
+            };
             let options = crate::log::LogOptions {
                 scene: scene.as_ref(),
                 rate,

@@ -651,13 +651,21 @@ impl Scenario {
         }
     }
 
-    /// The settings of a URDF arm's controller.
+    /// The settings of a URDF arm's controller (reads the URDF; with a robot at hand, or
+    /// for a whole run, see [`arm_settings_for`](Self::arm_settings_for) and
+    /// [`ArmSystem`](crate::arm::ArmSystem)).
     pub fn arm_settings(&self) -> Result<crate::arm::ArmSettings> {
+        self.arm_settings_for(&self.robot()?)
+    }
+
+    /// The settings of the controller of `robot`, this scenario's arm: a Cartesian path's
+    /// inverse kinematics is solved on it.
+    pub fn arm_settings_for(&self, robot: &crate::robot::Robot) -> Result<crate::arm::ArmSettings> {
         let c = &self.controller;
         let waypoints =
             match (&self.contour.waypoints, &self.contour.cartesian) {
                 (Some(w), None) => w.clone(),
-                (None, Some(c)) => c.joint_waypoints(&self.robot()?, &self.base_dir)?,
+                (None, Some(c)) => c.joint_waypoints(robot, &self.base_dir)?,
                 (Some(_), Some(_)) => {
                     return Err(SimError::Setting(
                         "contour: give waypoints or cartesian, not both".into(),
@@ -725,7 +733,7 @@ impl Scenario {
                 )));
             }
         }
-        crate::arm::ArmController::new(&robot, &self.arm_settings()?)?;
+        crate::arm::ArmController::new(&robot, &self.arm_settings_for(&robot)?)?;
         Ok(())
     }
 

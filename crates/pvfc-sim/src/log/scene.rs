@@ -3,7 +3,7 @@
 //! as a closed line (`foxglove.SceneUpdate`), all in the robot's base frame. The messages are
 //! Foxglove's own (the `foxglove` crate), in protobuf with the SDK's schemas.
 
-use crate::arm::ArmController;
+use crate::arm::ArmSystem;
 use crate::error::{Result, SimError};
 use crate::scenario::Scenario;
 use crate::simulate::Trace;
@@ -49,8 +49,13 @@ impl ArmScene {
         if !s.is_chain() {
             return Ok(None);
         }
-        let robot = s.robot()?;
-        let ctl = ArmController::new(&robot, &s.arm_settings()?)?;
+        Ok(Some(Self::of_run_with(s, &ArmSystem::build(s)?, t)?))
+    }
+
+    /// The scene of run `t` of a URDF arm's scenario `s` whose system is built.
+    pub fn of_run_with(s: &Scenario, system: &ArmSystem, t: &Trace) -> Result<Self> {
+        let robot = &system.robot;
+        let ctl = &system.controller;
         let d = robot.description();
         let mut frames: Vec<String> = d.joints.iter().map(|j| j.child_link.clone()).collect();
         frames.push("tool".into());
@@ -77,13 +82,13 @@ impl ArmScene {
                 .collect(),
             None => vec![],
         };
-        Ok(Some(ArmScene {
+        Ok(ArmScene {
             base: d.base_link.clone(),
             frames,
             poses,
             desired,
             cartesian,
-        }))
+        })
     }
 }
 
