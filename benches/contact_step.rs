@@ -113,22 +113,36 @@ fn spatial_contact_step(c: &mut Criterion) {
     g.bench_function("ur5_contact_query", |b| {
         b.iter(|| force(black_box(&st)).expect("finite"))
     });
-    // The same arm with the URDF's collision meshes as convex hulls (`arm = "urdf"`) instead
-    // of capsules: 8 shapes against the box.
-    let mut hulls = s.contact_3d.clone().expect("contact_3d");
-    hulls.arm = pvfc::sim::contact::spatial::ArmGeometry::Urdf;
-    hulls.packages.insert(
-        "example-robot-data".into(),
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/example-robot-data"),
-    );
-    let hull_world = SpatialWorld::new(&hulls, &robot).expect("world with hulls");
+    // The arm with the URDF's collision meshes as convex hulls (`arm = "urdf"`): the push
+    // scenario (`scenarios/ur5_push.toml`) at t = 7.3 s, the ball pressing on the forearm's
+    // hull; 7 hulls and the tool ball against the ball.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/ur5_push.toml");
+    let mut push = Scenario::from_file(&path).expect("the push scenario parses");
+    push.duration = 7.3;
+    push.baseline = None;
+    let run = simulate(&push, &mut |_| {}).expect("the push scenario runs");
+    let k = run.len() - 1;
+    assert!(run.contact.as_ref().expect("contact columns").depth[k] > 0.0);
+    let pst = AugmentedState {
+        q: JointSpace::new(SVector::<f64, 6>::from_column_slice(&run.q[k]), kinds),
+        v: SVector::<f64, 6>::from_column_slice(&run.v[k]),
+        tau: run.tau[k],
+        tau_dot: run.tau_dot[k],
+        flywheel_speed: run.flywheel_speed[k],
+    };
+    let hull_world = SpatialWorld::new_in(
+        push.contact_3d.as_ref().expect("contact_3d"),
+        &robot,
+        &push.base_dir,
+    )
+    .expect("world with hulls");
     let hull_force = |x: &AugmentedState<f64, JointSpace<f64, 6>, 6>| -> Result<SVector<f64, 6>, pvfc::sim::SimError> {
-        let c = hull_world.contact(2.0, x.q.coords().as_slice(), x.v.as_slice())?;
+        let c = hull_world.contact(7.3, x.q.coords().as_slice(), x.v.as_slice())?;
         Ok(SVector::from_column_slice(&c.torque))
     };
-    g.bench_function("ur5_rk4_step_with_contact_hulls", |b| {
+    g.bench_function("ur5_push_rk4_step_with_contact_hulls", |b| {
         b.iter(|| {
-            let st = black_box(&st);
+            let st = black_box(&pst);
             let k1 = sys
                 .derivative(st, &hull_force(st).expect("finite"))
                 .expect("finite");
@@ -138,8 +152,8 @@ fn spatial_contact_step(c: &mut Criterion) {
             .expect("finite")
         })
     });
-    g.bench_function("ur5_contact_query_hulls", |b| {
-        b.iter(|| hull_force(black_box(&st)).expect("finite"))
+    g.bench_function("ur5_push_contact_query_hulls", |b| {
+        b.iter(|| hull_force(black_box(&pst)).expect("finite"))
     });
     g.finish();
 }

@@ -20,6 +20,31 @@ struct ArmShape {
     link: usize,
     offset: Pose<f64>,
     shape: Solid,
+    /// A sphere around it (centre in the shape's frame, radius), to skip the exact query of
+    /// a pair whose spheres are apart.
+    bound: Bound,
+}
+
+/// A sphere around a shape: its centre in the shape's frame, and its radius.
+#[derive(Clone, Copy, Debug)]
+struct Bound {
+    center: Vector3<f64>,
+    radius: f64,
+}
+
+impl Bound {
+    fn of(shape: &Solid) -> Self {
+        let b = shape.shape().compute_local_bounding_sphere();
+        Bound {
+            center: na(b.center()),
+            radius: b.radius(),
+        }
+    }
+
+    /// Its centre in the base frame, the shape's frame at `pose`.
+    fn center_at(&self, pose: &Pose<f64>) -> Vector3<f64> {
+        pose.rotation * self.center + pose.translation
+    }
 }
 
 /// A shape as parry's queries take it.
@@ -177,6 +202,7 @@ fn spans_space(points: &[RVector]) -> bool {
 struct Obstacle {
     pose: Pose<f64>,
     shape: Solid,
+    bound: Bound,
     law: ContactLaw,
     spec: super::SpatialObstacle,
 }
@@ -230,10 +256,12 @@ impl SpatialWorld {
                     let next = poses[k].inverse().compose(&poses[k + 1]).translation;
                     if radius > 0.0 && next.norm() > 1e-9 {
                         let capsule = Capsule::new(RVector::ZERO, rvec(&next), radius);
+                        let shape = Solid::Capsule(capsule);
                         shapes.push(ArmShape {
                             link: k,
                             offset: Pose::identity(),
-                            shape: Solid::Capsule(capsule),
+                            bound: Bound::of(&shape),
+                            shape,
                         });
                     }
                 }
@@ -250,6 +278,7 @@ impl SpatialWorld {
                     shapes.push(ArmShape {
                         link: c.body,
                         offset,
+                        bound: Bound::of(&shape),
                         shape,
                     });
                 }
@@ -262,6 +291,10 @@ impl SpatialWorld {
             offset: Pose {
                 rotation: nalgebra::Matrix3::identity(),
                 translation: tool,
+            },
+            bound: Bound {
+                center: Vector3::zeros(),
+                radius: spec.tool_radius,
             },
             shape: Solid::Ball(Ball::new(spec.tool_radius)),
         });
@@ -279,6 +312,7 @@ impl SpatialWorld {
                 let (shape, pose) = Solid::obstacle(&o.shape, at, &name, base_dir)?;
                 Ok(Obstacle {
                     pose,
+                    bound: Bound::of(&shape),
                     shape,
                     law: o.law.unwrap_or(spec.law),
                     spec: o.clone(),
@@ -349,19 +383,31 @@ impl SpatialWorld {
             torque: vec![0.0; n],
             ..Default::default()
         };
-        let obstacles: Vec<(RPose, Vector3<f64>)> = self
+        let obstacles: Vec<(RPose, Vector3<f64>, Vector3<f64>)> = self
             .obstacles
             .iter()
             .map(|o| {
                 let (offset, velocity) = o.spec.motion_at(t);
                 let mut pose = o.pose;
                 pose.translation += offset;
-                (rpose(&pose), velocity)
+                (rpose(&pose), velocity, o.bound.center_at(&pose))
             })
             .collect();
         for s in &self.shapes {
-            let pose = rpose(&poses[s.link].compose(&s.offset));
-            for (o, (o_pose, o_velocity)) in self.obstacles.iter().zip(&obstacles) {
+            let at = poses[s.link].compose(&s.offset);
+            let center = s.bound.center_at(&at);
+            let pose = rpose(&at);
+            for (o, (o_pose, o_velocity, o_center)) in self.obstacles.iter().zip(&obstacles) {
+                // Apart (the spheres, then the shape's sphere from the obstacle itself): no
+                // contact; the exact query would say so, at more cost.
+                if (center - o_center).norm() > s.bound.radius + o.bound.radius
+                    || o.shape
+                        .shape()
+                        .distance_to_point(o_pose, rvec(&center), true)
+                        > s.bound.radius
+                {
+                    continue;
+                }
                 let c = query::contact(&pose, s.shape.shape(), o_pose, o.shape.shape(), 0.0)
                     .map_err(|e| setting(format!("contact query: {e:?}")))?;
                 let Some(c) = c else { continue };
