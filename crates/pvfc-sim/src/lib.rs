@@ -30,6 +30,7 @@ mod report_arms;
 mod report_digital;
 pub mod reproduce;
 pub mod robot;
+mod run_loop;
 pub mod scenario;
 pub mod series;
 pub mod simulate;

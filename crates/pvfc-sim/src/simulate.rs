@@ -2,9 +2,8 @@
 
 use crate::contact::{ContactForces, Environment, PlanarArm};
 use crate::error::{Result, SimError};
-use crate::friction::JointFriction;
-use crate::integrate::{ClosedLoop, Derivative, RK4_WEIGHTS};
-use crate::paper::PaperField;
+use crate::integrate::{ClosedLoop, RK4_WEIGHTS};
+use crate::run_loop::{self, Surroundings};
 use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
 use crate::series::JointSeries;
 use crate::stepper::{Sample, Stepper};
@@ -376,127 +375,68 @@ fn sampled<E: Environment + ?Sized>(
     }
 }
 
-/// The sampled-data loop: the controller at its rate with zero-order hold, the plant (and its
-/// contact, if any) integrated with RK4 in substeps. The controller's internal states are
-/// logged as they are at the sample (those the torque was computed at). With contact, the
-/// add-ons' work is what the controller accounts, or for `Controller::step` summed at the
-/// samples (rectangle rule): for a loop without add-ons the audit residual is then the
-/// sampled controller's own departure from passivity.
+/// The planar arm's surroundings for the generic loops ([`crate::run_loop`]): an
+/// [`Environment`], and the arm's kinematics for the tool's position in the log.
+struct Planar<'a, E: ?Sized> {
+    env: &'a mut E,
+    kin: PlanarArm,
+}
+
+impl<E: Environment + ?Sized> Surroundings<Torus<f64, 2>, 2> for Planar<'_, E> {
+    type Contact = ContactForces;
+
+    fn contact(&mut self, t: f64, q: &Torus<f64, 2>, v: &Vector2<f64>) -> Result<ContactForces> {
+        self.env.contact(t, q, v)
+    }
+
+    fn torque(c: &ContactForces) -> Vector2<f64> {
+        c.torque
+    }
+
+    fn normal_force(c: &ContactForces) -> f64 {
+        c.normal_force
+    }
+
+    fn log(
+        &self,
+        ct: &mut ContactTrace,
+        q: &Torus<f64, 2>,
+        c: &ContactForces,
+        work: &Work,
+        nominal_speed: f64,
+    ) -> Result<()> {
+        ct.push(c, self.kin.tip(q), work, nominal_speed);
+        Ok(())
+    }
+}
+
+/// The SCARA's sampled-data loop ([`run_loop::sampled`]) with the controller `ctl`.
 fn simulate_sampled<E: Environment + ?Sized, S: Stepper<Torus<f64, 2>, 2>>(
     s: &Scenario,
     env: &mut E,
     with_contact: bool,
-    mut ctl: S,
+    ctl: S,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
     let arm = Scara::new(s.arm()?)?;
-    let kin = PlanarArm::from(&s.arm()?);
-    let friction = s.plant.friction.clone();
-    let (dt, h, n) = timing(s)?;
-    let period = s.contour.period;
-    let schedule = s.contact.as_ref().and_then(|c| c.force_schedule);
-    let r0 = s.controller.nominal_speed.map(|n| n.r);
-    let mut q = Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?);
-    let mut v = joint_vector::<2>(&s.initial.v, "initial.v")?;
-    let mut trace = Trace::with_capacity(s.name.clone(), 2, n + 1);
-    let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1, 2, 2));
-    let mut work = Work::default();
-    for k in 0..=n {
-        let t = k as f64 * dt;
-        let cf = env.contact(t, &q, &v)?;
-        if let (Some(sch), Some(r0)) = (schedule, r0) {
-            if let Some(ns) = ctl.nominal_speed_mut() {
-                ns.set_speed(sch.speed(r0, cf.normal_force))?;
-            }
-        }
-        let out = ctl.sample(&q, &v, dt)?;
-        work.0[2] += out.add_ons_ended;
-        trace.push(Row::of_sample(
-            t,
-            (q.angles().as_slice(), v.as_slice()),
-            &out,
-            period,
-            arm.kinetic_energy(&q, &v),
-            friction.torque(&v).dot(&v),
-        ));
-        if let Some(ct) = contact.as_mut() {
-            let r = ctl.nominal_speed_mut().map_or(0.0, |n| n.speed());
-            ct.push(&cf, kin.tip(&q), &work, r);
-        }
-        if k == n {
-            break;
-        }
-        work.0[2] += out.add_ons_next;
-        for j in 0..s.simulation.plant_substeps {
-            let t0 = t + j as f64 * h;
-            let mut p = [[0.0; 4]; 4];
-            (q, v) = plant_rk4(&arm, &q, &v, h, |i, c, q, v| {
-                let ff = friction.torque(v);
-                // The first stage of the period is the sample itself: its contact is known.
-                let fc = if i == 0 && j == 0 {
-                    cf.torque
-                } else {
-                    env.contact(t0 + c, q, v)?.torque
-                };
-                p[i] = [fc.dot(v), ff.dot(v), 0.0, 0.0];
-                Ok(out.torque + ff + fc)
-            })?;
-            work.add(h, &p);
-        }
-        if k % 1000 == 0 {
-            progress(k as f64 / n as f64);
-        }
-    }
-    trace.contact = contact;
-    progress(1.0);
-    Ok(trace)
+    let q = Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?);
+    let v = joint_vector::<2>(&s.initial.v, "initial.v")?;
+    let mut planar = Planar {
+        env,
+        kin: PlanarArm::from(&s.arm()?),
+    };
+    run_loop::sampled(
+        s,
+        &arm,
+        ctl,
+        (q, v),
+        &mut planar,
+        with_contact.then_some(2),
+        progress,
+    )
 }
 
-type PaperLoop = ClosedLoop<f64, Torus<f64, 2>, Scara<f64>, Scara<f64>, PaperField, 2>;
-
-/// One evaluation of the closed loop with its environment: what the integrator and the log
-/// need (kept small: the full `Evaluation` is large and moving it costs), and the powers
-/// `[contact, friction, controller add-ons]` on the augmented system.
-struct Stage {
-    contact: ContactForces,
-    friction: Vector2<f64>,
-    derivative: Derivative<f64, 2>,
-    torque: Vector2<f64>,
-    beta: f64,
-    potential: f64,
-    lambda1: f64,
-    lambda2: f64,
-    power: [f64; 4],
-}
-
-fn stage<E: Environment + ?Sized>(
-    sys: &PaperLoop,
-    env: &mut E,
-    friction: &JointFriction,
-    t: f64,
-    st: &AugmentedState<f64, Torus<f64, 2>, 2>,
-) -> Result<Stage> {
-    let contact = env.contact(t, &st.q, &st.v)?;
-    let ff = friction.torque(&st.v);
-    // The controller's output used in place (not moved into an `Evaluation`).
-    let (torque, c) = sys.controller.evaluate(st)?;
-    let derivative = sys.rate(st, &torque, &(contact.torque + ff))?;
-    let addon = torque - c.torque;
-    let controller =
-        addon.robot.dot(&st.v) + addon.tau * st.tau_dot + addon.flywheel * st.flywheel_speed;
-    Ok(Stage {
-        power: [contact.torque.dot(&st.v), ff.dot(&st.v), controller, 0.0],
-        contact,
-        friction: ff,
-        derivative,
-        torque: torque.robot,
-        beta: c.beta,
-        potential: c.field.potential,
-        lambda1: c.field.lambda1,
-        lambda2: c.field.lambda2,
-    })
-}
-
+/// The SCARA's continuous-time loop ([`run_loop::continuous`]).
 fn simulate_continuous<E: Environment + ?Sized>(
     s: &Scenario,
     env: &mut E,
@@ -504,81 +444,23 @@ fn simulate_continuous<E: Environment + ?Sized>(
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
     let ctl = s.controller()?;
-    let arm = Scara::new(s.arm()?)?;
-    let kin = PlanarArm::from(&s.arm()?);
-    let friction = s.plant.friction.clone();
-    let (dt, h, n) = timing(s)?;
-    let mut sys = ClosedLoop {
-        plant: arm,
+    let sys = ClosedLoop {
+        plant: Scara::new(s.arm()?)?,
         controller: ctl,
     };
-    let schedule = s.contact.as_ref().and_then(|c| c.force_schedule);
-    let r0 = s.controller.nominal_speed.map(|n| n.r);
     let i = ctl.state();
-    let mut st = AugmentedState {
+    let st = AugmentedState {
         q: Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?),
         v: joint_vector::<2>(&s.initial.v, "initial.v")?,
         tau: i.tau,
         tau_dot: i.tau_dot,
         flywheel_speed: i.flywheel_speed,
     };
-    let mut trace = Trace::with_capacity(s.name.clone(), 2, n + 1);
-    let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1, 2, 2));
-    let mut work = Work::default();
-    for k in 0..=n {
-        let t = k as f64 * dt;
-        let mut first = stage(&sys, env, &friction, t, &st)?;
-        if let (Some(sch), Some(r0)) = (schedule, r0) {
-            if let Some(ns) = sys.controller.nominal_speed_mut() {
-                ns.set_speed(sch.speed(r0, first.contact.normal_force))?;
-                first = stage(&sys, env, &friction, t, &st)?;
-            }
-        }
-        trace.push(Row {
-            t,
-            q: st.q.angles().as_slice(),
-            v: st.v.as_slice(),
-            tau: st.tau,
-            tau_dot: st.tau_dot,
-            flywheel_speed: st.flywheel_speed,
-            beta: first.beta,
-            potential: first.potential,
-            lambda1: first.lambda1,
-            lambda2: first.lambda2,
-            torque: first.torque.as_slice(),
-            energy: sys.kinetic_energy(&st),
-            friction_power: first.friction.dot(&st.v),
-        });
-        if let Some(ct) = contact.as_mut() {
-            let r = sys
-                .controller
-                .nominal_speed_mut()
-                .map_or(0.0, |n| n.speed());
-            ct.push(&first.contact, kin.tip(&st.q), &work, r);
-        }
-        if k == n {
-            break;
-        }
-        for j in 0..s.simulation.plant_substeps {
-            let t0 = t + j as f64 * h;
-            if j > 0 {
-                first = stage(&sys, env, &friction, t0, &st)?;
-            }
-            let mut p = [first.power; 4];
-            st = sys.rk4_with_stages(&st, &first.derivative, h, |i, c, x| {
-                let e = stage(&sys, env, &friction, t0 + c, x)?;
-                p[i] = e.power;
-                Ok::<_, SimError>(e.derivative)
-            })?;
-            work.add(h, &p);
-        }
-        if k % 1000 == 0 {
-            progress(k as f64 / n as f64);
-        }
-    }
-    trace.contact = contact;
-    progress(1.0);
-    Ok(trace)
+    let mut planar = Planar {
+        env,
+        kin: PlanarArm::from(&s.arm()?),
+    };
+    run_loop::continuous(s, sys, st, &mut planar, with_contact.then_some(2), progress)
 }
 
 /// The timed-trajectory baseline of Fig. 1: computed torque + PD tracking `x_d(τ(t))` with
@@ -637,7 +519,10 @@ pub fn simulate_timed_in(
     );
     let mut q = Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?);
     let mut v = joint_vector::<2>(&s.initial.v, "initial.v")?;
-    let kin = PlanarArm::from(&s.arm()?);
+    let mut planar = Planar {
+        env,
+        kin: PlanarArm::from(&s.arm()?),
+    };
     let mut trace = Trace::with_capacity(format!("{}-timed", s.name), 2, n + 1);
     let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1, 2, 2));
     let mut work = Work::default();
@@ -668,29 +553,23 @@ pub fn simulate_timed_in(
             energy: arm.kinetic_energy(&q, &v),
             friction_power: friction.torque(&v).dot(&v),
         });
-        let cf = env.contact(t, &q, &v)?;
+        let cf = planar.contact(t, &q, &v)?;
         if let Some(ct) = contact.as_mut() {
-            ct.push(&cf, kin.tip(&q), &work, 0.0);
+            planar.log(ct, &q, &cf, &work, 0.0)?;
         }
         if k == n {
             break;
         }
-        for j in 0..s.simulation.plant_substeps {
-            let t0 = t + j as f64 * h;
-            let mut p = [[0.0; 4]; 4];
-            (q, v) = plant_rk4(&arm, &q, &v, h, |i, c, q, v| {
-                let ff = friction.torque(v);
-                // The first stage of the period is the sample itself: its contact is known.
-                let fc = if i == 0 && j == 0 {
-                    cf.torque
-                } else {
-                    env.contact(t0 + c, q, v)?.torque
-                };
-                p[i] = [fc.dot(v), ff.dot(v), u.dot(v), 0.0];
-                Ok(u + ff + fc)
-            })?;
-            work.add(h, &p);
-        }
+        (q, v) = run_loop::hold(
+            s,
+            &arm,
+            &mut planar,
+            (q, v),
+            (t, h),
+            (&u, true),
+            &cf.torque,
+            &mut work,
+        )?;
         if k % 1000 == 0 {
             progress(k as f64 / n as f64);
         }

@@ -1,0 +1,323 @@
+//! The closed loop run, once for every robot: generic over the configuration group `G`, the
+//! plant `Sys` and the dimension `N`, so that the planar SCARA (`Torus<2>`, `Scara`, planar
+//! contact) and any URDF arm (`JointSpace<N>`, `SerialChain<N>`, 3-D contact) run through the
+//! same code. What differs is given: the controller ([`Stepper`]: `Controller::step` or the
+//! passive one) for the sampled-data loop, the closed loop for the continuous one, and what
+//! the robot touches ([`Surroundings`]).
+//!
+//! The works `[contact, friction, controller add-ons, gravity]` are integrated by the RK4
+//! quadrature of the stages' powers, so the audit `κ_a − κ_a(0) − ΣW` is integration error.
+
+use crate::contact::ForceSchedule;
+use crate::error::{Result, SimError};
+use crate::friction::JointFriction;
+use crate::integrate::{ClosedLoop, Derivative};
+use crate::scenario::Scenario;
+use crate::simulate::{plant_rk4, timing, ContactTrace, Row, Trace, Work};
+use crate::stepper::Stepper;
+use nalgebra::SVector;
+use pvfc_core::augmented::AugmentedState;
+use pvfc_core::prelude::*;
+
+/// The coordinates a trace logs for a configuration (the torus's unwrapped angles, the joint
+/// space's coordinates).
+pub(crate) trait Coordinates<const N: usize> {
+    /// The coordinates.
+    fn coordinates(&self) -> &SVector<f64, N>;
+}
+
+impl<const N: usize> Coordinates<N> for Torus<f64, N> {
+    fn coordinates(&self) -> &SVector<f64, N> {
+        self.angles()
+    }
+}
+
+impl<const N: usize> Coordinates<N> for JointSpace<f64, N> {
+    fn coordinates(&self) -> &SVector<f64, N> {
+        self.coords()
+    }
+}
+
+/// What the robot touches: the contact at `(t, q, q̇)` (a function of its arguments: the loops
+/// call it at every integration stage), its joint torque `F_e`, and the sample the trace
+/// keeps of it.
+pub(crate) trait Surroundings<G, const N: usize> {
+    /// One evaluation of the contact.
+    type Contact;
+    /// The contact at time `t` and state `(q, q̇)`.
+    fn contact(&mut self, t: f64, q: &G, v: &SVector<f64, N>) -> Result<Self::Contact>;
+    /// Its joint torque `F_e`.
+    fn torque(c: &Self::Contact) -> SVector<f64, N>;
+    /// Its total normal force (what the force schedule reads).
+    fn normal_force(c: &Self::Contact) -> f64;
+    /// One sample of the contact columns: the contact, the works so far, the nominal speed.
+    fn log(
+        &self,
+        ct: &mut ContactTrace,
+        q: &G,
+        c: &Self::Contact,
+        work: &Work,
+        nominal_speed: f64,
+    ) -> Result<()>;
+}
+
+/// A run's force schedule and nominal speed: sets `r` of (36) from the normal force.
+fn schedule(
+    s: &Scenario,
+    nominal: Option<&mut NominalSpeed<f64>>,
+    normal_force: f64,
+) -> Result<bool> {
+    let r0 = s.controller.nominal_speed.map(|n| n.r);
+    match (force_schedule(s), r0, nominal) {
+        (Some(sch), Some(r0), Some(ns)) => {
+            ns.set_speed(sch.speed(r0, normal_force))?;
+            Ok(true)
+        }
+        _ => Ok(false),
+    }
+}
+
+/// The scenario's force schedule: of its planar `[contact]` or its `[contact_3d]`.
+fn force_schedule(s: &Scenario) -> Option<ForceSchedule> {
+    s.contact
+        .as_ref()
+        .and_then(|c| c.force_schedule)
+        .or_else(|| s.contact_3d.as_ref().and_then(|c| c.force_schedule))
+}
+
+/// The sampled-data loop: the controller at its rate with zero-order hold, the plant (with
+/// its gravity, friction and contact) integrated with RK4 in substeps. The controller's
+/// internal states are logged as they are at the sample (those the torque was computed at).
+/// The add-ons' work is what the controller accounts (the passive one), or for
+/// `Controller::step` summed at the samples (rectangle rule): for a loop without add-ons the
+/// audit residual is then the sampled controller's own departure from passivity. The contact
+/// columns are kept when `columns` gives the workspace's dimension.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn sampled<G, Sys, S, E, const N: usize>(
+    s: &Scenario,
+    plant: &Sys,
+    mut ctl: S,
+    (mut q, mut v): (G, SVector<f64, N>),
+    env: &mut E,
+    columns: Option<usize>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace>
+where
+    G: LieGroup<f64, N> + Coordinates<N>,
+    Sys: MechanicalSystem<f64, G, N>,
+    S: Stepper<G, N>,
+    E: Surroundings<G, N> + ?Sized,
+{
+    let friction = s.plant.friction.clone();
+    let (dt, h, n) = timing(s)?;
+    let period = s.period();
+    let mut trace = Trace::with_capacity(s.name.clone(), N, n + 1);
+    let mut contact = columns.map(|dim| ContactTrace::with_capacity(n + 1, N, dim));
+    let mut work = Work::default();
+    for k in 0..=n {
+        let t = k as f64 * dt;
+        let c0 = env.contact(t, &q, &v)?;
+        schedule(s, ctl.nominal_speed_mut(), E::normal_force(&c0))?;
+        let out = ctl.sample(&q, &v, dt)?;
+        work.0[2] += out.add_ons_ended;
+        trace.push(Row::of_sample(
+            t,
+            (q.coordinates().as_slice(), v.as_slice()),
+            &out,
+            period,
+            plant.kinetic_energy(&q, &v),
+            friction.torque(&v).dot(&v),
+        ));
+        if let Some(ct) = contact.as_mut() {
+            let r = ctl.nominal_speed_mut().map_or(0.0, |n| n.speed());
+            env.log(ct, &q, &c0, &work, r)?;
+        }
+        if k == n {
+            break;
+        }
+        work.0[2] += out.add_ons_next;
+        (q, v) = hold(
+            s,
+            plant,
+            env,
+            (q, v),
+            (t, h),
+            (&out.torque, false),
+            &E::torque(&c0),
+            &mut work,
+        )?;
+        if k % 1000 == 0 {
+            progress(k as f64 / n as f64);
+        }
+    }
+    trace.contact = contact;
+    progress(1.0);
+    Ok(trace)
+}
+
+/// Holds the motor torque `u` over one controller period from time `t`: the plant (gravity,
+/// friction, contact) in RK4 substeps of `h`, the works `[contact, friction, motor, gravity]`
+/// integrated by the stages' powers. The motor's power is counted only when asked (the timed
+/// baseline's; PVFC's add-ons are what its controller accounts). `fc0` is the contact torque
+/// at the sample, the first stage of the period.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn hold<G, Sys, E, const N: usize>(
+    s: &Scenario,
+    plant: &Sys,
+    env: &mut E,
+    (mut q, mut v): (G, SVector<f64, N>),
+    (t, h): (f64, f64),
+    (u, count_motor): (&SVector<f64, N>, bool),
+    fc0: &SVector<f64, N>,
+    work: &mut Work,
+) -> Result<(G, SVector<f64, N>)>
+where
+    G: LieGroup<f64, N>,
+    Sys: MechanicalSystem<f64, G, N>,
+    E: Surroundings<G, N> + ?Sized,
+{
+    let friction = &s.plant.friction;
+    for j in 0..s.simulation.plant_substeps {
+        let t0 = t + j as f64 * h;
+        let mut p = [[0.0; 4]; 4];
+        (q, v) = plant_rk4(plant, &q, &v, h, |i, c, q, v| {
+            let ff = friction.torque(v);
+            // The first stage of the period is the sample itself: its contact is known.
+            let fc = if i == 0 && j == 0 {
+                *fc0
+            } else {
+                E::torque(&env.contact(t0 + c, q, v)?)
+            };
+            let motor = if count_motor { u.dot(v) } else { 0.0 };
+            p[i] = [fc.dot(v), ff.dot(v), motor, -plant.gravity(q).dot(v)];
+            Ok(u + ff + fc)
+        })?;
+        work.add(h, &p);
+    }
+    Ok((q, v))
+}
+
+/// One evaluation of the closed loop with what it touches: the rate, what the log needs,
+/// and the powers `[contact, friction, controller add-ons, gravity]` on the augmented system
+/// (kept small: the full `Evaluation` is large and moving it costs).
+struct Stage<C, const N: usize> {
+    contact: C,
+    derivative: Derivative<f64, N>,
+    torque: SVector<f64, N>,
+    beta: f64,
+    potential: f64,
+    lambda1: f64,
+    lambda2: f64,
+    power: [f64; 4],
+}
+
+fn stage<G, Sys, F, E, const N: usize>(
+    sys: &ClosedLoop<f64, G, Sys, Sys, F, N>,
+    env: &mut E,
+    friction: &JointFriction,
+    t: f64,
+    st: &AugmentedState<f64, G, N>,
+) -> Result<Stage<E::Contact, N>>
+where
+    G: LieGroup<f64, N>,
+    Sys: MechanicalSystem<f64, G, N>,
+    F: VelocityField<f64, G, N>,
+    E: Surroundings<G, N> + ?Sized,
+{
+    let contact = env.contact(t, &st.q, &st.v)?;
+    let fc = E::torque(&contact);
+    let ff = friction.torque(&st.v);
+    // The controller's output used in place (not moved into an `Evaluation`).
+    let (torque, c) = sys.controller.evaluate(st)?;
+    let derivative = sys.rate(st, &torque, &(fc + ff))?;
+    let addon = torque - c.torque;
+    let controller =
+        addon.robot.dot(&st.v) + addon.tau * st.tau_dot + addon.flywheel * st.flywheel_speed;
+    let gravity = -sys.plant.gravity(&st.q).dot(&st.v);
+    Ok(Stage {
+        power: [fc.dot(&st.v), ff.dot(&st.v), controller, gravity],
+        contact,
+        derivative,
+        torque: torque.robot,
+        beta: c.beta,
+        potential: c.field.potential,
+        lambda1: c.field.lambda1,
+        lambda2: c.field.lambda2,
+    })
+}
+
+/// The continuous-time loop: the closed loop (plant, controller and their contact) integrated
+/// with RKMK4 at the plant's step, logged at the controller's rate. With a force schedule,
+/// `r` of (36) is set from the contact force at each logged sample.
+pub(crate) fn continuous<G, Sys, F, E, const N: usize>(
+    s: &Scenario,
+    mut sys: ClosedLoop<f64, G, Sys, Sys, F, N>,
+    mut st: AugmentedState<f64, G, N>,
+    env: &mut E,
+    columns: Option<usize>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace>
+where
+    G: LieGroup<f64, N> + Coordinates<N>,
+    Sys: MechanicalSystem<f64, G, N>,
+    F: VelocityField<f64, G, N>,
+    E: Surroundings<G, N> + ?Sized,
+{
+    let friction = s.plant.friction.clone();
+    let (dt, h, n) = timing(s)?;
+    let mut trace = Trace::with_capacity(s.name.clone(), N, n + 1);
+    let mut contact = columns.map(|dim| ContactTrace::with_capacity(n + 1, N, dim));
+    let mut work = Work::default();
+    for k in 0..=n {
+        let t = k as f64 * dt;
+        let mut first = stage(&sys, env, &friction, t, &st)?;
+        let normal = E::normal_force(&first.contact);
+        if schedule(s, sys.controller.nominal_speed_mut(), normal)? {
+            first = stage(&sys, env, &friction, t, &st)?;
+        }
+        trace.push(Row {
+            t,
+            q: st.q.coordinates().as_slice(),
+            v: st.v.as_slice(),
+            tau: st.tau,
+            tau_dot: st.tau_dot,
+            flywheel_speed: st.flywheel_speed,
+            beta: first.beta,
+            potential: first.potential,
+            lambda1: first.lambda1,
+            lambda2: first.lambda2,
+            torque: first.torque.as_slice(),
+            energy: sys.kinetic_energy(&st),
+            friction_power: first.power[1],
+        });
+        if let Some(ct) = contact.as_mut() {
+            let r = sys
+                .controller
+                .nominal_speed_mut()
+                .map_or(0.0, |n| n.speed());
+            env.log(ct, &st.q, &first.contact, &work, r)?;
+        }
+        if k == n {
+            break;
+        }
+        for j in 0..s.simulation.plant_substeps {
+            let t0 = t + j as f64 * h;
+            if j > 0 {
+                first = stage(&sys, env, &friction, t0, &st)?;
+            }
+            let mut p = [first.power; 4];
+            st = sys.rk4_with_stages(&st, &first.derivative, h, |i, c, x| {
+                let e = stage(&sys, env, &friction, t0 + c, x)?;
+                p[i] = e.power;
+                Ok::<_, SimError>(e.derivative)
+            })?;
+            work.add(h, &p);
+        }
+        if k % 1000 == 0 {
+            progress(k as f64 / n as f64);
+        }
+    }
+    trace.contact = contact;
+    progress(1.0);
+    Ok(trace)
+}
