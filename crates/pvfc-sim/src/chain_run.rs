@@ -9,7 +9,7 @@ use crate::error::{Result, SimError};
 use crate::integrate::ClosedLoop;
 use crate::run_loop::{self, Surroundings};
 use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
-use crate::simulate::{timing, ContactSample, ContactTrace, Row, Trace, Work};
+use crate::simulate::{ContactSample, ContactTrace, Trace, Work};
 use crate::stepper::PassiveDrive;
 use crate::with_dof;
 use nalgebra::SVector;
@@ -131,7 +131,6 @@ fn timed<const N: usize>(
     let settings = &system.settings;
     let ctl: ArmControllerN<N> = arm_controller(chain, settings)?;
     let field = ctl.law().field();
-    let friction = s.plant.friction.clone();
     let comp = match &settings.friction_compensation {
         Some(f) => Some(
             FrictionCompensation::new(joint_vector::<N>(f, "controller.friction_compensation")?)?
@@ -143,76 +142,42 @@ fn timed<const N: usize>(
         joint_vector::<N>(&b.kp, "baseline.kp")?,
         joint_vector::<N>(&b.kd, "baseline.kd")?,
     );
-    let (dt, h, n) = timing(s)?;
     let kinds = chain.kinds();
-    let mut q = JointSpace::new(joint_vector::<N>(&s.initial.q, "initial.q")?, kinds);
-    let mut v = joint_vector::<N>(&s.initial.v, "initial.v")?;
+    let q = JointSpace::new(joint_vector::<N>(&s.initial.q, "initial.q")?, kinds);
+    let v = joint_vector::<N>(&s.initial.v, "initial.v")?;
     let world = Contact::of(s, &system.robot)?;
+    let columns = world.is_some().then_some(3);
     let mut env = Spatial {
         world: world.as_ref(),
         chain: &chain,
     };
-    let mut trace = Trace::with_capacity(format!("{}-timed", s.name), N, n + 1);
-    let mut contact = world
-        .is_some()
-        .then(|| ContactTrace::with_capacity(n + 1, N, 3));
-    let mut work = Work::default();
-    for k in 0..=n {
-        let t = k as f64 * dt;
-        let tau = s.initial.tau + tau_rate * t;
+    let law = |tau: f64, q: &JointSpace<f64, N>, v: &SVector<f64, N>| {
         let xd = field.contour().sample(tau);
         let (xd_v, xd_a) = (
             xd.velocity * tau_rate,
             xd.acceleration * (tau_rate * tau_rate),
         );
         let e = xd.point.coords() - q.coords();
-        let (m, c) = chain.inertia_and_coriolis(&q, &v);
+        let (m, c) = chain.inertia_and_coriolis(q, v);
         let mut u = m * (xd_a + (xd_v - v).component_mul(&kd) + e.component_mul(&kp))
             + c * v
-            + chain.gravity(&q);
+            + chain.gravity(q);
         if let Some(fc) = &comp {
-            u += fc.torque(&v);
+            u += fc.torque(v);
         }
         let err = q.compose(&xd.point.inverse());
-        trace.push(Row {
-            t,
-            q: q.coords().as_slice(),
-            v: v.as_slice(),
-            tau,
-            tau_dot: tau_rate,
-            flywheel_speed: 0.0,
-            beta: 0.0,
-            potential: field.navigation().value(&err),
-            lambda1: 1.0,
-            lambda2: 1.0,
-            torque: u.as_slice(),
-            energy: chain.kinetic_energy(&q, &v),
-            friction_power: friction.torque(&v).dot(&v),
-        });
-        let c0 = env.contact(t, &q, &v)?;
-        if let Some(ct) = contact.as_mut() {
-            env.log(ct, &q, &c0, &work, 0.0)?;
-        }
-        if k == n {
-            break;
-        }
-        (q, v) = run_loop::hold(
-            s,
-            &chain,
-            &mut env,
-            (q, v),
-            (t, h),
-            (&u, true),
-            &c0.0,
-            &mut work,
-        )?;
-        if k % 1000 == 0 {
-            progress(k as f64 / n as f64);
-        }
-    }
-    trace.contact = contact;
-    progress(1.0);
-    Ok(trace)
+        Ok((u, field.navigation().value(&err)))
+    };
+    run_loop::timed(
+        s,
+        &chain,
+        &mut env,
+        (q, v),
+        columns,
+        tau_rate,
+        law,
+        progress,
+    )
 }
 
 /// A chain run's 3-D contact world, if the scenario has a `[contact_3d]` table.

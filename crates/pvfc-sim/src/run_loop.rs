@@ -155,6 +155,75 @@ where
     Ok(trace)
 }
 
+/// The timed baseline's loop: at each sample the tracker's torque and the navigation
+/// function's value, `law(τ, q, q̇) = (u, U)` with `τ = τ₀ + rate·t`, held over the period on
+/// the same plant, friction and contact; the motor's work is counted.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn timed<G, Sys, E, const N: usize>(
+    s: &Scenario,
+    plant: &Sys,
+    env: &mut E,
+    (mut q, mut v): (G, SVector<f64, N>),
+    columns: Option<usize>,
+    tau_rate: f64,
+    mut law: impl FnMut(f64, &G, &SVector<f64, N>) -> Result<(SVector<f64, N>, f64)>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace>
+where
+    G: LieGroup<f64, N> + Coordinates<N>,
+    Sys: MechanicalSystem<f64, G, N>,
+    E: Surroundings<G, N> + ?Sized,
+{
+    let friction = s.plant.friction.clone();
+    let (dt, h, n) = timing(s)?;
+    let mut trace = Trace::with_capacity(format!("{}-timed", s.name), N, n + 1);
+    let mut contact = columns.map(|dim| ContactTrace::with_capacity(n + 1, N, dim));
+    let mut work = Work::default();
+    for k in 0..=n {
+        let t = k as f64 * dt;
+        let tau = s.initial.tau + tau_rate * t;
+        let (u, potential) = law(tau, &q, &v)?;
+        trace.push(Row {
+            t,
+            q: q.coordinates().as_slice(),
+            v: v.as_slice(),
+            tau,
+            tau_dot: tau_rate,
+            flywheel_speed: 0.0,
+            beta: 0.0,
+            potential,
+            lambda1: 1.0,
+            lambda2: 1.0,
+            torque: u.as_slice(),
+            energy: plant.kinetic_energy(&q, &v),
+            friction_power: friction.torque(&v).dot(&v),
+        });
+        let c0 = env.contact(t, &q, &v)?;
+        if let Some(ct) = contact.as_mut() {
+            env.log(ct, &q, &c0, &work, 0.0)?;
+        }
+        if k == n {
+            break;
+        }
+        (q, v) = hold(
+            s,
+            plant,
+            env,
+            (q, v),
+            (t, h),
+            (&u, true),
+            &E::torque(&c0),
+            &mut work,
+        )?;
+        if k % 1000 == 0 {
+            progress(k as f64 / n as f64);
+        }
+    }
+    trace.contact = contact;
+    progress(1.0);
+    Ok(trace)
+}
+
 /// Holds the motor torque `u` over one controller period from time `t`: the plant (gravity,
 /// friction, contact) in RK4 substeps of `h`, the works `[contact, friction, motor, gravity]`
 /// integrated by the stages' powers. The motor's power is counted only when asked (the timed

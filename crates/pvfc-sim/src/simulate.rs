@@ -502,7 +502,6 @@ pub fn simulate_timed_in(
         return Err(SimError::Setting("baseline: τ rate must be finite".into()));
     }
     let arm = Scara::new(s.arm()?)?;
-    let friction = s.plant.friction.clone();
     let contour = s.contour()?;
     let nav = TorusNavigation::paper(joint_vector::<2>(&s.controller.h, "controller.h")?)?;
     let comp = match &s.controller.friction_compensation {
@@ -512,69 +511,37 @@ pub fn simulate_timed_in(
         )?)?),
         None => None,
     };
-    let (dt, h, n) = timing(s)?;
     let (kp, kd) = (
         joint_vector::<2>(&b.kp, "baseline.kp")?,
         joint_vector::<2>(&b.kd, "baseline.kd")?,
     );
-    let mut q = Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?);
-    let mut v = joint_vector::<2>(&s.initial.v, "initial.v")?;
+    let q = Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?);
+    let v = joint_vector::<2>(&s.initial.v, "initial.v")?;
     let mut planar = Planar {
         env,
         kin: PlanarArm::from(&s.arm()?),
     };
-    let mut trace = Trace::with_capacity(format!("{}-timed", s.name), 2, n + 1);
-    let mut contact = with_contact.then(|| ContactTrace::with_capacity(n + 1, 2, 2));
-    let mut work = Work::default();
-    for k in 0..=n {
-        let t = k as f64 * dt;
-        let tau = s.initial.tau + tau_rate * t;
+    let law = |tau: f64, q: &Torus<f64, 2>, v: &Vector2<f64>| {
         let [xd, dxd, ddxd] = contour.coordinates(tau);
         let (xd_v, xd_a) = (dxd * tau_rate, ddxd * tau_rate * tau_rate);
         let e = xd - q.angles();
-        let (m, c) = arm.inertia_and_coriolis(&q, &v);
+        let (m, c) = arm.inertia_and_coriolis(q, v);
         let mut u = m * (xd_a + (xd_v - v).component_mul(&kd) + e.component_mul(&kp)) + c * v;
         if let Some(fc) = &comp {
-            u += fc.torque(&v);
+            u += fc.torque(v);
         }
         let err = q.compose(&Torus::new(xd).inverse());
-        trace.push(Row {
-            t,
-            q: q.angles().as_slice(),
-            v: v.as_slice(),
-            tau,
-            tau_dot: tau_rate,
-            flywheel_speed: 0.0,
-            beta: 0.0,
-            potential: nav.value(&err),
-            lambda1: 1.0,
-            lambda2: 1.0,
-            torque: u.as_slice(),
-            energy: arm.kinetic_energy(&q, &v),
-            friction_power: friction.torque(&v).dot(&v),
-        });
-        let cf = planar.contact(t, &q, &v)?;
-        if let Some(ct) = contact.as_mut() {
-            planar.log(ct, &q, &cf, &work, 0.0)?;
-        }
-        if k == n {
-            break;
-        }
-        (q, v) = run_loop::hold(
-            s,
-            &arm,
-            &mut planar,
-            (q, v),
-            (t, h),
-            (&u, true),
-            &cf.torque,
-            &mut work,
-        )?;
-        if k % 1000 == 0 {
-            progress(k as f64 / n as f64);
-        }
-    }
-    trace.contact = contact;
-    progress(1.0);
-    Ok(trace)
+        Ok((u, nav.value(&err)))
+    };
+    let columns = with_contact.then_some(2);
+    run_loop::timed(
+        s,
+        &arm,
+        &mut planar,
+        (q, v),
+        columns,
+        tau_rate,
+        law,
+        progress,
+    )
 }
