@@ -53,9 +53,7 @@ fn run<const N: usize>(
             .unwrap_or_else(|| flywheel.speed_for_unit_beta()),
         laps: 0,
     });
-    let kinds = chain.kinds();
-    let q = JointSpace::new(joint_vector::<N>(&s.initial.q, "initial.q")?, kinds);
-    let v = joint_vector::<N>(&s.initial.v, "initial.v")?;
+    let (q, v) = initial_state(s, &chain)?;
     let world = Contact::of(s, &system.robot)?;
     let columns = world.is_some().then_some(3);
     let mut env = Spatial {
@@ -66,7 +64,7 @@ fn run<const N: usize>(
         Mode::Sampled => match &s.controller.passive {
             None => run_loop::sampled(s, &chain, ctl, (q, v), &mut env, columns, progress),
             Some(spec) => {
-                let circular = kinds.map(|k| k == JointKind::Circular);
+                let circular = chain.kinds().map(|k| k == JointKind::Circular);
                 let drive = PassiveDrive::new(ctl, spec, circular)?;
                 run_loop::sampled(s, &chain, drive, (q, v), &mut env, columns, progress)
             }
@@ -142,9 +140,7 @@ fn timed<const N: usize>(
         joint_vector::<N>(&b.kp, "baseline.kp")?,
         joint_vector::<N>(&b.kd, "baseline.kd")?,
     );
-    let kinds = chain.kinds();
-    let q = JointSpace::new(joint_vector::<N>(&s.initial.q, "initial.q")?, kinds);
-    let v = joint_vector::<N>(&s.initial.v, "initial.v")?;
+    let (q, v) = initial_state(s, &chain)?;
     let world = Contact::of(s, &system.robot)?;
     let columns = world.is_some().then_some(3);
     let mut env = Spatial {
@@ -178,6 +174,18 @@ fn timed<const N: usize>(
         law,
         progress,
     )
+}
+
+/// The scenario's initial `(q, q̇)` on the chain's joint space.
+fn initial_state<const N: usize>(
+    s: &Scenario,
+    chain: &SerialChain<f64, N>,
+) -> Result<(JointSpace<f64, N>, SVector<f64, N>)> {
+    let q = joint_vector::<N>(&s.initial.q, "initial.q")?;
+    Ok((
+        JointSpace::new(q, chain.kinds()),
+        joint_vector::<N>(&s.initial.v, "initial.v")?,
+    ))
 }
 
 /// A chain run's 3-D contact world, if the scenario has a `[contact_3d]` table.
