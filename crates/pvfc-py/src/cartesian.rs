@@ -14,7 +14,8 @@ use std::path::PathBuf;
 
 /// A closed tool path: give `points` (an `(n, 3)` polyline, corners rounded to
 /// `corner_radius`; with `orientations`, `(n, 3)` roll–pitch–yaw of the tool at each, a path
-/// in SE(3)), or `circle=(center, radius, normal)`, or `csv` (a file of `x,y,z` lines).
+/// in SE(3)), or `circle=(center, radius, normal)`, or `ellipse=(center, semi_major,
+/// semi_minor, normal, major_axis)`, or `csv` (a file of `x,y,z` lines).
 #[pyclass(module = "pvfc")]
 pub(crate) struct CartesianPath {
     spec: CartesianSpec,
@@ -23,7 +24,8 @@ pub(crate) struct CartesianPath {
 #[pymethods]
 impl CartesianPath {
     #[new]
-    #[pyo3(signature = (points=None, corner_radius=0.0, circle=None, csv=None, samples=24, orientations=None))]
+    #[pyo3(signature = (points=None, corner_radius=0.0, circle=None, csv=None, samples=24, orientations=None, ellipse=None))]
+    #[allow(clippy::type_complexity)]
     fn new(
         points: Option<&Bound<'_, PyAny>>,
         corner_radius: f64,
@@ -31,6 +33,13 @@ impl CartesianPath {
         csv: Option<PathBuf>,
         samples: usize,
         orientations: Option<&Bound<'_, PyAny>>,
+        ellipse: Option<(
+            Bound<'_, PyAny>,
+            f64,
+            f64,
+            Bound<'_, PyAny>,
+            Bound<'_, PyAny>,
+        )>,
     ) -> PyResult<Self> {
         let triples = |p: Option<&Bound<'_, PyAny>>, name: &str| -> PyResult<Vec<[f64; 3]>> {
             match p {
@@ -44,6 +53,21 @@ impl CartesianPath {
         };
         let points = triples(points, "points")?;
         let orientations = triples(orientations, "orientations")?;
+        let ellipse = match ellipse {
+            Some((c, a, b, n, m)) => {
+                let c = array(&c, "ellipse center", &[3])?;
+                let n = array(&n, "ellipse normal", &[3])?;
+                let m = array(&m, "ellipse major_axis", &[3])?;
+                Some(CircleSpec {
+                    center: [c[0], c[1], c[2]],
+                    radius: a,
+                    normal: [n[0], n[1], n[2]],
+                    semi_minor: Some(b),
+                    major_axis: Some([m[0], m[1], m[2]]),
+                })
+            }
+            None => None,
+        };
         let circle = match circle {
             Some((c, r, n)) => {
                 let c = array(&c, "circle center", &[3])?;
@@ -52,14 +76,19 @@ impl CartesianPath {
                     center: [c[0], c[1], c[2]],
                     radius: r,
                     normal: [n[0], n[1], n[2]],
+                    semi_minor: None,
+                    major_axis: None,
                 })
             }
             None => None,
         };
+        if circle.is_some() && ellipse.is_some() {
+            return Err(PyValueError::new_err("give circle or ellipse, not both"));
+        }
         let spec = CartesianSpec {
             points,
             corner_radius,
-            circle,
+            circle: circle.or(ellipse),
             csv,
             samples,
             orientations,

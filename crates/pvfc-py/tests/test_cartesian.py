@@ -85,3 +85,16 @@ def test_a_path_in_se3_and_a_rest_posture(ur5, repo):
     assert np.linalg.norm(pulled - rest, axis=1).mean() < 0.7 * np.linalg.norm(free - rest, axis=1).mean()
     with pytest.raises(ValueError, match="rest"):
         circle.joint_waypoints(panda, seed, rest=[0.0] * 6)
+
+
+def test_an_ellipse_path(ur5):
+    center, normal = np.array([0.55, 0.02, 0.30]), np.array([0.0, 0.0, 1.0])
+    path = pvfc.CartesianPath(ellipse=(center, 0.12, 0.06, normal, [1.0, 0.0, 0.0]), samples=24)
+    p = path.sample() - center
+    np.testing.assert_allclose(p[0], [0.12, 0.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose((p[:, 0] / 0.12) ** 2 + (p[:, 1] / 0.06) ** 2, 1.0, atol=1e-3)
+    q = path.joint_waypoints(ur5, SEED, fixed_orientation=True)
+    tool = np.array([ur5.tool_pose(qk)[:3, 3] for qk in q])
+    np.testing.assert_allclose(tool, path.sample(), atol=1e-6)
+    with pytest.raises(ValueError, match="not both"):
+        pvfc.CartesianPath(circle=(center, 0.1, normal), ellipse=(center, 0.12, 0.06, normal, [1, 0, 0]))

@@ -1,5 +1,5 @@
 //! Tool paths given in Cartesian space (`[contour.cartesian]`): a closed curve of the tool's
-//! position in the robot's base frame (a polyline with rounded corners, a circle in any
+//! position in the robot's base frame (a polyline with rounded corners, a circle or ellipse in any
 //! plane, or the points of a CSV file), turned into joint waypoints by inverse kinematics
 //! along the path. The joint contour is then the periodic spline through those waypoints
 //! (`[contour] spacing`), as for a contour given in joint space.
@@ -66,16 +66,23 @@ pub struct CartesianSpec {
     pub min_manipulability: Option<f64>,
 }
 
-/// A circle of the tool path.
+/// A circle of the tool path, or an ellipse (with `semi_minor`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CircleSpec {
     /// Centre (m, base frame).
     pub center: [f64; 3],
-    /// Radius (m, > 0).
+    /// Radius (m, > 0); an ellipse's semi-axis along `major_axis`.
     pub radius: f64,
     /// The normal of its plane (the direction it turns about, right-handed).
     pub normal: [f64; 3],
+    /// An ellipse's other semi-axis (m, > 0), across `major_axis` in the plane.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub semi_minor: Option<f64>,
+    /// The direction of the `radius` semi-axis (projected onto the plane; default: any),
+    /// where the path starts.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub major_axis: Option<[f64; 3]>,
 }
 
 fn bad(what: impl Into<String>) -> SimError {
@@ -371,29 +378,47 @@ fn closest_on_segment(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> (
     (t, (p - (a + ab * t)).norm())
 }
 
-/// A dense closed polyline of the circle (256 points).
+/// A dense closed polyline of the circle or ellipse (256 points, equal angles).
 fn circle(c: &CircleSpec) -> Result<Vec<Vector3<f64>>> {
     let n = Vector3::from(c.normal);
-    let valid = c.radius.is_finite()
-        && c.radius > 0.0
+    let positive = |x: f64| x.is_finite() && x > 0.0;
+    let valid = positive(c.radius)
+        && c.semi_minor.is_none_or(positive)
         && n.norm() > 0.0
         && c.center.iter().all(|x| x.is_finite());
     if !valid {
-        return Err(bad("circle: finite centre, radius > 0, non-zero normal"));
+        return Err(bad(
+            "circle: finite centre, radius > 0 (and semi_minor > 0), non-zero normal",
+        ));
     }
     let n = n.normalize();
-    let helper = if n.x.abs() < 0.9 {
-        Vector3::x()
-    } else {
-        Vector3::y()
+    let u = match c.major_axis {
+        None => {
+            let helper = if n.x.abs() < 0.9 {
+                Vector3::x()
+            } else {
+                Vector3::y()
+            };
+            n.cross(&helper).normalize()
+        }
+        Some(m) => {
+            let m = Vector3::from(m);
+            let in_plane = m - n * n.dot(&m);
+            if !(in_plane.iter().all(|x| x.is_finite()) && in_plane.norm() > 1e-9 * m.norm()) {
+                return Err(bad("circle.major_axis: finite, and not along the normal"));
+            }
+            in_plane.normalize()
+        }
     };
-    let u = n.cross(&helper).normalize();
     let w = n.cross(&u);
     let center = Vector3::from(c.center);
     Ok((0..256)
         .map(|k| {
             let a = std::f64::consts::TAU * k as f64 / 256.0;
-            center + (u * a.cos() + w * a.sin()) * c.radius
+            match c.semi_minor {
+                None => center + (u * a.cos() + w * a.sin()) * c.radius,
+                Some(b) => center + u * (a.cos() * c.radius) + w * (a.sin() * b),
+            }
         })
         .collect())
 }

@@ -109,6 +109,8 @@ fn a_rest_posture_pulls_a_redundant_arm_in_the_null_space() {
             center: [p0.x, p0.y + 0.1, p0.z],
             radius: 0.1,
             normal: [0.0, 0.0, 1.0],
+            semi_minor: None,
+            major_axis: None,
         }),
         samples: 16,
         seed: seed.to_vec(),
@@ -147,4 +149,52 @@ fn a_rest_posture_pulls_a_redundant_arm_in_the_null_space() {
         d_rest < 0.7 * d_free,
         "mean distance to rest: {d_rest:.3} with the pull, {d_free:.3} without"
     );
+}
+
+#[test]
+fn an_ellipse_in_a_tilted_plane_is_sampled_on_the_ellipse() {
+    let (a, b) = (0.12, 0.05);
+    let center = Vector3::new(0.5, 0.1, 0.3);
+    let normal = Vector3::new(0.0, 0.3, 1.0).normalize();
+    let spec = CartesianSpec {
+        circle: Some(CircleSpec {
+            center: center.into(),
+            radius: a,
+            normal: normal.into(),
+            semi_minor: Some(b),
+            major_axis: Some([1.0, 0.0, 0.0]),
+        }),
+        samples: 32,
+        ..CartesianSpec::default()
+    };
+    let p = spec.sample(Path::new(".")).unwrap();
+    // In the plane, on the ellipse (x/a)² + (y/b)² = 1 along the major axis and across it,
+    // starting at the end of the major axis, and at equal arc length.
+    let u = Vector3::x();
+    let w = normal.cross(&u);
+    for x in &p {
+        let d = x - center;
+        assert!(d.dot(&normal).abs() < 1e-12);
+        let (xu, xw) = (d.dot(&u) / a, d.dot(&w) / b);
+        assert!((xu * xu + xw * xw - 1.0).abs() < 1e-3, "{xu} {xw}");
+    }
+    assert!((p[0] - (center + u * a)).norm() < 1e-12);
+    let steps: Vec<f64> = (0..p.len())
+        .map(|i| (p[(i + 1) % p.len()] - p[i]).norm())
+        .collect();
+    let (lo, hi) = steps
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(l, h), s| (l.min(*s), h.max(*s)));
+    // Chords of the arc-length samples: equal to 3 % where the curvature is highest.
+    assert!(hi / lo < 1.03, "arc-length spacing: {lo} to {hi}");
+    // A major axis along the normal has no direction in the plane.
+    let mut bad = spec.clone();
+    if let Some(c) = bad.circle.as_mut() {
+        c.major_axis = Some(normal.into());
+    }
+    assert!(bad
+        .sample(Path::new("."))
+        .unwrap_err()
+        .to_string()
+        .contains("major_axis"));
 }

@@ -169,6 +169,8 @@ fn a_cartesian_tool_path_becomes_joint_waypoints_or_a_named_error() {
         center: [0.55, 0.02, 0.30],
         radius: 0.1,
         normal: [0.0, 0.0, 1.0],
+        semi_minor: None,
+        major_axis: None,
     });
     check(&circle);
     let problem =

@@ -86,6 +86,7 @@ class CartesianPath:
         csv: Optional[_PathLike] = None,
         samples: int = 24,
         orientations: Optional[_ArrayLike] = None,
+        ellipse: Optional[Tuple[_ArrayLike, float, float, _ArrayLike, _ArrayLike]] = None,
     ) -> CartesianPath: ...
     def sample(self) -> _F64Array: ...
     def joint_waypoints(
