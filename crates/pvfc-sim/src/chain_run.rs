@@ -1,7 +1,8 @@
 //! Running a scenario of a serial arm read from a URDF (`[plant] urdf = …`): the sampled-data
 //! or continuous PVFC loop for any number of joints (1 to 8), with gravity in the plant,
 //! joint friction, the controller's gravity and friction compensation and the 3-D contact,
-//! through the same generic loops as the SCARA ([`crate::run_loop`]); and the timed baseline.
+//! through the same generic loops as the SCARA (the crate-private `run_loop`); and the timed
+//! baseline.
 
 use crate::arm::{arm_controller, ArmControllerN, ArmSystem};
 use crate::contact::spatial::SpatialContact;
