@@ -55,12 +55,8 @@ fn run<const N: usize>(
         laps: 0,
     });
     let (q, v) = initial_state(s, &chain)?;
-    let world = Contact::of(s, &system.robot)?;
-    let columns = world.is_some().then_some(3);
-    let mut env = Spatial {
-        world: world.as_ref(),
-        chain: &chain,
-    };
+    let mut env = Spatial::of(s, system, &chain)?;
+    let columns = env.columns();
     match s.simulation.mode {
         Mode::Sampled => match &s.controller.passive {
             None => run_loop::sampled(s, &chain, ctl, (q, v), &mut env, columns, progress),
@@ -142,12 +138,8 @@ fn timed<const N: usize>(
         joint_vector::<N>(&b.kd, "baseline.kd")?,
     );
     let (q, v) = initial_state(s, &chain)?;
-    let world = Contact::of(s, &system.robot)?;
-    let columns = world.is_some().then_some(3);
-    let mut env = Spatial {
-        world: world.as_ref(),
-        chain: &chain,
-    };
+    let mut env = Spatial::of(s, system, &chain)?;
+    let columns = env.columns();
     let law = |tau: f64, q: &JointSpace<f64, N>, v: &SVector<f64, N>| {
         let xd = field.contour().sample(tau);
         let (xd_v, xd_a) = (
@@ -268,8 +260,23 @@ impl Contact {
 /// A URDF arm's surroundings for the generic loops ([`crate::run_loop`]): its 3-D contact
 /// world, if any, and the chain for the tool's position in the log.
 struct Spatial<'a, const N: usize> {
-    world: Option<&'a Contact>,
+    world: Option<Contact>,
     chain: &'a SerialChain<f64, N>,
+}
+
+impl<'a, const N: usize> Spatial<'a, N> {
+    /// The surroundings of scenario `s`'s arm: its `[contact_3d]` world, if any.
+    fn of(s: &Scenario, system: &ArmSystem, chain: &'a SerialChain<f64, N>) -> Result<Self> {
+        Ok(Spatial {
+            world: Contact::of(s, &system.robot)?,
+            chain,
+        })
+    }
+
+    /// The contact columns' workspace dimension when the run keeps them (with a world).
+    fn columns(&self) -> Option<usize> {
+        self.world.is_some().then_some(3)
+    }
 }
 
 impl<const N: usize> Surroundings<JointSpace<f64, N>, N> for Spatial<'_, N> {
@@ -281,7 +288,7 @@ impl<const N: usize> Surroundings<JointSpace<f64, N>, N> for Spatial<'_, N> {
         q: &JointSpace<f64, N>,
         v: &SVector<f64, N>,
     ) -> Result<Self::Contact> {
-        match self.world {
+        match &self.world {
             Some(w) => w.forces(t, q, v),
             None => Ok((SVector::zeros(), SpatialContact::default())),
         }
@@ -303,7 +310,7 @@ impl<const N: usize> Surroundings<JointSpace<f64, N>, N> for Spatial<'_, N> {
         work: &Work,
         nominal_speed: f64,
     ) -> Result<()> {
-        match self.world {
+        match &self.world {
             Some(w) => w.log(ct, self.chain, q, &c.1, work, nominal_speed),
             None => Ok(()),
         }

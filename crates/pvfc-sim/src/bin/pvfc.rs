@@ -100,18 +100,28 @@ fn main() -> ExitCode {
 }
 
 /// A log rate from the command line: 0 means every sample.
-fn log_rate(rate: f64) -> Option<f64> {
-    (rate != 0.0).then_some(rate)
+/// Checked before anything runs, so that a bad rate loses no run.
+fn log_rate(rate: f64) -> Result<Option<f64>, SimError> {
+    if !(rate.is_finite() && rate >= 0.0) {
+        return Err(SimError::Setting(format!(
+            "--log-rate {rate}: a finite rate ≥ 0 (Hz; 0 logs every sample)"
+        )));
+    }
+    Ok((rate != 0.0).then_some(rate))
 }
 
 /// `log_rate`: `None` skips the logs.
 fn reproduce(out: &Path, log_rate_hz: Option<f64>) -> Result<(), SimError> {
+    let log_rate_hz = match log_rate_hz {
+        Some(r) => Some(log_rate(r)?),
+        None => None,
+    };
     mkdir(out)?;
     let mut scenarios = presets::all();
     scenarios.extend(presets::arms_3d()?);
     let runs = run_all(&scenarios, bar)?;
     if let Some(rate) = log_rate_hz {
-        let files = write_logs(&runs, out, log_rate(rate))?;
+        let files = write_logs(&runs, out, rate)?;
         println!(
             "wrote {} MCAP logs to {}",
             files.len(),
@@ -139,10 +149,11 @@ fn reproduce(out: &Path, log_rate_hz: Option<f64>) -> Result<(), SimError> {
 }
 
 fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
+    let rate = log_rate(rate)?;
     let s = Scenario::from_file(path)?;
     mkdir(out)?;
     let runs = run_all(std::slice::from_ref(&s), bar)?;
-    for f in write_logs(&runs, out, log_rate(rate))? {
+    for f in write_logs(&runs, out, rate)? {
         println!("wrote {}", f.display());
     }
     for (name, (s, t)) in &runs.runs {
