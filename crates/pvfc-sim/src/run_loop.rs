@@ -61,7 +61,8 @@ pub(crate) trait Surroundings<G, const N: usize> {
     ) -> Result<()>;
 }
 
-/// A run's force schedule and nominal speed: sets `r` of (36) from the normal force.
+/// A run's force schedule and nominal speed: sets `r` of (36) from the normal force; `true`
+/// when `r` changed (what was evaluated with the old `r` must be evaluated again).
 fn schedule(
     s: &Scenario,
     nominal: Option<&mut NominalSpeed<f64>>,
@@ -70,8 +71,10 @@ fn schedule(
     let r0 = s.controller.nominal_speed.map(|n| n.r);
     match (force_schedule(s), r0, nominal) {
         (Some(sch), Some(r0), Some(ns)) => {
-            ns.set_speed(sch.speed(r0, normal_force))?;
-            Ok(true)
+            let r = sch.speed(r0, normal_force);
+            let changed = r != ns.speed();
+            ns.set_speed(r)?;
+            Ok(changed)
         }
         _ => Ok(false),
     }
