@@ -7,7 +7,7 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use nalgebra::{SVector, Vector2};
 use pvfc::paper::{controller, PaperSettings};
 use pvfc::prelude::*;
-use pvfc::sim::arm::{arm_controller, ArmControllerN, ArmSettings};
+use pvfc::sim::arm::{arm_controller, ArmControllerN, ArmSettings, JointContour, JointContourSpec};
 use pvfc::sim::urdf::ChainDescription;
 use pvfc::sim::ClosedLoop;
 use pvfc_core::augmented::AugmentedState;
@@ -22,8 +22,10 @@ const DT: f64 = 1e-3;
 
 fn settings(waypoints: Vec<Vec<f64>>, n: usize) -> ArmSettings {
     ArmSettings {
-        waypoints,
-        spacing: 1.0,
+        contour: JointContourSpec::Waypoints {
+            points: waypoints,
+            spacing: 1.0,
+        },
         h: vec![4.0; n],
         self_pacing: 50.0,
         energy: 40.0,
@@ -154,9 +156,10 @@ fn f32_arm<const N: usize>(
     let law = ctl.law();
     let chain = law.system().cast::<f32>();
     let kinds = chain.kinds();
-    let pts: Vec<JointSpace<f32, N>> = law
-        .field()
-        .contour()
+    let JointContour::Spline(spline) = law.field().contour() else {
+        unreachable!("the bench's arms follow waypoints")
+    };
+    let pts: Vec<JointSpace<f32, N>> = spline
         .control_points()
         .iter()
         .map(|p| JointSpace::new(p.coords().map(|x| x as f32), kinds))

@@ -5,7 +5,7 @@ use crate::convert::{array, dyn_vector, out1};
 use crate::errors::sim_err;
 use crate::robots::Robot;
 use numpy::PyArray1;
-use pvfc_sim::arm::{ArmController as SimArm, ArmSettings, MAX_WAYPOINTS};
+use pvfc_sim::arm::{ArmController as SimArm, ArmSettings, JointContourSpec, MAX_WAYPOINTS};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -51,8 +51,10 @@ impl ArmController {
         }
         let flat = array(waypoints, "waypoints", &[k, n])?;
         let settings = ArmSettings {
-            waypoints: flat.chunks(n).map(|c| c.to_vec()).collect(),
-            spacing,
+            contour: JointContourSpec::Waypoints {
+                points: flat.chunks(n).map(|c| c.to_vec()).collect(),
+                spacing,
+            },
             h: match h {
                 Some(h) => dyn_vector(h, "h", n)?,
                 None => vec![1.0; n],

@@ -1,23 +1,155 @@
-//! PVFC for any serial arm whose number of joints is known at run time: a joint-space contour
-//! through waypoints, the mixed navigation function, self-pacing, the flywheel, and the
-//! add-ons (gravity, friction, nominal speed), dispatched into the const-generic core.
+//! PVFC for any serial arm whose number of joints is known at run time: a closed joint-space
+//! contour (a spline through waypoints, a Lissajous curve or an ellipse), the mixed navigation
+//! function, self-pacing, the flywheel, and the add-ons (gravity, friction, nominal speed),
+//! dispatched into the const-generic core.
 
 use crate::error::{Result, SimError};
 use crate::robot::{ChainModel, Robot};
 use nalgebra::SVector;
 use pvfc_core::augmented::AugmentedState;
+use pvfc_core::contour::ContourSample;
 use pvfc_core::passive::{EnergyAccount, PassiveController};
 use pvfc_core::prelude::*;
 
 /// The most waypoints a joint-space contour may have (the spline's capacity; no allocation).
 pub const MAX_WAYPOINTS: usize = 32;
 
-/// The field of an `N`-joint arm: a periodic spline through waypoints in its joint space, the
-/// mixed navigation function, exponential self-pacing (eq. 21).
+/// A closed joint-space contour of an arm, as plain data (one entry per joint in every list,
+/// checked against the robot when the controller is built).
+#[derive(Clone, Debug, PartialEq)]
+pub enum JointContourSpec {
+    /// A periodic C² spline through 3 to [`MAX_WAYPOINTS`] waypoints, one every `spacing` of
+    /// `τ` (the period is `spacing × waypoints`).
+    Waypoints {
+        /// The waypoints, one row of joint coordinates each.
+        points: Vec<Vec<f64>>,
+        /// `τ` between waypoints.
+        spacing: f64,
+    },
+    /// `x_i = c_i + a_i sin(2πτ/T_i + φ_i)`, closed with the common period `period`.
+    Lissajous {
+        /// Amplitudes `a_i` (rad or m).
+        amplitude: Vec<f64>,
+        /// Periods `T_i` in `τ`.
+        periods: Vec<f64>,
+        /// Phases `φ_i` (rad).
+        phase: Vec<f64>,
+        /// Offsets `c_i` (rad or m).
+        offset: Vec<f64>,
+        /// The common period in `τ` (a multiple of every `T_i`).
+        period: f64,
+    },
+    /// `x_d(τ) = c + u cos(2πτ/T) + w sin(2πτ/T)`: an ellipse in joint space.
+    Ellipse {
+        /// The centre `c`.
+        center: Vec<f64>,
+        /// The conjugate semi-axis `u`.
+        u: Vec<f64>,
+        /// The conjugate semi-axis `w`.
+        w: Vec<f64>,
+        /// The period `T` in `τ`.
+        period: f64,
+    },
+}
+
+impl JointContourSpec {
+    /// The period in `τ`.
+    pub fn period(&self) -> f64 {
+        match self {
+            JointContourSpec::Waypoints { points, spacing } => spacing * points.len() as f64,
+            JointContourSpec::Lissajous { period, .. }
+            | JointContourSpec::Ellipse { period, .. } => *period,
+        }
+    }
+
+    /// The contour of an `N`-joint chain with these joint kinds.
+    pub fn build<const N: usize>(&self, kinds: [JointKind; N]) -> Result<JointContour<N>> {
+        Ok(match self {
+            JointContourSpec::Waypoints { points, spacing } => {
+                if !(3..=MAX_WAYPOINTS).contains(&points.len()) {
+                    return Err(setting(format!(
+                        "waypoints: 3 to {MAX_WAYPOINTS} are needed, got {}",
+                        points.len()
+                    )));
+                }
+                let mut pts = [JointSpace::<f64, N>::identity(); MAX_WAYPOINTS];
+                for (k, w) in points.iter().enumerate() {
+                    pts[k] = JointSpace::new(fixed::<N>(w, &format!("waypoint {k}"))?, kinds);
+                }
+                JointContour::Spline(PeriodicBSpline::through_slice(
+                    &pts[..points.len()],
+                    *spacing,
+                )?)
+            }
+            JointContourSpec::Lissajous {
+                amplitude,
+                periods,
+                phase,
+                offset,
+                period,
+            } => JointContour::Lissajous(
+                Lissajous::new(
+                    fixed::<N>(amplitude, "lissajous.amplitude")?,
+                    fixed::<N>(periods, "lissajous.periods")?,
+                    fixed::<N>(phase, "lissajous.phase")?,
+                    fixed::<N>(offset, "lissajous.offset")?,
+                )?
+                .with_period(*period)?,
+            ),
+            JointContourSpec::Ellipse {
+                center,
+                u,
+                w,
+                period,
+            } => JointContour::Ellipse(Ellipse::new(
+                fixed::<N>(center, "ellipse.center")?,
+                fixed::<N>(u, "ellipse.u")?,
+                fixed::<N>(w, "ellipse.w")?,
+                *period,
+            )?),
+        })
+    }
+}
+
+/// The closed joint-space contour of an `N`-joint arm: one of the core's contours, chosen at
+/// run time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+// One per controller, built once; the spline is the large one and the usual one.
+#[allow(clippy::large_enum_variant)]
+pub enum JointContour<const N: usize> {
+    /// A periodic C² spline through waypoints.
+    Spline(PeriodicBSpline<f64, JointSpace<f64, N>, N, MAX_WAYPOINTS>),
+    /// A Lissajous curve.
+    Lissajous(Lissajous<f64, N>),
+    /// An ellipse.
+    Ellipse(Ellipse<f64, N>),
+}
+
+impl<const N: usize> Contour<f64, JointSpace<f64, N>, N> for JointContour<N> {
+    #[inline]
+    fn sample(&self, tau: f64) -> ContourSample<f64, JointSpace<f64, N>, N> {
+        match self {
+            JointContour::Spline(c) => c.sample(tau),
+            JointContour::Lissajous(c) => c.sample(tau),
+            JointContour::Ellipse(c) => c.sample(tau),
+        }
+    }
+
+    fn period(&self) -> Option<f64> {
+        match self {
+            JointContour::Spline(c) => c.period(),
+            JointContour::Lissajous(c) => Contour::<f64, JointSpace<f64, N>, N>::period(c),
+            JointContour::Ellipse(c) => Contour::<f64, JointSpace<f64, N>, N>::period(c),
+        }
+    }
+}
+
+/// The field of an `N`-joint arm: its joint-space contour, the mixed navigation function,
+/// exponential self-pacing (eq. 21).
 pub type ArmField<const N: usize> = SuspendedField<
     f64,
     JointSpace<f64, N>,
-    PeriodicBSpline<f64, JointSpace<f64, N>, N, MAX_WAYPOINTS>,
+    JointContour<N>,
     JointNavigation<f64, N>,
     ExponentialPacing<f64>,
     N,
@@ -30,11 +162,8 @@ pub type ArmControllerN<const N: usize> =
 /// The settings of an arm controller, as plain data (lengths checked against the robot).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ArmSettings {
-    /// Waypoints of the closed joint-space contour, 3 to [`MAX_WAYPOINTS`], one every
-    /// `spacing` of `τ`.
-    pub waypoints: Vec<Vec<f64>>,
-    /// `τ` between waypoints.
-    pub spacing: f64,
+    /// The closed joint-space contour.
+    pub contour: JointContourSpec,
     /// Navigation weights `h_i`, one per joint.
     pub h: Vec<f64>,
     /// Self-pacing `R` of eq. (21) (0: off).
@@ -132,17 +261,7 @@ pub fn arm_controller<const N: usize>(
     s: &ArmSettings,
 ) -> Result<ArmControllerN<N>> {
     let kinds = chain.kinds();
-    if !(3..=MAX_WAYPOINTS).contains(&s.waypoints.len()) {
-        return Err(setting(format!(
-            "waypoints: 3 to {MAX_WAYPOINTS} are needed, got {}",
-            s.waypoints.len()
-        )));
-    }
-    let mut pts = [JointSpace::<f64, N>::identity(); MAX_WAYPOINTS];
-    for (k, w) in s.waypoints.iter().enumerate() {
-        pts[k] = JointSpace::new(fixed::<N>(w, &format!("waypoint {k}"))?, kinds);
-    }
-    let contour = PeriodicBSpline::through_slice(&pts[..s.waypoints.len()], s.spacing)?;
+    let contour = s.contour.build(kinds)?;
     let field = SuspendedField::new(
         contour,
         JointNavigation::new(fixed::<N>(&s.h, "h")?, kinds)?,

@@ -1,5 +1,6 @@
 //! Scenarios: everything one run needs, as data (a TOML file) or built in ([`presets`](crate::presets)).
 
+use crate::arm::JointContourSpec;
 use crate::contact::ContactSpec;
 use crate::error::{Result, SimError};
 use crate::friction::JointFriction;
@@ -144,6 +145,46 @@ pub struct ContourSpec {
     /// inverse kinematics (`crate::cartesian`); replaces `waypoints`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cartesian: Option<crate::cartesian::CartesianSpec>,
+    /// For a URDF arm: a Lissajous curve in its joint space (`[contour.lissajous]`, one entry
+    /// per joint); replaces `waypoints`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lissajous: Option<JointLissajousSpec>,
+    /// For a URDF arm: an ellipse in its joint space (`[contour.ellipse]`); replaces
+    /// `waypoints`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ellipse: Option<JointEllipseSpec>,
+}
+
+/// A URDF arm's Lissajous curve `x_i = c_i + a_i sin(2πτ/T_i + φ_i)`, one entry per joint.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointLissajousSpec {
+    /// Amplitudes `a_i` (rad or m).
+    pub amplitude: Vec<f64>,
+    /// Periods `T_i` in `τ`.
+    pub periods: Vec<f64>,
+    /// Phases `φ_i` (rad); zeros when left out.
+    #[serde(default)]
+    pub phase: Vec<f64>,
+    /// Offsets `c_i` (rad or m); zeros when left out.
+    #[serde(default)]
+    pub offset: Vec<f64>,
+    /// The common period in `τ` (a multiple of every `T_i`).
+    pub period: f64,
+}
+
+/// A URDF arm's ellipse `x_d(τ) = c + u cos(2πτ/T) + w sin(2πτ/T)` in joint space.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointEllipseSpec {
+    /// The centre `c`, one entry per joint.
+    pub center: Vec<f64>,
+    /// The conjugate semi-axis `u`.
+    pub u: Vec<f64>,
+    /// The conjugate semi-axis `w`.
+    pub w: Vec<f64>,
+    /// The period `T` in `τ`.
+    pub period: f64,
 }
 
 impl Default for ContourSpec {
@@ -157,6 +198,8 @@ impl Default for ContourSpec {
             waypoints: None,
             spacing: None,
             cartesian: None,
+            lissajous: None,
+            ellipse: None,
         }
     }
 }
@@ -618,18 +661,26 @@ impl Scenario {
         })
     }
 
-    /// The contour's period in `τ`: `spacing × waypoints` (or × the Cartesian path's samples)
-    /// for a URDF arm's waypoint contour,
-    /// `contour.period` for the Lissajous curve.
+    /// The contour's period in `τ`: for a URDF arm `spacing × waypoints` (or × the Cartesian
+    /// path's samples) or the joint-space Lissajous curve's or ellipse's period;
+    /// `contour.period` for the planar arm's Lissajous curve.
     pub fn period(&self) -> f64 {
+        let c = &self.contour;
+        if !self.is_chain() {
+            return c.period;
+        }
         match (
-            &self.contour.waypoints,
-            &self.contour.cartesian,
-            self.contour.spacing,
+            &c.waypoints,
+            &c.cartesian,
+            c.spacing,
+            &c.lissajous,
+            &c.ellipse,
         ) {
-            (Some(w), _, Some(h)) if self.is_chain() => h * w.len() as f64,
-            (None, Some(c), Some(h)) if self.is_chain() => h * c.samples as f64,
-            _ => self.contour.period,
+            (Some(w), _, Some(h), _, _) => h * w.len() as f64,
+            (None, Some(p), Some(h), _, _) => h * p.samples as f64,
+            (_, _, _, Some(l), _) => l.period,
+            (_, _, _, _, Some(e)) => e.period,
+            _ => c.period,
         }
     }
 
@@ -662,27 +713,50 @@ impl Scenario {
     /// inverse kinematics is solved on it.
     pub fn arm_settings_for(&self, robot: &crate::robot::Robot) -> Result<crate::arm::ArmSettings> {
         let c = &self.controller;
-        let waypoints =
-            match (&self.contour.waypoints, &self.contour.cartesian) {
-                (Some(w), None) => w.clone(),
-                (None, Some(c)) => c.joint_waypoints(robot, &self.base_dir)?,
-                (Some(_), Some(_)) => {
-                    return Err(SimError::Setting(
-                        "contour: give waypoints or cartesian, not both".into(),
-                    ))
-                }
-                (None, None) => return Err(SimError::Setting(
-                    "contour.waypoints or contour.cartesian: a URDF arm follows a waypoint contour"
+        let k = &self.contour;
+        let spacing = || {
+            k.spacing
+                .ok_or_else(|| SimError::Setting("contour.spacing is needed with waypoints".into()))
+        };
+        let n = robot.dof();
+        let or_zeros = |x: &Vec<f64>| {
+            if x.is_empty() {
+                vec![0.0; n]
+            } else {
+                x.clone()
+            }
+        };
+        let contour =
+            match (&k.waypoints, &k.cartesian, &k.lissajous, &k.ellipse) {
+                (Some(w), None, None, None) => JointContourSpec::Waypoints {
+                    points: w.clone(),
+                    spacing: spacing()?,
+                },
+                (None, Some(p), None, None) => JointContourSpec::Waypoints {
+                    points: p.joint_waypoints(robot, &self.base_dir)?,
+                    spacing: spacing()?,
+                },
+                (None, None, Some(l), None) => JointContourSpec::Lissajous {
+                    amplitude: l.amplitude.clone(),
+                    periods: l.periods.clone(),
+                    phase: or_zeros(&l.phase),
+                    offset: or_zeros(&l.offset),
+                    period: l.period,
+                },
+                (None, None, None, Some(e)) => JointContourSpec::Ellipse {
+                    center: e.center.clone(),
+                    u: e.u.clone(),
+                    w: e.w.clone(),
+                    period: e.period,
+                },
+                _ => return Err(SimError::Setting(
+                    "contour: a URDF arm follows exactly one of waypoints, cartesian, lissajous \
+                     or ellipse"
                         .into(),
                 )),
             };
-        let spacing = self
-            .contour
-            .spacing
-            .ok_or_else(|| SimError::Setting("contour.spacing is needed with waypoints".into()))?;
         Ok(crate::arm::ArmSettings {
-            waypoints,
-            spacing,
+            contour,
             h: c.h.clone(),
             self_pacing: c.self_pacing,
             energy: c.energy,

@@ -388,3 +388,79 @@ fn the_path_error_says_how_far_and_where_along_the_path() {
     assert!((e.along - 0.35).abs() < 1e-12, "{}", e.along);
     assert!((e.mean - 0.007 / 3.0).abs() < 1e-12);
 }
+
+/// A URDF arm's contour can be a Lissajous curve or an ellipse in its joint space, not only a
+/// spline through waypoints: the Panda's shipped Lissajous scenario samples the formula, a UR5
+/// on an ellipse keeps κ_a in continuous time and converges onto it, and bad lists are named.
+#[test]
+fn a_urdf_arm_follows_a_joint_space_lissajous_curve_or_ellipse() {
+    use pvfc_sim::arm::ArmController;
+    use pvfc_sim::scenario::JointEllipseSpec;
+    let p = Scenario::from_file(&file("panda_lissajous.toml")).unwrap();
+    assert_eq!(p.dof().unwrap(), 7);
+    assert_eq!(p.period(), 9.0);
+    let ctl = ArmController::new(&p.robot().unwrap(), &p.arm_settings().unwrap()).unwrap();
+    let l = p.contour.lissajous.as_ref().unwrap();
+    for tau in [0.0, 1.3, 4.0, 8.9] {
+        let x = ctl.contour_point(tau);
+        for (i, xi) in x.iter().enumerate() {
+            let want = l.offset[i]
+                + l.amplitude[i]
+                    * (2.0 * std::f64::consts::PI * tau / l.periods[i] + l.phase[i]).sin();
+            assert!((xi - want).abs() < 1e-6, "joint {i} at τ = {tau}");
+        }
+        assert_eq!(x.len(), 7);
+        // Closed over the common period.
+        let again = ctl.contour_point(tau + 9.0);
+        assert!(x.iter().zip(&again).all(|(a, b)| (a - b).abs() < 1e-9));
+    }
+
+    let mut s = ur5();
+    s.contour.waypoints = None;
+    s.contour.ellipse = Some(JointEllipseSpec {
+        center: vec![0.0, -1.4, 1.6, -1.8, -1.57, 0.0],
+        u: vec![0.5, 0.2, 0.0, 0.2, 0.0, 0.3],
+        w: vec![0.0, 0.2, 0.3, 0.0, 0.3, 0.0],
+        period: 8.0,
+    });
+    assert_eq!(s.period(), 8.0);
+    s.validate().unwrap();
+    s.duration = 3.0;
+    s.plant.friction = Default::default();
+    s.controller.friction_compensation = None;
+    s.controller.nominal_speed = None;
+    s.simulation.mode = Mode::Continuous;
+    s.simulation.plant_substeps = 4;
+    let t = simulate(&s, &mut |_| {}).unwrap();
+    let e0 = t.energy[0];
+    let drift = t.energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max) / e0;
+    assert!(drift < 1e-8, "κ_a drift {drift:e}");
+    let u_end = *t.potential.last().unwrap();
+    assert!(
+        u_end < 1e-3 * t.potential[0],
+        "U {} -> {u_end}",
+        t.potential[0]
+    );
+
+    // One contour, each list one entry per joint.
+    let mut both = s.clone();
+    both.contour.waypoints = ur5().contour.waypoints;
+    let e = both.validate().unwrap_err().to_string();
+    assert!(e.contains("exactly one of"), "{e}");
+    let mut short = s.clone();
+    short.contour.ellipse.as_mut().unwrap().u = vec![0.5, 0.2];
+    let e = short.validate().unwrap_err().to_string();
+    assert!(e.contains("ellipse.u"), "{e}");
+    let text = std::fs::read_to_string(file("panda_lissajous.toml")).unwrap();
+    let bad = file("bad_lissajous.toml");
+    std::fs::write(
+        &bad,
+        text.replace("periods = [9.0, 4.5, 9.0", "periods = [9.0, 0.0, 9.0"),
+    )
+    .unwrap();
+    let e = Scenario::from_file(&bad)
+        .map(|_| ())
+        .map_err(|e| e.to_string());
+    let _ = std::fs::remove_file(&bad);
+    assert!(e.unwrap_err().contains("period"));
+}
