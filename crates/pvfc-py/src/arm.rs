@@ -1,12 +1,15 @@
 //! `pvfc.ArmController`: PVFC for any `pvfc.Robot`, to drive a user's own simulator (MuJoCo,
 //! PyBullet) or hardware loop from Python.
 
+use crate::contours::{Ellipse, Lissajous, WaypointCurve};
 use crate::convert::{array, dyn_vector, out1};
 use crate::errors::sim_err;
+use crate::navigation::JointNavigation;
 use crate::robots::Robot;
+use crate::settings::ControllerSettings;
 use numpy::PyArray1;
 use pvfc_sim::arm::{ArmController as SimArm, ArmSettings, JointContourSpec, MAX_WAYPOINTS};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -70,6 +73,77 @@ impl ArmController {
             friction_band,
             nominal_speed,
             tau0,
+        };
+        let ctl = SimArm::new(&robot.robot, &settings).map_err(sim_err)?;
+        Ok(ArmController {
+            initial: ctl.clone(),
+            ctl,
+        })
+    }
+
+    /// A controller composed of a robot, a joint-space contour (`WaypointCurve`, `Lissajous`
+    /// or `Ellipse` with one coordinate per joint), a navigation function (`JointNavigation`;
+    /// default: every weight 1) and settings (`ControllerSettings`; default: its defaults).
+    /// The contour and the navigation function take the robot's joint kinds (prismatic joints
+    /// are lengths).
+    #[staticmethod]
+    #[pyo3(signature = (robot, contour, navigation=None, settings=None))]
+    fn compose(
+        robot: &Robot,
+        contour: &Bound<'_, PyAny>,
+        navigation: Option<&JointNavigation>,
+        settings: Option<&ControllerSettings>,
+    ) -> PyResult<Self> {
+        let n = robot.robot.dof();
+        let spec = if let Ok(c) = contour.cast::<WaypointCurve>() {
+            c.get().c.spec.clone()
+        } else if let Ok(c) = contour.cast::<Lissajous>() {
+            c.get().c.spec.clone()
+        } else if let Ok(c) = contour.cast::<Ellipse>() {
+            c.get().c.spec.clone()
+        } else {
+            return Err(PyTypeError::new_err(
+                "contour: expected a pvfc.WaypointCurve, pvfc.Lissajous or pvfc.Ellipse",
+            ));
+        };
+        if spec.dim() != n {
+            return Err(PyValueError::new_err(format!(
+                "contour: {} coordinates for the {n}-joint robot",
+                spec.dim()
+            )));
+        }
+        let kinds = robot.robot.joint_kinds();
+        let h = match navigation {
+            Some(nav) => {
+                if nav.h.len() != n {
+                    return Err(PyValueError::new_err(format!(
+                        "navigation: {} weights for the {n}-joint robot",
+                        nav.h.len()
+                    )));
+                }
+                if nav.kinds.as_ref().is_some_and(|k| *k != kinds) {
+                    return Err(PyValueError::new_err(
+                        "navigation: its joint kinds differ from the robot's",
+                    ));
+                }
+                nav.h.clone()
+            }
+            None => vec![1.0; n],
+        };
+        let d = ControllerSettings::default();
+        let s = settings.unwrap_or(&d);
+        let settings = ArmSettings {
+            contour: spec,
+            h,
+            self_pacing: s.self_pacing,
+            energy: s.energy,
+            flywheel_inertia: s.flywheel_inertia,
+            gamma: s.gamma,
+            gravity_compensation: s.gravity_compensation,
+            friction_compensation: s.friction_compensation.clone(),
+            friction_band: s.friction_band,
+            nominal_speed: s.nominal_speed,
+            tau0: s.tau0,
         };
         let ctl = SimArm::new(&robot.robot, &settings).map_err(sim_err)?;
         Ok(ArmController {

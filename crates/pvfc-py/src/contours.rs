@@ -1,10 +1,12 @@
-//! Contours: `pvfc.Lissajous`, `Ellipse`, `WaypointCurve`, `So3ConstantRate`.
+//! Contours: `pvfc.Lissajous`, `Ellipse`, `WaypointCurve` (joint space, 1 to 8 coordinates),
+//! `So3ConstantRate`.
 
-use crate::convert::{matrix, out1, out_matrix, vector};
-use crate::errors::core_err;
-use nalgebra::{Vector2, Vector3};
+use crate::convert::{any_array, dyn_vector, matrix, out1, out_matrix, vector};
+use crate::errors::{core_err, sim_err, InvalidParameterError};
+use nalgebra::Vector3;
 use numpy::{PyArray1, PyArray2};
 use pvfc_core::prelude::*;
+use pvfc_sim::arm::{DynJointContour, JointContourSpec, MAX_JOINTS, MAX_WAYPOINTS};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -15,22 +17,43 @@ pub(crate) type Sample3<'py> = (
     Bound<'py, PyArray1<f64>>,
 );
 
-pub(crate) fn sample2<'py>(
-    py: Python<'py>,
-    s: ContourSample<f64, Torus<f64, 2>, 2>,
-) -> Sample3<'py> {
-    (
-        out1(py, s.point.angles().iter().cloned().collect()),
-        out1(py, s.velocity.iter().cloned().collect()),
-        out1(py, s.acceleration.iter().cloned().collect()),
-    )
+/// The three arrays of a joint-space contour's sample.
+fn sample_n<'py>(py: Python<'py>, c: &DynJointContour, tau: f64) -> Sample3<'py> {
+    let [x, dx, ddx] = c.sample(tau);
+    (out1(py, x), out1(py, dx), out1(py, ddx))
 }
 
-/// A Lissajous curve in joint space, x_i = c_i + a_i sin(2πτ/T_i + φ_i).
+/// A 1-D array-like of any length.
+fn list(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
+    Ok(any_array(obj, name, 1)?.1)
+}
+
+/// A 1-D array-like of length `n`, or zeros when not given.
+fn list_or_zeros(obj: Option<&Bound<'_, PyAny>>, name: &str, n: usize) -> PyResult<Vec<f64>> {
+    obj.map_or(Ok(vec![0.0; n]), |o| dyn_vector(o, name, n))
+}
+
+/// A joint-space contour built once from its plain data, with the data kept to rebuild it for
+/// a robot's joint kinds (`ArmController.compose`).
+#[derive(Clone)]
+pub(crate) struct JointSpaceContour {
+    pub(crate) spec: JointContourSpec,
+    c: DynJointContour,
+}
+
+impl JointSpaceContour {
+    fn new(spec: JointContourSpec) -> PyResult<Self> {
+        let c = DynJointContour::new(&spec, None).map_err(sim_err)?;
+        Ok(JointSpaceContour { spec, c })
+    }
+}
+
+/// A Lissajous curve in joint space, x_i = c_i + a_i sin(2πτ/T_i + φ_i), any number of joints
+/// (1 to 8).
 #[pyclass(module = "pvfc", frozen, from_py_object)]
 #[derive(Clone)]
 pub(crate) struct Lissajous {
-    c: pvfc_core::contour::Lissajous<f64, 2>,
+    pub(crate) c: JointSpaceContour,
 }
 
 #[pymethods]
@@ -44,53 +67,57 @@ impl Lissajous {
         offset: Option<&Bound<'_, PyAny>>,
         period: Option<f64>,
     ) -> PyResult<Self> {
-        let z = [0.0; 2];
-        let phase = phase
-            .map(|p| vector::<2>(p, "phase"))
-            .transpose()?
-            .unwrap_or(z);
-        let offset = offset
-            .map(|p| vector::<2>(p, "offset"))
-            .transpose()?
-            .unwrap_or(z);
-        let mut c = pvfc_core::contour::Lissajous::new(
-            Vector2::from(vector::<2>(amplitude, "amplitude")?),
-            Vector2::from(vector::<2>(periods, "periods")?),
-            Vector2::from(phase),
-            Vector2::from(offset),
-        )
-        .map_err(core_err)?;
-        if let Some(p) = period {
-            c = c.with_period(p).map_err(core_err)?;
-        }
-        Ok(Lissajous { c })
+        let amplitude = list(amplitude, "amplitude")?;
+        let n = amplitude.len();
+        Ok(Lissajous {
+            c: JointSpaceContour::new(JointContourSpec::Lissajous {
+                periods: dyn_vector(periods, "periods", n)?,
+                phase: list_or_zeros(phase, "phase", n)?,
+                offset: list_or_zeros(offset, "offset", n)?,
+                amplitude,
+                period,
+            })?,
+        })
     }
 
     /// The paper's contour, (sin(2πτ/3), 1.5 cos(2πτ/6)), period 6.
     #[staticmethod]
-    fn paper() -> Self {
-        Lissajous {
-            c: pvfc_core::contour::Lissajous::paper(),
-        }
+    fn paper() -> PyResult<Self> {
+        Ok(Lissajous {
+            c: JointSpaceContour::new(JointContourSpec::Lissajous {
+                amplitude: vec![1.0, 1.5],
+                periods: vec![3.0, 6.0],
+                phase: vec![0.0, std::f64::consts::FRAC_PI_2],
+                offset: vec![0.0, 0.0],
+                period: Some(6.0),
+            })?,
+        })
     }
 
-    /// (x_d(τ), dx_d/dτ, d²x_d/dτ²), each of shape (2,).
+    /// (x_d(τ), dx_d/dτ, d²x_d/dτ²), each of shape (n,).
     fn sample<'py>(&self, py: Python<'py>, tau: f64) -> Sample3<'py> {
-        sample2(py, self.c.sample(tau))
+        sample_n(py, &self.c.c, tau)
     }
 
     /// The common period, if declared.
     #[getter]
     fn period(&self) -> Option<f64> {
-        <pvfc_core::contour::Lissajous<f64, 2> as Contour<f64, Torus<f64, 2>, 2>>::period(&self.c)
+        self.c.c.period()
+    }
+
+    /// The number of coordinates.
+    #[getter]
+    fn dim(&self) -> usize {
+        self.c.c.dim()
     }
 }
 
-/// An ellipse (or circle) in joint space, x = c + u cos(2πτ/T) + w sin(2πτ/T).
+/// An ellipse (or circle) in joint space, x = c + u cos(2πτ/T) + w sin(2πτ/T), any number of
+/// joints (1 to 8).
 #[pyclass(module = "pvfc", frozen, from_py_object)]
 #[derive(Clone)]
 pub(crate) struct Ellipse {
-    c: pvfc_core::contour::Ellipse<f64, 2>,
+    pub(crate) c: JointSpaceContour,
 }
 
 #[pymethods]
@@ -102,89 +129,112 @@ impl Ellipse {
         w: &Bound<'_, PyAny>,
         period: f64,
     ) -> PyResult<Self> {
+        let center = list(center, "center")?;
+        let n = center.len();
         Ok(Ellipse {
-            c: pvfc_core::contour::Ellipse::new(
-                Vector2::from(vector::<2>(center, "center")?),
-                Vector2::from(vector::<2>(u, "u")?),
-                Vector2::from(vector::<2>(w, "w")?),
+            c: JointSpaceContour::new(JointContourSpec::Ellipse {
+                u: dyn_vector(u, "u", n)?,
+                w: dyn_vector(w, "w", n)?,
+                center,
                 period,
-            )
-            .map_err(core_err)?,
+            })?,
         })
     }
 
-    /// A circle of the given radius.
+    /// A circle of the given radius in the plane of the first two coordinates.
     #[staticmethod]
     fn circle(center: &Bound<'_, PyAny>, radius: f64, period: f64) -> PyResult<Self> {
+        let center = list(center, "center")?;
+        let n = center.len();
+        if n < 2 {
+            return Err(PyValueError::new_err(
+                "center: a circle needs at least two coordinates",
+            ));
+        }
+        if !(radius.is_finite() && radius > 0.0) {
+            return Err(InvalidParameterError::new_err(
+                "Ellipse.circle: radius must be finite and > 0",
+            ));
+        }
+        let (mut u, mut w) = (vec![0.0; n], vec![0.0; n]);
+        u[0] = radius;
+        w[1] = radius;
         Ok(Ellipse {
-            c: pvfc_core::contour::Ellipse::circle(
-                Vector2::from(vector::<2>(center, "center")?),
-                radius,
+            c: JointSpaceContour::new(JointContourSpec::Ellipse {
+                center,
+                u,
+                w,
                 period,
-            )
-            .map_err(core_err)?,
+            })?,
         })
     }
 
-    /// (x_d(τ), dx_d/dτ, d²x_d/dτ²), each of shape (2,).
+    /// (x_d(τ), dx_d/dτ, d²x_d/dτ²), each of shape (n,).
     fn sample<'py>(&self, py: Python<'py>, tau: f64) -> Sample3<'py> {
-        sample2(py, self.c.sample(tau))
+        sample_n(py, &self.c.c, tau)
+    }
+
+    /// The period.
+    #[getter]
+    fn period(&self) -> Option<f64> {
+        self.c.c.period()
+    }
+
+    /// The number of coordinates.
+    #[getter]
+    fn dim(&self) -> usize {
+        self.c.c.dim()
     }
 }
 
-macro_rules! waypoint_curves {
-    ($($k:literal => $var:ident),*) => {
-        #[derive(Clone)]
-        enum AnySpline { $($var(PeriodicBSpline<f64, Torus<f64, 2>, 2, $k>)),* }
-        fn make_spline(points: &[[f64; 2]], spacing: f64) -> PyResult<AnySpline> {
-            let pts: Vec<Torus<f64, 2>> = points.iter().map(|p| Torus::new(Vector2::from(*p))).collect();
-            match pts.len() {
-                $($k => {
-                    let arr: [Torus<f64, 2>; $k] = core::array::from_fn(|i| pts[i]);
-                    Ok(AnySpline::$var(PeriodicBSpline::through(arr, spacing).map_err(core_err)?))
-                })*
-                n => Err(PyValueError::new_err(format!("waypoints: expected 3 to 16 points, got {n}"))),
-            }
-        }
-        impl AnySpline {
-            fn sample(&self, tau: f64) -> ContourSample<f64, Torus<f64, 2>, 2> {
-                match self { $(AnySpline::$var(s) => s.sample(tau)),* }
-            }
-        }
-    };
-}
-waypoint_curves!(3 => K3, 4 => K4, 5 => K5, 6 => K6, 7 => K7, 8 => K8, 9 => K9, 10 => K10, 11 => K11, 12 => K12, 13 => K13, 14 => K14, 15 => K15, 16 => K16);
-
-/// A smooth (C²) closed curve through 3 to 16 waypoints in joint space, one every `spacing`
-/// units of τ (periodic cubic spline).
+/// A smooth (C²) closed curve through 3 to 32 waypoints in joint space (any number of joints,
+/// 1 to 8), one every `spacing` units of τ (periodic cubic spline). Sampled with every
+/// coordinate an angle; composed with a robot, its prismatic joints are lengths.
 #[pyclass(module = "pvfc", frozen, from_py_object)]
 #[derive(Clone)]
 pub(crate) struct WaypointCurve {
-    s: AnySpline,
-    period: f64,
+    pub(crate) c: JointSpaceContour,
 }
 
 #[pymethods]
 impl WaypointCurve {
     #[new]
     fn new(waypoints: &Bound<'_, PyAny>, spacing: f64) -> PyResult<Self> {
-        let n = waypoints.len().unwrap_or(0);
-        let flat = crate::convert::array(waypoints, "waypoints", &[n, 2])?;
-        let pts: Vec<[f64; 2]> = flat.chunks(2).map(|c| [c[0], c[1]]).collect();
+        let (shape, flat) = any_array(waypoints, "waypoints", 2)?;
+        let (k, n) = (shape[0], shape[1]);
+        if !(3..=MAX_WAYPOINTS).contains(&k) {
+            return Err(PyValueError::new_err(format!(
+                "waypoints: expected 3 to {MAX_WAYPOINTS} points, got {k}"
+            )));
+        }
+        if !(1..=MAX_JOINTS).contains(&n) {
+            return Err(PyValueError::new_err(format!(
+                "waypoints: expected 1 to {MAX_JOINTS} coordinates per point, got {n}"
+            )));
+        }
         Ok(WaypointCurve {
-            s: make_spline(&pts, spacing)?,
-            period: spacing * n as f64,
+            c: JointSpaceContour::new(JointContourSpec::Waypoints {
+                points: flat.chunks(n).map(<[f64]>::to_vec).collect(),
+                spacing,
+            })?,
         })
     }
 
-    /// (x_d(τ), dx_d/dτ, d²x_d/dτ²), each of shape (2,).
+    /// (x_d(τ), dx_d/dτ, d²x_d/dτ²), each of shape (n,).
     fn sample<'py>(&self, py: Python<'py>, tau: f64) -> Sample3<'py> {
-        sample2(py, self.s.sample(tau))
+        sample_n(py, &self.c.c, tau)
     }
 
+    /// The period, `spacing × waypoints`.
     #[getter]
     fn period(&self) -> f64 {
-        self.period
+        self.c.spec.period().unwrap_or(f64::NAN)
+    }
+
+    /// The number of coordinates.
+    #[getter]
+    fn dim(&self) -> usize {
+        self.c.c.dim()
     }
 }
 

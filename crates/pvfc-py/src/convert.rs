@@ -12,23 +12,41 @@ use pyo3::types::{PyBytes, PyString};
 /// values with the given shape; `ValueError` naming the argument for a wrong shape,
 /// `TypeError` for strings or non-numbers.
 pub fn array(obj: &Bound<'_, PyAny>, name: &str, shape: &[usize]) -> PyResult<Vec<f64>> {
+    let (got, values) = shaped(obj, name, &format!("shape {shape:?}"))?;
+    if got != shape {
+        return Err(PyValueError::new_err(format!(
+            "{name}: expected shape {shape:?}, got {got:?}"
+        )));
+    }
+    Ok(values)
+}
+
+/// Any array-like of numbers with its shape (`expected` says what was asked, for the errors).
+fn shaped(obj: &Bound<'_, PyAny>, name: &str, expected: &str) -> PyResult<(Vec<usize>, Vec<f64>)> {
     if obj.is_instance_of::<PyString>() || obj.is_instance_of::<PyBytes>() {
         return Err(PyTypeError::new_err(format!(
-            "{name}: expected numbers with shape {shape:?}, got a string"
+            "{name}: expected numbers with {expected}, got a string"
         )));
     }
     let a: PyArrayLikeDyn<'_, f64, AllowTypeChange> = obj.extract().map_err(|e| {
-        PyTypeError::new_err(format!(
-            "{name}: expected numbers with shape {shape:?} ({e})"
-        ))
+        PyTypeError::new_err(format!("{name}: expected numbers with {expected} ({e})"))
     })?;
-    if a.shape() != shape {
+    Ok((a.shape().to_vec(), a.as_array().iter().cloned().collect()))
+}
+
+/// An array-like with `ndim` dimensions, of any size: its shape and values (row-major).
+pub fn any_array(
+    obj: &Bound<'_, PyAny>,
+    name: &str,
+    ndim: usize,
+) -> PyResult<(Vec<usize>, Vec<f64>)> {
+    let (shape, values) = shaped(obj, name, &format!("{ndim} dimension(s)"))?;
+    if shape.len() != ndim {
         return Err(PyValueError::new_err(format!(
-            "{name}: expected shape {shape:?}, got {:?}",
-            a.shape()
+            "{name}: expected {ndim} dimension(s), got shape {shape:?}"
         )));
     }
-    Ok(a.as_array().iter().cloned().collect())
+    Ok((shape, values))
 }
 
 /// A vector of length `N`.

@@ -14,6 +14,7 @@ mod passive;
 mod robots;
 mod runs;
 mod scara;
+mod settings;
 
 use pyo3::prelude::*;
 
@@ -30,6 +31,8 @@ fn _pvfc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<contours::So3ConstantRate>()?;
     m.add_class::<navigation::TorusNavigation>()?;
     m.add_class::<navigation::So3Navigation>()?;
+    m.add_class::<navigation::JointNavigation>()?;
+    m.add_class::<settings::ControllerSettings>()?;
     m.add_class::<runs::Scenario>()?;
     m.add_class::<runs::SimulationResult>()?;
     m.add_class::<controller::Controller>()?;

@@ -36,8 +36,8 @@ pub enum JointContourSpec {
         phase: Vec<f64>,
         /// Offsets `c_i` (rad or m).
         offset: Vec<f64>,
-        /// The common period in `τ` (a multiple of every `T_i`).
-        period: f64,
+        /// The common period in `τ` (a multiple of every `T_i`); `None`: not closed.
+        period: Option<f64>,
     },
     /// `x_d(τ) = c + u cos(2πτ/T) + w sin(2πτ/T)`: an ellipse in joint space.
     Ellipse {
@@ -53,12 +53,12 @@ pub enum JointContourSpec {
 }
 
 impl JointContourSpec {
-    /// The period in `τ`.
-    pub fn period(&self) -> f64 {
+    /// The period in `τ` (`None` for a Lissajous curve declared without one).
+    pub fn period(&self) -> Option<f64> {
         match self {
-            JointContourSpec::Waypoints { points, spacing } => spacing * points.len() as f64,
-            JointContourSpec::Lissajous { period, .. }
-            | JointContourSpec::Ellipse { period, .. } => *period,
+            JointContourSpec::Waypoints { points, spacing } => Some(spacing * points.len() as f64),
+            JointContourSpec::Lissajous { period, .. } => *period,
+            JointContourSpec::Ellipse { period, .. } => Some(*period),
         }
     }
 
@@ -87,15 +87,18 @@ impl JointContourSpec {
                 phase,
                 offset,
                 period,
-            } => JointContour::Lissajous(
-                Lissajous::new(
+            } => {
+                let c = Lissajous::new(
                     fixed::<N>(amplitude, "lissajous.amplitude")?,
                     fixed::<N>(periods, "lissajous.periods")?,
                     fixed::<N>(phase, "lissajous.phase")?,
                     fixed::<N>(offset, "lissajous.offset")?,
-                )?
-                .with_period(*period)?,
-            ),
+                )?;
+                JointContour::Lissajous(match period {
+                    Some(p) => c.with_period(*p)?,
+                    None => c,
+                })
+            }
             JointContourSpec::Ellipse {
                 center,
                 u,
@@ -501,5 +504,94 @@ impl ArmSystem {
             settings,
             controller,
         })
+    }
+}
+
+/// The largest number of joints (and of contour coordinates) dispatched at run time.
+pub const MAX_JOINTS: usize = 8;
+
+impl JointContourSpec {
+    /// The number of coordinates (the first waypoint's, or the lists' length).
+    pub fn dim(&self) -> usize {
+        match self {
+            JointContourSpec::Waypoints { points, .. } => points.first().map_or(0, Vec::len),
+            JointContourSpec::Lissajous { amplitude, .. } => amplitude.len(),
+            JointContourSpec::Ellipse { center, .. } => center.len(),
+        }
+    }
+}
+
+/// A joint-space contour of 1 to [`MAX_JOINTS`] coordinates, built once, for callers whose
+/// dimension is known at run time only (the Python contours): sampled with every coordinate
+/// circular unless told otherwise.
+#[derive(Clone, Debug)]
+#[allow(missing_docs)]
+#[allow(clippy::large_enum_variant)]
+pub enum DynJointContour {
+    J1(JointContour<1>),
+    J2(JointContour<2>),
+    J3(JointContour<3>),
+    J4(JointContour<4>),
+    J5(JointContour<5>),
+    J6(JointContour<6>),
+    J7(JointContour<7>),
+    J8(JointContour<8>),
+}
+
+impl DynJointContour {
+    /// Builds `spec` with the given joint kinds (`None`: every coordinate circular, as on the
+    /// torus).
+    pub fn new(spec: &JointContourSpec, kinds: Option<&[JointKind]>) -> Result<Self> {
+        let n = spec.dim();
+        if let Some(k) = kinds {
+            if k.len() != n {
+                return Err(setting(format!(
+                    "contour: {n} coordinates for a {}-joint robot",
+                    k.len()
+                )));
+            }
+        }
+        macro_rules! build {
+            ($($v:ident $n:literal),*) => {
+                match n {
+                    $($n => {
+                        let mut ks = [JointKind::Circular; $n];
+                        if let Some(k) = kinds {
+                            ks.copy_from_slice(k);
+                        }
+                        DynJointContour::$v(spec.build::<$n>(ks)?)
+                    })*
+                    _ => {
+                        return Err(setting(format!(
+                            "contour: 1 to {MAX_JOINTS} coordinates are supported, got {n}"
+                        )))
+                    }
+                }
+            };
+        }
+        Ok(build!(J1 1, J2 2, J3 3, J4 4, J5 5, J6 6, J7 7, J8 8))
+    }
+
+    /// The number of coordinates.
+    pub fn dim(&self) -> usize {
+        on_joints!(DynJointContour, self, _c, N => N)
+    }
+
+    /// `x_d(τ)`, `dx_d/dτ` and `d²x_d/dτ²` (coordinates, with circular ones unwrapped as the
+    /// contour gives them).
+    pub fn sample(&self, tau: f64) -> [Vec<f64>; 3] {
+        on_joints!(DynJointContour, self, c, N => {
+            let s = c.sample(tau);
+            [
+                s.point.coords().as_slice().to_vec(),
+                s.velocity.as_slice().to_vec(),
+                s.acceleration.as_slice().to_vec(),
+            ]
+        })
+    }
+
+    /// The period in `τ`.
+    pub fn period(&self) -> Option<f64> {
+        on_joints!(DynJointContour, self, c, N => c.period())
     }
 }

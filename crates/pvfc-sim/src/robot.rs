@@ -167,6 +167,11 @@ impl Robot {
         self.description.dof()
     }
 
+    /// Each joint's coordinate: circular (revolute, continuous) or linear (prismatic).
+    pub fn joint_kinds(&self) -> Vec<pvfc_core::lie::JointKind> {
+        on_chain!(&self.model, c, N => c.kinds().to_vec())
+    }
+
     fn vector<const N: usize>(&self, x: &[f64], name: &str) -> Result<SVector<f64, N>> {
         let v = crate::arm::fixed::<N>(x, name)?;
         if !v.iter().all(|v| v.is_finite()) {

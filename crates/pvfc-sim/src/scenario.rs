@@ -741,7 +741,7 @@ impl Scenario {
                     periods: l.periods.clone(),
                     phase: or_zeros(&l.phase),
                     offset: or_zeros(&l.offset),
-                    period: l.period,
+                    period: Some(l.period),
                 },
                 (None, None, None, Some(e)) => JointContourSpec::Ellipse {
                     center: e.center.clone(),

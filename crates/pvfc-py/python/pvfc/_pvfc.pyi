@@ -15,11 +15,13 @@ __all__ = [
     "ArmController",
     "CartesianPath",
     "Controller",
+    "ControllerSettings",
     "DimensionMismatchError",
     "Ellipse",
     "EnergyTooLowError",
     "InvalidNavigationMatrixError",
     "InvalidParameterError",
+    "JointNavigation",
     "Lissajous",
     "LogError",
     "NoConvergenceError",
@@ -165,6 +167,13 @@ class ArmController:
         nominal_speed: Optional[Tuple[float, float]] = None,
         tau0: float = 0.0,
     ) -> ArmController: ...
+    @staticmethod
+    def compose(
+        robot: Robot,
+        contour: Union[WaypointCurve, Lissajous, Ellipse],
+        navigation: Optional[JointNavigation] = None,
+        settings: Optional[ControllerSettings] = None,
+    ) -> ArmController: ...
     @property
     def dof(self) -> int: ...
     def step(self, q: _ArrayLike, qdot: _ArrayLike, dt: float) -> _F64Array: ...
@@ -191,6 +200,8 @@ class Lissajous:
     def sample(self, tau: float) -> Tuple[_F64Array, _F64Array, _F64Array]: ...
     @property
     def period(self) -> Optional[float]: ...
+    @property
+    def dim(self) -> int: ...
 
 @final
 class Ellipse:
@@ -198,6 +209,10 @@ class Ellipse:
     @staticmethod
     def circle(center: _ArrayLike, radius: float, period: float) -> Ellipse: ...
     def sample(self, tau: float) -> Tuple[_F64Array, _F64Array, _F64Array]: ...
+    @property
+    def period(self) -> Optional[float]: ...
+    @property
+    def dim(self) -> int: ...
 
 @final
 class WaypointCurve:
@@ -205,6 +220,8 @@ class WaypointCurve:
     def sample(self, tau: float) -> Tuple[_F64Array, _F64Array, _F64Array]: ...
     @property
     def period(self) -> float: ...
+    @property
+    def dim(self) -> int: ...
 
 @final
 class So3ConstantRate:
@@ -216,6 +233,49 @@ class TorusNavigation:
     def __new__(cls, h: _ArrayLike, convention: str = "eq17") -> TorusNavigation: ...
     def value(self, e: _ArrayLike) -> float: ...
     def gradient(self, e: _ArrayLike) -> _F64Array: ...
+
+@final
+class JointNavigation:
+    def __new__(cls, h: _ArrayLike, kinds: Optional[Sequence[str]] = None) -> JointNavigation: ...
+    @property
+    def h(self) -> _F64Array: ...
+    def value(self, e: _ArrayLike) -> float: ...
+    def gradient(self, e: _ArrayLike) -> _F64Array: ...
+    def differential(self, e: _ArrayLike) -> _F64Array: ...
+
+@final
+class ControllerSettings:
+    def __new__(
+        cls,
+        *,
+        self_pacing: float = 0.0,
+        energy: float = 10.0,
+        flywheel_inertia: float = 1.0,
+        gamma: float = 1.0,
+        gravity_compensation: bool = True,
+        friction_compensation: Optional[_ArrayLike] = None,
+        friction_band: float = 0.0,
+        nominal_speed: Optional[Tuple[float, float]] = None,
+        tau0: float = 0.0,
+    ) -> ControllerSettings: ...
+    @property
+    def self_pacing(self) -> float: ...
+    @property
+    def energy(self) -> float: ...
+    @property
+    def flywheel_inertia(self) -> float: ...
+    @property
+    def gamma(self) -> float: ...
+    @property
+    def gravity_compensation(self) -> bool: ...
+    @property
+    def friction_compensation(self) -> Optional[_F64Array]: ...
+    @property
+    def friction_band(self) -> float: ...
+    @property
+    def nominal_speed(self) -> Optional[Tuple[float, float]]: ...
+    @property
+    def tau0(self) -> float: ...
 
 @final
 class So3Navigation:

@@ -1,0 +1,91 @@
+//! `pvfc.ControllerSettings`: the numbers of a controller apart from its robot, contour and
+//! navigation function (`ArmController.compose`).
+
+use crate::convert::any_array;
+use numpy::PyArray1;
+use pyo3::prelude::*;
+
+/// The settings of a PVFC controller: self-pacing `R` (eq. 21), the energy level `Ē` and the
+/// flywheel's inertia `M_F` (eq. 6), the coupling gain `γ` (eq. 7), and the add-ons: gravity
+/// compensation, friction compensation (eq. 35, one Coulomb level per joint, with a velocity
+/// band), nominal speed `(c, r)` (eq. 36), and the contour parameter to start at. Checked when
+/// composed with a robot.
+#[pyclass(module = "pvfc", frozen, from_py_object)]
+#[derive(Clone)]
+pub(crate) struct ControllerSettings {
+    #[pyo3(get)]
+    pub(crate) self_pacing: f64,
+    #[pyo3(get)]
+    pub(crate) energy: f64,
+    #[pyo3(get)]
+    pub(crate) flywheel_inertia: f64,
+    #[pyo3(get)]
+    pub(crate) gamma: f64,
+    #[pyo3(get)]
+    pub(crate) gravity_compensation: bool,
+    pub(crate) friction_compensation: Option<Vec<f64>>,
+    #[pyo3(get)]
+    pub(crate) friction_band: f64,
+    #[pyo3(get)]
+    pub(crate) nominal_speed: Option<(f64, f64)>,
+    #[pyo3(get)]
+    pub(crate) tau0: f64,
+}
+
+impl Default for ControllerSettings {
+    fn default() -> Self {
+        ControllerSettings {
+            self_pacing: 0.0,
+            energy: 10.0,
+            flywheel_inertia: 1.0,
+            gamma: 1.0,
+            gravity_compensation: true,
+            friction_compensation: None,
+            friction_band: 0.0,
+            nominal_speed: None,
+            tau0: 0.0,
+        }
+    }
+}
+
+#[pymethods]
+impl ControllerSettings {
+    #[new]
+    #[pyo3(signature = (*, self_pacing=0.0, energy=10.0, flywheel_inertia=1.0, gamma=1.0,
+        gravity_compensation=true, friction_compensation=None, friction_band=0.0,
+        nominal_speed=None, tau0=0.0))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        self_pacing: f64,
+        energy: f64,
+        flywheel_inertia: f64,
+        gamma: f64,
+        gravity_compensation: bool,
+        friction_compensation: Option<&Bound<'_, PyAny>>,
+        friction_band: f64,
+        nominal_speed: Option<(f64, f64)>,
+        tau0: f64,
+    ) -> PyResult<Self> {
+        Ok(ControllerSettings {
+            self_pacing,
+            energy,
+            flywheel_inertia,
+            gamma,
+            gravity_compensation,
+            friction_compensation: friction_compensation
+                .map(|f| any_array(f, "friction_compensation", 1).map(|a| a.1))
+                .transpose()?,
+            friction_band,
+            nominal_speed,
+            tau0,
+        })
+    }
+
+    /// The Coulomb levels of the friction compensation, one per joint, or None.
+    #[getter]
+    fn friction_compensation<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        self.friction_compensation
+            .clone()
+            .map(|f| crate::convert::out1(py, f))
+    }
+}
