@@ -12,14 +12,14 @@ use std::hint::black_box;
 fn closed_loop(c: &mut Criterion) {
     let mut g = c.benchmark_group("closed_loop_10s_1kHz");
     g.sample_size(30);
-    let mut cont = presets::fig8(100.0);
+    let mut cont = presets::fig8(100);
     cont.duration = 10.0;
     cont.simulation.mode = Mode::Continuous;
     cont.simulation.plant_substeps = 1;
     g.bench_function("continuous_rk4", |b| {
         b.iter(|| simulate(black_box(&cont), &mut |_| {}).expect("valid"))
     });
-    let mut samp = presets::fig8(100.0);
+    let mut samp = presets::fig8(100);
     samp.duration = 10.0;
     g.bench_function("sampled_plant_10kHz", |b| {
         b.iter(|| simulate(black_box(&samp), &mut |_| {}).expect("valid"))

@@ -6,8 +6,8 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use nalgebra::{Matrix3, Vector2, Vector3};
-use pvfc::paper::{controller, PaperSettings};
 use pvfc::prelude::*;
+use pvfc::sim::presets::pelican_example;
 use pvfc::sim::ClosedLoop;
 use std::hint::black_box;
 
@@ -40,7 +40,9 @@ fn control_step(c: &mut Criterion) {
     let mut g = c.benchmark_group("control_step_x1000");
     g.throughput(Throughput::Elements(STEPS as u64));
 
-    let scara = controller(&PaperSettings::default()).expect("paper settings are valid");
+    let scara = pelican_example()
+        .controller()
+        .expect("the example is valid");
     let sys = ClosedLoop::matched(scara);
     let i = *scara.state();
     let start = AugmentedState {

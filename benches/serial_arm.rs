@@ -5,9 +5,9 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use nalgebra::{SVector, Vector2};
-use pvfc::paper::{controller, PaperSettings};
 use pvfc::prelude::*;
 use pvfc::sim::arm::{arm_controller, ArmControllerN, ArmSettings, JointContour, JointContourSpec};
+use pvfc::sim::presets::pelican_example;
 use pvfc::sim::urdf::ChainDescription;
 use pvfc::sim::ClosedLoop;
 use pvfc_core::augmented::AugmentedState;
@@ -94,7 +94,9 @@ fn serial_arm(c: &mut Criterion) {
     g.throughput(Throughput::Elements(STEPS as u64));
 
     // The baseline of the ratio: the paper's SCARA step.
-    let scara = controller(&PaperSettings::default()).expect("paper settings");
+    let scara = pelican_example()
+        .controller()
+        .expect("the example is valid");
     let q = Torus::new(Vector2::new(0.1, 0.2));
     g.bench_function("scara_lissajous_f64_baseline", |b| {
         b.iter(|| {

@@ -3,8 +3,8 @@
 //! (optional arguments: R, γ, seconds).
 
 use nalgebra::Vector2;
-use pvfc::paper::{controller, PaperSettings};
 use pvfc::prelude::*;
+use pvfc::sim::presets::pelican_example;
 use pvfc::sim::ClosedLoop;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -12,15 +12,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .skip(1)
         .filter_map(|a| a.parse().ok())
         .collect();
-    let mut settings = PaperSettings::default();
+    let mut example = pelican_example();
     if let Some(r) = args.first() {
-        settings.r = *r;
+        example.controller.self_pacing = *r;
     }
     if let Some(g) = args.get(1) {
-        settings.gamma = *g;
+        example.controller.gamma = *g;
     }
     let seconds = args.get(2).copied().unwrap_or(10.0);
-    let ctl = controller(&settings)?;
+    let ctl = example.controller()?;
     let sys = ClosedLoop::matched(ctl);
     let init = ctl.state();
     let mut s = AugmentedState {
@@ -35,7 +35,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let e0 = sys.kinetic_energy(&s);
     println!(
         "PVFC on the paper's Lissajous contour (Pelican SCARA, no friction), R = {}, γ = {}",
-        settings.r, settings.gamma
+        example.controller.self_pacing, example.controller.gamma
     );
     println!(
         "{:>6} {:>9} {:>10} {:>8} {:>8} {:>8} {:>12}",

@@ -13,5 +13,3 @@
 pub use pvfc_core as core;
 pub use pvfc_core::prelude;
 pub use pvfc_sim as sim;
-
-pub use pvfc_sim::paper;

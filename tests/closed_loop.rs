@@ -2,11 +2,13 @@
 //! convergence (Theorem 1, eq. 9; Theorem 2).
 
 use nalgebra::{Matrix3, Vector2, Vector3};
-use pvfc::paper::{controller, PaperSettings};
 use pvfc::prelude::*;
+use pvfc::sim::presets::pelican_example;
 use pvfc::sim::ClosedLoop;
 
-fn paper_start(ctl: &pvfc::paper::PaperController) -> AugmentedState<f64, Torus<f64, 2>, 2> {
+fn paper_start(
+    ctl: &pvfc::sim::scenario::PaperController,
+) -> AugmentedState<f64, Torus<f64, 2>, 2> {
     let i = ctl.state();
     AugmentedState {
         q: Torus::new(Vector2::new(0.0, 0.0)),
@@ -23,11 +25,9 @@ fn paper_start(ctl: &pvfc::paper::PaperController) -> AugmentedState<f64, Torus<
 #[test]
 fn scara_on_lissajous_conserves_energy_and_converges() {
     for r in [0.0, 100.0] {
-        let ctl = controller(&PaperSettings {
-            r,
-            ..Default::default()
-        })
-        .unwrap();
+        let mut example = pelican_example();
+        example.controller.self_pacing = r;
+        let ctl = example.controller().unwrap();
         let sys = ClosedLoop::matched(ctl);
         let mut s = paper_start(&ctl);
         let zero = Vector2::zeros();
@@ -70,11 +70,9 @@ fn scara_on_lissajous_conserves_energy_and_converges() {
 fn self_pacing_holds_tau_while_far_from_the_contour() {
     let zero = Vector2::zeros();
     let run = |r: f64| {
-        let ctl = controller(&PaperSettings {
-            r,
-            ..Default::default()
-        })
-        .unwrap();
+        let mut example = pelican_example();
+        example.controller.self_pacing = r;
+        let ctl = example.controller().unwrap();
         let sys = ClosedLoop::matched(ctl);
         let mut s = paper_start(&ctl);
         for _ in 0..500 {
@@ -93,7 +91,7 @@ fn self_pacing_holds_tau_while_far_from_the_contour() {
 /// held over each step, so the work of a step is exactly F_eᵀ Δq on the torus.
 #[test]
 fn energy_balance_with_an_environment_force() {
-    let ctl = controller(&PaperSettings::default()).unwrap();
+    let ctl = pelican_example().controller().unwrap();
     let sys = ClosedLoop::matched(ctl);
     let mut s = paper_start(&ctl);
     let e0 = sys.kinetic_energy(&s);
@@ -169,7 +167,7 @@ fn rigid_body_on_so3_conserves_energy_and_converges() {
 /// conserved (the sampled loop is not exactly passive) but stays within 1 %.
 #[test]
 fn sampled_data_controller_follows_the_contour() {
-    let mut ctl = controller(&PaperSettings::default()).unwrap();
+    let mut ctl = pelican_example().controller().unwrap();
     let plant = Scara::<f64>::pelican();
     let (mut q, mut v) = (Torus::new(Vector2::new(0.0, 0.0)), Vector2::<f64>::zeros());
     let sub = 10;

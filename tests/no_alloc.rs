@@ -2,8 +2,8 @@
 #![allow(unsafe_code)]
 
 use nalgebra::{Matrix3, Vector2, Vector3};
-use pvfc::paper::{controller, PaperSettings};
 use pvfc::prelude::*;
+use pvfc::sim::presets::pelican_example;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
@@ -48,7 +48,7 @@ fn the_counter_sees_allocations() {
 
 #[test]
 fn a_control_step_does_not_allocate() {
-    let mut scara = controller(&PaperSettings::default()).unwrap();
+    let mut scara = pelican_example().controller().unwrap();
     let mut q = Torus::new(Vector2::new(0.1, -0.2));
     let v = Vector2::new(0.3, 0.1);
 
@@ -204,7 +204,7 @@ fn a_serial_arm_control_step_does_not_allocate() {
 /// nothing, nor does its error path.
 #[test]
 fn a_passive_control_step_does_not_allocate() {
-    let scara = controller(&PaperSettings::default()).unwrap();
+    let scara = pelican_example().controller().unwrap();
     let mut ctl = pvfc::core::passive::PassiveController::new(scara)
         .with_torque_limits(Vector2::new(20.0, 10.0))
         .unwrap()

@@ -6,7 +6,7 @@ use crate::runs::Scenario;
 use nalgebra::Vector2;
 use numpy::PyArray1;
 use pvfc_core::prelude::*;
-use pvfc_sim::paper::PaperController;
+use pvfc_sim::scenario::PaperController;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 

@@ -11,7 +11,7 @@ use numpy::PyArray1;
 use pvfc_core::passive::EnergyAccount;
 use pvfc_core::prelude::*;
 use pvfc_sim::arm::{PassiveArm, PassiveOptions};
-use pvfc_sim::paper::PaperPassiveController;
+use pvfc_sim::scenario::PaperPassiveController;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;

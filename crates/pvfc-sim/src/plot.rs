@@ -3,7 +3,9 @@
 use crate::contact::{ObstacleSpec, PlanarArm, ShapeSpec};
 use crate::error::{Result, SimError};
 use crate::metrics::last_pass;
+use crate::preset_id::PresetId;
 use crate::report::Runs;
+use crate::scenario::Mode;
 use crate::simulate::Trace;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -201,11 +203,8 @@ fn joint_space_figure(path: &Path, title: &str, series: &[Series]) -> Result<()>
     })
 }
 
-fn desired(runs: &Runs, name: &str) -> Result<Series> {
-    let (s, _) = runs
-        .runs
-        .get(name)
-        .ok_or_else(|| SimError::Setting(format!("run `{name}` is missing")))?;
+fn desired(runs: &Runs, id: PresetId) -> Result<Series> {
+    let (s, _) = runs.run(id)?;
     let c = s.contour()?;
     let period = s.contour.period;
     Ok(Series {
@@ -225,18 +224,18 @@ fn path_of(t: &crate::simulate::Trace, range: std::ops::Range<usize>) -> Vec<(f6
 }
 
 /// Figs. 8–10: contour traced, U against τ and τ̇ against τ over the last complete pass.
-fn pass_figure(runs: &Runs, path: &Path, title: &str, names: &[(String, String)]) -> Result<()> {
-    let reference = desired(runs, &names[0].0)?;
+fn pass_figure(runs: &Runs, path: &Path, title: &str, ids: &[(PresetId, String)]) -> Result<()> {
+    let first = ids
+        .first()
+        .ok_or_else(|| SimError::Setting(format!("{title}: no runs")))?;
+    let reference = desired(runs, first.0)?;
     let mut traced = vec![reference];
     let (mut u, mut tdot) = (Vec::new(), Vec::new());
-    for (name, label) in names {
-        let (s, t) = runs
-            .runs
-            .get(name)
-            .ok_or_else(|| SimError::Setting(format!("run `{name}` is missing")))?;
+    for (id, label) in ids {
+        let (s, t) = runs.run(*id)?;
         let period = s.contour.period;
         let r = last_pass(t, period)
-            .ok_or_else(|| SimError::Setting(format!("run `{name}` does not cover a pass")))?;
+            .ok_or_else(|| SimError::Setting(format!("run `{id}` does not cover a pass")))?;
         let tau0 = (t.tau[r.start] / period).floor() * period;
         traced.push(Series {
             label: label.clone(),
@@ -291,12 +290,12 @@ fn pass_figure(runs: &Runs, path: &Path, title: &str, names: &[(String, String)]
 /// Writes every figure of a reproduction into `dir`; returns the files written.
 pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
-    let get = |n: &str| runs.trace(n);
+    let get = |id: PresetId| runs.trace(id);
 
     let p = dir.join("fig6_unforced.png");
-    let f6 = get("fig6_unforced")?;
+    let f6 = get(PresetId::Fig6)?;
     let traced = vec![
-        desired(runs, "fig6_unforced")?,
+        desired(runs, PresetId::Fig6)?,
         Series {
             label: "traced".into(),
             points: path_of(f6, 0..f6.len()),
@@ -353,9 +352,9 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
     files.push(p);
 
     let p = dir.join("fig7_self_pacing.png");
-    let mut traced = vec![desired(runs, "fig7_R0")?];
-    for (n, l) in [("fig7_R0", "R = 0"), ("fig7_R100", "R = 100")] {
-        let t = get(n)?;
+    let mut traced = vec![desired(runs, PresetId::Fig7 { pacing: 0 })?];
+    for (pacing, l) in [(0, "R = 0"), (100, "R = 100")] {
+        let t = get(PresetId::Fig7 { pacing })?;
         let end = t.t.iter().position(|&x| x >= 4.0).unwrap_or(t.len());
         traced.push(Series {
             label: l.into(),
@@ -366,53 +365,54 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
     joint_space_figure(&p, "Fig. 7: approach from (0, 0), first 4 s", &traced)?;
     files.push(p);
 
-    // Figs. 8–10: file, title, run-name prefix, label prefix, parameter values.
-    let pass_figures: [(&str, &str, &str, &str, &[f64]); 3] = [
+    // Figs. 8–10: file, title, the runs and their labels.
+    let labelled = |symbol: &str, ids: &[(u32, PresetId)]| -> Vec<(PresetId, String)> {
+        ids.iter()
+            .map(|(v, id)| (*id, format!("{symbol} = {v}")))
+            .collect()
+    };
+    let pass_figures = [
         (
             "fig8_pacing_compensated.png",
             "Fig. 8 (friction compensation)",
-            "fig8_R",
-            "R",
-            &[0.0, 100.0, 200.0],
+            labelled(
+                "R",
+                &[0, 100, 200].map(|pacing| (pacing, PresetId::Fig8 { pacing })),
+            ),
         ),
         (
             "fig9_pacing_uncompensated.png",
             "Fig. 9 (no compensation)",
-            "fig9_R",
-            "R",
-            &[0.0, 50.0, 100.0, 200.0],
+            labelled(
+                "R",
+                &[0, 50, 100, 200].map(|pacing| (pacing, PresetId::Fig9 { pacing })),
+            ),
         ),
         (
             "fig10_nominal_speed.png",
             "Fig. 10 (nominal speed, no compensation)",
-            "fig10_r",
-            "r",
-            &[1.0, 2.0, 3.0],
+            labelled(
+                "r",
+                &[1, 2, 3].map(|nominal_speed| (nominal_speed, PresetId::Fig10 { nominal_speed })),
+            ),
         ),
     ];
-    for (file, title, prefix, symbol, values) in pass_figures {
+    for (file, title, ids) in pass_figures {
         let p = dir.join(file);
-        let names: Vec<_> = values
-            .iter()
-            .map(|v| (format!("{prefix}{v}"), format!("{symbol} = {v}")))
-            .collect();
-        pass_figure(runs, &p, title, &names)?;
+        pass_figure(runs, &p, title, &ids)?;
         files.push(p);
     }
 
     let p = dir.join("fig1_pvfc_vs_timed.png");
-    let (s1, pv) = runs
-        .runs
-        .get("fig1_pvfc_vs_timed")
-        .ok_or_else(|| SimError::Setting("run `fig1_pvfc_vs_timed` is missing".into()))?;
-    let tm = get("fig1_pvfc_vs_timed-timed")?;
+    let (s1, pv) = runs.run(PresetId::Fig1)?;
+    let tm = runs.timed(PresetId::Fig1)?;
     let from = |t: &crate::simulate::Trace| {
         t.t.iter()
             .position(|&x| x >= s1.duration - 12.0)
             .unwrap_or(0)
     };
     let traced = vec![
-        desired(runs, "fig1_pvfc_vs_timed")?,
+        desired(runs, PresetId::Fig1)?,
         Series {
             label: "PVFC".into(),
             points: path_of(pv, from(pv)..pv.len()),
@@ -433,12 +433,12 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
 
     let p = dir.join("energy_sampled_vs_continuous.png");
     let series: Vec<Series> = [
-        ("energy_continuous", "continuous loop (RK4, 1 kHz)"),
-        ("energy_sampled", "sampled loop (1 kHz ZOH, plant 10 kHz)"),
+        (Mode::Continuous, "continuous loop (RK4, 1 kHz)"),
+        (Mode::Sampled, "sampled loop (1 kHz ZOH, plant 10 kHz)"),
     ]
     .iter()
-    .map(|(n, l)| {
-        let t = get(n)?;
+    .map(|(mode, l)| {
+        let t = get(PresetId::Energy(*mode))?;
         let e0 = t.energy[0];
         Ok(Series {
             label: (*l).into(),

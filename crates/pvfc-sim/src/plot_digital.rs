@@ -5,6 +5,7 @@
 
 use crate::error::Result;
 use crate::plot::{figure, panel, Series};
+use crate::preset_id::{Digital, DigitalCase, PresetId};
 use crate::report::Runs;
 use crate::simulate::Trace;
 use std::path::{Path, PathBuf};
@@ -45,19 +46,30 @@ fn margin(t: &Trace) -> Vec<(f64, f64)> {
 /// Draws `digital_passivity.png` into `dir`.
 pub fn digital_figure(runs: &Runs, dir: &Path) -> Result<PathBuf> {
     let p = dir.join("digital_passivity.png");
-    let label = |rate: u32, kind: &str| {
+    let label = |rate: u32, kind: Digital| {
         format!(
             "{} {}",
-            if kind == "zoh" { "ZOH" } else { "passive" },
+            if kind == Digital::Zoh {
+                "ZOH"
+            } else {
+                "passive"
+            },
             if rate == 1000 { "1 kHz" } else { "100 Hz" }
         )
     };
+    let run = |case, rate, controller| {
+        runs.trace(PresetId::Digital {
+            case,
+            rate,
+            controller,
+        })
+    };
     let mut panels = Vec::new();
-    for case in ["wall", "push", "obstacle"] {
+    for case in [DigitalCase::Wall, DigitalCase::Push, DigitalCase::Obstacle] {
         let mut series = Vec::new();
-        for kind in ["zoh", "passive"] {
+        for kind in [Digital::Zoh, Digital::Passive] {
             for rate in [1000u32, 100] {
-                let t = runs.trace(&format!("digital_{case}_{rate}hz_{kind}"))?;
+                let t = run(case, rate, kind)?;
                 series.push(Series {
                     label: label(rate, kind),
                     points: residual(t),
@@ -65,12 +77,12 @@ pub fn digital_figure(runs: &Runs, dir: &Path) -> Result<PathBuf> {
                 });
             }
         }
-        panels.push((case, series));
+        panels.push((case.label(), series));
     }
     let mut margins = Vec::new();
-    for kind in ["zoh", "passive"] {
+    for kind in [Digital::Zoh, Digital::Passive] {
         for rate in [1000u32, 100] {
-            let t = runs.trace(&format!("digital_wall_{rate}hz_{kind}"))?;
+            let t = run(DigitalCase::Wall, rate, kind)?;
             margins.push(Series {
                 label: label(rate, kind),
                 points: margin(t),

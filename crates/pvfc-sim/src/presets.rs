@@ -14,7 +14,48 @@
 
 use crate::contact::{ContactLaw, ContactSpec, ForceSchedule, Keyframe, ObstacleSpec, ShapeSpec};
 use crate::friction::JointFriction;
+use crate::preset_id::{Arm3dCase, ContactCase, Digital, DigitalCase, PresetId, DIGITAL_RATES};
 use crate::scenario::*;
+
+/// The core example (no figure of the paper, the README's first example, the benches and the
+/// closed-loop tests): the CICESE Pelican arm without friction on the paper's Lissajous
+/// contour, `R = 100`, `h = (1, 1)`, `Ē = 50`, `M_F = 1`, `γ = 0.05`, from `τ = 0` with all
+/// of `Ē` in the flywheel (`q̇_F = 10 rad/s`), no add-ons, in continuous time.
+/// `pelican_example().controller()` is the controller; change its `controller` fields to vary
+/// the settings.
+pub fn pelican_example() -> Scenario {
+    Scenario {
+        name: "pelican_example".into(),
+        description: "The Pelican arm on the paper's Lissajous contour, frictionless".into(),
+        duration: 10.0,
+        plant: PlantSpec {
+            arm: ArmSpec::Pelican,
+            friction: JointFriction::default(),
+            ..PlantSpec::default()
+        },
+        contour: ContourSpec::default(),
+        controller: ControllerSpec {
+            self_pacing: 100.0,
+            h: vec![1.0, 1.0],
+            energy: 50.0,
+            flywheel_inertia: 1.0,
+            gamma: 0.05,
+            rate: 1000.0,
+            friction_compensation: None,
+            nominal_speed: None,
+            ..ControllerSpec::default()
+        },
+        initial: InitialSpec::default(),
+        simulation: SimulationSpec {
+            mode: Mode::Continuous,
+            plant_substeps: 1,
+        },
+        baseline: None,
+        contact: None,
+        contact_3d: None,
+        base_dir: Default::default(),
+    }
+}
 
 /// The plant friction of every preset.
 pub fn plant_friction() -> JointFriction {
@@ -28,10 +69,10 @@ pub fn plant_friction() -> JointFriction {
 /// The friction compensation of eq. (35) used in the paper.
 pub const PAPER_COMPENSATION: [f64; 2] = [2.0, 3.0];
 
-fn forced(name: &str, description: &str, r_pacing: f64, compensation: bool, r: f64) -> Scenario {
+fn forced(id: PresetId, description: &str, r_pacing: f64, compensation: bool, r: f64) -> Scenario {
     let energy = 2000.0;
     Scenario {
-        name: name.into(),
+        name: id.name(),
         description: description.into(),
         duration: 40.0,
         plant: PlantSpec {
@@ -64,7 +105,7 @@ fn forced(name: &str, description: &str, r_pacing: f64, compensation: bool, r: f
 /// `R = 100`, friction, no compensation.
 pub fn fig6() -> Scenario {
     let mut s = forced(
-        "fig6_unforced",
+        PresetId::Fig6,
         "Fig. 6: unforced response; energy 50 dissipates in friction, the contour is still followed, more slowly",
         100.0,
         false,
@@ -79,11 +120,11 @@ pub fn fig6() -> Scenario {
 }
 
 /// Fig. 7: from `q = (0, 0)`, `R = 0` or `R = 100` (with compensation, `r = 1`).
-pub fn fig7(r_pacing: f64) -> Scenario {
+pub fn fig7(pacing: u32) -> Scenario {
     let mut s = forced(
-        &format!("fig7_R{r_pacing}"),
+        PresetId::Fig7 { pacing },
         "Fig. 7: approach to the contour from (0, 0) with and without self-pacing",
-        r_pacing,
+        pacing.into(),
         true,
         1.0,
     );
@@ -93,43 +134,43 @@ pub fn fig7(r_pacing: f64) -> Scenario {
 }
 
 /// Fig. 8: `R ∈ {0, 100, 200}` with friction compensation, `r = 1`, `c = 0.01`.
-pub fn fig8(r_pacing: f64) -> Scenario {
+pub fn fig8(pacing: u32) -> Scenario {
     forced(
-        &format!("fig8_R{r_pacing}"),
+        PresetId::Fig8 { pacing },
         "Fig. 8: self-pacing R with friction compensation, r = 1",
-        r_pacing,
+        pacing.into(),
         true,
         1.0,
     )
 }
 
 /// Fig. 9: `R ∈ {0, 50, 100, 200}` without friction compensation.
-pub fn fig9(r_pacing: f64) -> Scenario {
+pub fn fig9(pacing: u32) -> Scenario {
     forced(
-        &format!("fig9_R{r_pacing}"),
+        PresetId::Fig9 { pacing },
         "Fig. 9: self-pacing R without friction compensation, r = 1",
-        r_pacing,
+        pacing.into(),
         false,
         1.0,
     )
 }
 
 /// Fig. 10: `r ∈ {1, 2, 3}`, `R = 100`, without compensation.
-pub fn fig10(r: f64) -> Scenario {
+pub fn fig10(nominal_speed: u32) -> Scenario {
     forced(
-        &format!("fig10_r{r}"),
+        PresetId::Fig10 { nominal_speed },
         "Fig. 10: nominal speed r, R = 100, without friction compensation",
         100.0,
         false,
-        r,
+        nominal_speed.into(),
     )
 }
 
 /// Fig. 1: PVFC (Fig. 8's `R = 100` run) next to a timed-trajectory tracker (computed
 /// torque + PD, `ω_n = 20 rad/s`, critically damped) at PVFC's mean `τ̇`, same plant.
 pub fn fig1() -> Scenario {
-    let mut s = fig8(100.0);
-    s.name = "fig1_pvfc_vs_timed".into();
+    let mut s = fig8(100);
+    s.name = PresetId::Fig1.name();
     s.description = "Fig. 1: PVFC versus a timed-trajectory tracker at the same mean speed".into();
     s.baseline = Some(BaselineSpec {
         kp: vec![400.0, 400.0],
@@ -143,14 +184,8 @@ pub fn fig1() -> Scenario {
 /// (`mode = continuous`, RK4 at 1 kHz) and the sampled-data loop (1 kHz controller, plant at
 /// 10 kHz).
 pub fn energy_check(mode: Mode) -> Scenario {
-    let mut s = fig8(100.0);
-    s.name = format!(
-        "energy_{}",
-        match mode {
-            Mode::Continuous => "continuous",
-            Mode::Sampled => "sampled",
-        }
-    );
+    let mut s = fig8(100);
+    s.name = PresetId::Energy(mode).name();
     s.description = "Frictionless closed loop: the augmented kinetic energy is conserved".into();
     s.duration = 60.0;
     s.plant.friction = JointFriction::default();
@@ -167,9 +202,8 @@ pub fn energy_check(mode: Mode) -> Scenario {
 
 /// A scenario with the controller at `rate` (Hz) in the sampled mode, the plant and the
 /// contact at 20 kHz (RK4: the audit's residual is then the integrator's, below 1e-9 of
-/// `κ_a(0)`; at 10 kHz the wall's is 1e-8), no baseline; named `NAME_{rate}hz_zoh`.
+/// `κ_a(0)`; at 10 kHz the wall's is 1e-8), no baseline; named by the caller.
 fn sampled_at(mut s: Scenario, rate: f64) -> Scenario {
-    s.name = format!("{}_{}hz_zoh", s.name, rate as u64);
     s.description = format!(
         "{} (Controller::step at {} Hz, zero-order hold)",
         s.description, rate
@@ -181,10 +215,8 @@ fn sampled_at(mut s: Scenario, rate: f64) -> Scenario {
     s
 }
 
-/// The same scenario with the passive digital controller (`[controller.passive]`):
-/// `…_zoh` becomes `…_passive`.
+/// The same scenario with the passive digital controller (`[controller.passive]`).
 fn passive(mut s: Scenario, spec: PassiveSpec) -> Scenario {
-    s.name = format!("{}_passive", s.name.trim_end_matches("_zoh"));
     s.description = s.description.replace(
         "zero-order hold)",
         "zero-order hold, passive by construction)",
@@ -201,23 +233,15 @@ fn passive(mut s: Scenario, spec: PassiveSpec) -> Scenario {
 /// controller at 1 kHz beside the continuous-time controller, for tracking.
 pub fn digital() -> Vec<Scenario> {
     let mut v = Vec::new();
-    let mut free = energy_check(Mode::Sampled);
-    free.name = "digital_free".into();
-    let mut wall = contact_wall();
-    wall.name = "digital_wall".into();
-    let mut push = contact_push();
-    push.name = "digital_push".into();
-    let mut obstacle = contact_obstacle();
-    obstacle.name = "digital_obstacle".into();
-    for base in [free, wall.clone(), push, obstacle] {
-        for rate in [1000.0, 250.0, 100.0] {
-            let zoh = sampled_at(base.clone(), rate);
-            v.push(passive(zoh.clone(), PassiveSpec::default()));
-            v.push(zoh);
+    for case in DigitalCase::ALL {
+        for rate in DIGITAL_RATES {
+            for controller in [Digital::Passive, Digital::Zoh] {
+                v.push(digital_run(case, rate, controller));
+            }
         }
     }
     let mut drive = passive(
-        sampled_at(wall, 1000.0),
+        sampled_at(contact_wall(), 1000.0),
         PassiveSpec {
             torque_limit: vec![15.0, 5.0],
             encoder_counts: Some(131_072.0),
@@ -226,14 +250,14 @@ pub fn digital() -> Vec<Scenario> {
             reserve: 0.0,
         },
     );
-    drive.name = "digital_wall_1000hz_drive".into();
+    drive.name = PresetId::DigitalDrive.name();
     drive.description = "Contact 1 on a drive: torque limits (15, 5) N·m, 2^17-count encoders, positions only, passive controller at 1 kHz".into();
     v.push(drive);
-    let mut fig8_passive = passive(sampled_at(fig8(100.0), 1000.0), PassiveSpec::default());
-    fig8_passive.name = "fig8_R100_passive".into();
+    let mut fig8_passive = passive(sampled_at(fig8(100), 1000.0), PassiveSpec::default());
+    fig8_passive.name = PresetId::Fig8Passive.name();
     v.push(fig8_passive);
-    let mut fig8_continuous = fig8(100.0);
-    fig8_continuous.name = "fig8_R100_continuous".into();
+    let mut fig8_continuous = fig8(100);
+    fig8_continuous.name = PresetId::Fig8Continuous.name();
     fig8_continuous.description =
         "Fig. 8 (R = 100) with the continuous-time controller (RK4 at 1 kHz)".into();
     fig8_continuous.simulation.mode = Mode::Continuous;
@@ -242,12 +266,34 @@ pub fn digital() -> Vec<Scenario> {
     v
 }
 
+/// One run of the digital comparison: `case` with `controller` at `rate` Hz.
+fn digital_run(case: DigitalCase, rate: u32, controller: Digital) -> Scenario {
+    let base = match case {
+        DigitalCase::Free => energy_check(Mode::Sampled),
+        DigitalCase::Wall => contact_wall(),
+        DigitalCase::Push => contact_push(),
+        DigitalCase::Obstacle => contact_obstacle(),
+    };
+    let zoh = sampled_at(base, rate.into());
+    let mut s = match controller {
+        Digital::Zoh => zoh,
+        Digital::Passive => passive(zoh, PassiveSpec::default()),
+    };
+    s.name = PresetId::Digital {
+        case,
+        rate,
+        controller,
+    }
+    .name();
+    s
+}
+
 /// Every preset, in the order `pvfc reproduce` runs them.
 pub fn all() -> Vec<Scenario> {
-    let mut v = vec![fig6(), fig7(0.0), fig7(100.0)];
-    v.extend([0.0, 100.0, 200.0].map(fig8));
-    v.extend([0.0, 50.0, 100.0, 200.0].map(fig9));
-    v.extend([1.0, 2.0, 3.0].map(fig10));
+    let mut v = vec![fig6(), fig7(0), fig7(100)];
+    v.extend([0, 100, 200].map(fig8));
+    v.extend([0, 50, 100, 200].map(fig9));
+    v.extend([1, 2, 3].map(fig10));
     v.push(fig1());
     v.push(energy_check(Mode::Continuous));
     v.push(energy_check(Mode::Sampled));
@@ -262,9 +308,9 @@ pub fn all() -> Vec<Scenario> {
 /// only power port, and passivity is seen undiluted), the continuous loop with RK4 at 10 kHz
 /// (contact stiffness up to 2·10⁵ N/m), and a timed tracker (computed torque + PD at
 /// `ω_n = 20 rad/s`) as the baseline.
-fn contact_base(name: &str, description: &str, contact: ContactSpec) -> Scenario {
+fn contact_base(case: ContactCase, description: &str, contact: ContactSpec) -> Scenario {
     let mut s = fig6();
-    s.name = name.into();
+    s.name = PresetId::Contact(case).name();
     s.description = description.into();
     s.duration = 15.0;
     s.plant.friction = JointFriction::default();
@@ -314,7 +360,7 @@ fn obstacle(name: &str, shape: ShapeSpec, position: [f64; 2]) -> ObstacleSpec {
 /// the contour leaves the wall.
 pub fn contact_wall() -> Scenario {
     contact_base(
-        "contact_wall",
+        ContactCase::Wall,
         "Contact 1: a rigid wall across the contour; press, slide, resume",
         ContactSpec {
             law: ContactLaw {
@@ -334,7 +380,7 @@ pub fn contact_wall() -> Scenario {
 /// passive only up to its sampling; the audit measures by how much.
 pub fn contact_wall_sampled() -> Scenario {
     let mut s = contact_wall();
-    s.name = "contact_wall_sampled".into();
+    s.name = PresetId::Contact(ContactCase::WallSampled).name();
     s.description = "Contact 1 with the sampled-data controller (1 kHz, zero-order hold)".into();
     s.simulation.mode = Mode::Sampled;
     s.baseline = None;
@@ -350,7 +396,7 @@ pub fn contact_wall_sampled() -> Scenario {
 /// the edge's stiffness, which a force-triggered schedule cannot act before).
 pub fn contact_deburr() -> Scenario {
     let mut s = contact_base(
-        "contact_deburr",
+        ContactCase::Deburr,
         "Contact 2: deburring a compliant edge, nominal speed scheduled on the contact force",
         ContactSpec {
             obstacles: vec![ObstacleSpec {
@@ -386,7 +432,7 @@ pub fn contact_deburr() -> Scenario {
 /// Contact 2 without the force schedule (`r = 1` throughout), to show what the schedule does.
 pub fn contact_deburr_unscheduled() -> Scenario {
     let mut s = contact_deburr();
-    s.name = "contact_deburr_unscheduled".into();
+    s.name = PresetId::Contact(ContactCase::DeburrUnscheduled).name();
     s.description = "Contact 2 without the force schedule of the nominal speed".into();
     s.baseline = None;
     if let Some(c) = s.contact.as_mut() {
@@ -399,7 +445,7 @@ pub fn contact_deburr_unscheduled() -> Scenario {
 /// during following (`t ≈ 2.5 s`), and withdraws; the robot recovers.
 pub fn contact_push() -> Scenario {
     contact_base(
-        "contact_push",
+        ContactCase::Push,
         "Contact 3: a moving body strikes the forearm during following; recovery",
         ContactSpec {
             obstacles: vec![ObstacleSpec {
@@ -417,7 +463,7 @@ pub fn contact_push() -> Scenario {
 /// 0.5 s) and the robot returns to the contour where it left it.
 pub fn contact_obstacle() -> Scenario {
     let mut s = contact_base(
-        "contact_obstacle",
+        ContactCase::Obstacle,
         "Contact 4: collision with an obstacle, then release",
         ContactSpec {
             obstacles: vec![ObstacleSpec {
@@ -449,12 +495,14 @@ pub fn contact() -> Vec<Scenario> {
 /// (`ur5_deburr_continuous`: the closed loop's own audit, without sampling).
 pub fn arms_3d() -> crate::error::Result<Vec<Scenario>> {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
-    let mut v = ARMS_3D
+    let mut v = Arm3dCase::FILES
         .iter()
-        .map(|name| Scenario::from_file(&dir.join(format!("{name}.toml"))))
+        .map(|&case| {
+            Scenario::from_file(&dir.join(format!("{}.toml", PresetId::Arm3d(case).name())))
+        })
         .collect::<crate::error::Result<Vec<_>>>()?;
     let mut continuous = v[0].clone();
-    continuous.name = format!("{}_continuous", continuous.name);
+    continuous.name = PresetId::Arm3d(Arm3dCase::DeburrContinuous).name();
     continuous.description = format!("{}, in continuous time", continuous.description);
     continuous.simulation.mode = Mode::Continuous;
     continuous.controller.passive = None;
@@ -462,6 +510,3 @@ pub fn arms_3d() -> crate::error::Result<Vec<Scenario>> {
     v.push(continuous);
     Ok(v)
 }
-
-/// The names of the 3-D contact scenarios of [`arms_3d`], deburring first.
-pub const ARMS_3D: [&str; 3] = ["ur5_deburr", "ur5_wall", "ur5_push"];

@@ -3,6 +3,8 @@
 
 use crate::error::{Result, SimError};
 use crate::metrics::*;
+use crate::preset_id::{Arm3dCase, ContactCase, PresetId};
+use crate::scenario::Mode;
 use crate::scenario::Scenario;
 use crate::simulate::Trace;
 use std::collections::BTreeMap;
@@ -33,23 +35,32 @@ impl Runs {
         }))
     }
 
-    /// The trace of a run.
-    pub fn trace(&self, name: &str) -> Result<&Trace> {
+    /// The scenario and trace of a preset's run.
+    pub fn run(&self, id: PresetId) -> Result<&(Scenario, Trace)> {
+        self.named(&id.name())
+    }
+
+    /// The trace of a preset's run.
+    pub fn trace(&self, id: PresetId) -> Result<&Trace> {
+        Ok(&self.run(id)?.1)
+    }
+
+    /// The trace of a preset's timed baseline (`NAME-timed`).
+    pub fn timed(&self, id: PresetId) -> Result<&Trace> {
+        Ok(&self.named(&id.timed_name())?.1)
+    }
+
+    /// A run by its name, for runs that are not presets.
+    pub fn named(&self, name: &str) -> Result<&(Scenario, Trace)> {
         self.runs
             .get(name)
-            .map(|(_, t)| t)
             .ok_or_else(|| SimError::Setting(format!("run `{name}` is missing")))
     }
 
-    pub(crate) fn mean_u(&self, name: &str) -> Result<f64> {
-        let (s, t) = self
-            .runs
-            .get(name)
-            .ok_or_else(|| SimError::Setting(format!("run `{name}` is missing")))?;
+    pub(crate) fn mean_u(&self, id: PresetId) -> Result<f64> {
+        let (s, t) = self.run(id)?;
         mean_potential_over_pass(t, s.contour.period).ok_or_else(|| {
-            SimError::Setting(format!(
-                "run `{name}` does not cover one pass of the contour"
-            ))
+            SimError::Setting(format!("run `{id}` does not cover one pass of the contour"))
         })
     }
 }
@@ -93,7 +104,7 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     };
 
     // Energy, frictionless.
-    let cont = r.trace("energy_continuous")?;
+    let cont = r.trace(PresetId::Energy(Mode::Continuous))?;
     let drift = energy_drift(cont);
     push(
         "energy.continuous",
@@ -102,7 +113,7 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
         format!("{drift:.2e} (limit 1e-6)"),
         drift <= 1e-6,
     );
-    let samp = r.trace("energy_sampled")?;
+    let samp = r.trace(PresetId::Energy(Mode::Sampled))?;
     let (e0, e1) = (samp.energy[0], samp.energy[samp.len() - 1]);
     let sdrift = energy_drift(samp);
     push(
@@ -137,7 +148,7 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     );
 
     // Fig. 6.
-    let f6 = r.trace("fig6_unforced")?;
+    let f6 = r.trace(PresetId::Fig6)?;
     let (early, late) = (window(f6, 0.0, 20.0), window(f6, 40.0, 60.0));
     let (tdot_early, tdot_late) = (
         mean(&f6.tau_dot[early.clone()]),
@@ -162,14 +173,15 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     );
 
     // Fig. 7.
-    let approach = |name: &str| -> Result<(f64, f64, f64)> {
-        let t = r.trace(name)?;
+    let approach = |pacing: u32| -> Result<(f64, f64, f64)> {
+        let id = PresetId::Fig7 { pacing };
+        let t = r.trace(id)?;
         let (straight, i) = approach_straightness(t, 0.01 * t.potential[0])
-            .ok_or_else(|| SimError::Setting(format!("{name}: never reached the contour")))?;
+            .ok_or_else(|| SimError::Setting(format!("{id}: never reached the contour")))?;
         Ok((straight, t.tau[i] - t.tau[0], t.t[i]))
     };
-    let (s0, tau0, t0) = approach("fig7_R0")?;
-    let (s100, tau100, t100) = approach("fig7_R100")?;
+    let (s0, tau0, t0) = approach(0)?;
+    let (s100, tau100, t100) = approach(100)?;
     push(
         "fig7",
         "With R = 100 from (0, 0), τ barely advances until the robot is near x_d(τ), and the path is much straighter than with R = 0",
@@ -179,13 +191,13 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     );
 
     // Figs. 8 and 9.
-    let u8: Vec<(f64, f64)> = [0.0, 100.0, 200.0]
-        .iter()
-        .map(|&rr| Ok((rr, r.mean_u(&format!("fig8_R{rr}"))?)))
+    let u8: Vec<(f64, f64)> = [0, 100, 200]
+        .into_iter()
+        .map(|pacing| Ok((pacing.into(), r.mean_u(PresetId::Fig8 { pacing })?)))
         .collect::<Result<_>>()?;
-    let u9: Vec<(f64, f64)> = [0.0, 50.0, 100.0, 200.0]
-        .iter()
-        .map(|&rr| Ok((rr, r.mean_u(&format!("fig9_R{rr}"))?)))
+    let u9: Vec<(f64, f64)> = [0, 50, 100, 200]
+        .into_iter()
+        .map(|pacing| Ok((pacing.into(), r.mean_u(PresetId::Fig9 { pacing })?)))
         .collect::<Result<_>>()?;
     let falls = |v: &[(f64, f64)]| v.windows(2).all(|w| w[1].1 < w[0].1);
     let fmt = |v: &[(f64, f64)]| {
@@ -240,9 +252,14 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     );
 
     // Fig. 10.
-    let u10: Vec<(f64, f64)> = [1.0, 2.0, 3.0]
-        .iter()
-        .map(|&rn| Ok((rn, r.mean_u(&format!("fig10_r{rn}"))?)))
+    let u10: Vec<(f64, f64)> = [1, 2, 3]
+        .into_iter()
+        .map(|nominal_speed| {
+            Ok((
+                nominal_speed.into(),
+                r.mean_u(PresetId::Fig10 { nominal_speed })?,
+            ))
+        })
         .collect::<Result<_>>()?;
     let (d12, d23) = (u10[0].1 - u10[1].1, u10[1].1 - u10[2].1);
     push(
@@ -257,11 +274,8 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     );
 
     // Fig. 1.
-    let (s1, pvfc) = r
-        .runs
-        .get("fig1_pvfc_vs_timed")
-        .ok_or_else(|| SimError::Setting("run `fig1_pvfc_vs_timed` is missing".into()))?;
-    let timed = r.trace("fig1_pvfc_vs_timed-timed")?;
+    let (s1, pvfc) = r.run(PresetId::Fig1)?;
+    let timed = r.timed(PresetId::Fig1)?;
     let contour = s1.contour()?;
     let period = s1.contour.period;
     let tail_p = window(pvfc, s1.duration - 12.0, s1.duration);
@@ -278,45 +292,41 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     contact_claims(r, &mut push)?;
     crate::report_digital::digital_claims(r, &mut push)?;
     // The 3-D arm runs are part of `pvfc reproduce`, not of every set of runs.
-    if r.runs.contains_key(crate::presets::ARMS_3D[0]) {
+    if r.run(PresetId::Arm3d(Arm3dCase::Deburr)).is_ok() {
         crate::report_arms::arm_claims(r, &mut push)?;
     }
     Ok(out)
 }
 
-pub(crate) fn summary(r: &Runs, name: &str) -> Result<ContactSummary> {
-    contact_summary(r.trace(name)?)
+pub(crate) fn summary(r: &Runs, id: PresetId) -> Result<ContactSummary> {
+    summarize(r.trace(id)?, &id.name())
+}
+
+/// The contact summary of a preset's timed baseline.
+pub(crate) fn timed_summary(r: &Runs, id: PresetId) -> Result<ContactSummary> {
+    summarize(r.timed(id)?, &id.timed_name())
+}
+
+fn summarize(t: &Trace, name: &str) -> Result<ContactSummary> {
+    contact_summary(t)
         .ok_or_else(|| SimError::Setting(format!("run `{name}` has no contact columns")))
 }
 
 /// The claims of the contact scenarios (issue 4).
 fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool)) -> Result<()> {
-    let pvfc = [
-        "contact_wall",
-        "contact_deburr",
-        "contact_deburr_unscheduled",
-        "contact_push",
-        "contact_obstacle",
-    ];
+    use ContactCase::*;
+    let short = |c: ContactCase| PresetId::Contact(c).name().replacen("contact_", "", 1);
+    let pvfc = [Wall, Deburr, DeburrUnscheduled, Push, Obstacle];
     let mut worst = 0.0f64;
     let mut rows = Vec::new();
-    for name in pvfc {
-        let c = summary(r, name)?;
+    for case in pvfc {
+        let c = summary(r, PresetId::Contact(case))?;
         worst = worst.max(c.audit);
-        rows.push(format!(
-            "{}: {:.1e}",
-            name.trim_start_matches("contact_"),
-            c.audit
-        ));
+        rows.push(format!("{}: {:.1e}", short(case), c.audit));
     }
     let mut worst_timed = 0.0f64;
-    for name in [
-        "contact_wall",
-        "contact_deburr",
-        "contact_push",
-        "contact_obstacle",
-    ] {
-        worst_timed = worst_timed.max(summary(r, &format!("{name}-timed"))?.audit);
+    for case in [Wall, Deburr, Push, Obstacle] {
+        worst_timed = worst_timed.max(timed_summary(r, PresetId::Contact(case))?.audit);
     }
     push(
         "contact.audit",
@@ -327,13 +337,13 @@ fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool
     );
     let mut ok = true;
     let mut rows = Vec::new();
-    for name in pvfc {
-        let c = summary(r, name)?;
+    for case in pvfc {
+        let c = summary(r, PresetId::Contact(case))?;
         let e0 = c.energy_scale;
         ok &= c.passivity_margin >= -1e-6 * e0 && c.energy_bound_margin >= -1e-6 * e0;
         rows.push(format!(
             "{}: pumped {:.2} J of κ_a(0) = {:.0} J, margin {:.2} J",
-            name.trim_start_matches("contact_"),
+            short(case),
             c.energy_pumped,
             e0,
             c.passivity_margin
@@ -348,12 +358,13 @@ fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool
     );
     let mut ok = true;
     let mut rows = Vec::new();
-    for name in ["contact_wall", "contact_obstacle", "contact_deburr"] {
-        let (p, t) = (summary(r, name)?, summary(r, &format!("{name}-timed"))?);
+    for case in [Wall, Obstacle, Deburr] {
+        let id = PresetId::Contact(case);
+        let (p, t) = (summary(r, id)?, timed_summary(r, id)?);
         ok &= t.peak_force > p.peak_force;
         rows.push(format!(
             "{}: PVFC {:.0} N / {:.1} J, timed {:.0} N / {:.1} J",
-            name.trim_start_matches("contact_"),
+            short(case),
             p.peak_force,
             p.energy_pumped,
             t.peak_force,
@@ -367,9 +378,9 @@ fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool
         rows.join("; "),
         ok,
     );
-    let c = summary(r, "contact_wall_sampled")?;
+    let c = summary(r, PresetId::Contact(WallSampled))?;
     let e0 = c.energy_scale;
-    let ts = r.trace("contact_wall_sampled")?;
+    let ts = r.trace(PresetId::Contact(WallSampled))?;
     let (touch, during) = match ts.contact.as_ref() {
         Some(ct) => {
             let res = ct.audit_residual(&ts.energy);
@@ -391,18 +402,15 @@ fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool
         ),
         true,
     );
-    let (s, _) = r
-        .runs
-        .get("contact_deburr")
-        .ok_or_else(|| SimError::Setting("run `contact_deburr` is missing".into()))?;
+    let (s, _) = r.run(PresetId::Contact(Deburr))?;
     let limit = s
         .contact
         .as_ref()
         .and_then(|c| c.force_schedule)
         .map_or(f64::INFINITY, |f| f.limit);
     let (d, u) = (
-        summary(r, "contact_deburr")?,
-        summary(r, "contact_deburr_unscheduled")?,
+        summary(r, PresetId::Contact(Deburr))?,
+        summary(r, PresetId::Contact(DeburrUnscheduled))?,
     );
     push(
         "contact.deburr",
@@ -416,9 +424,9 @@ fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool
     );
     let mut ok = true;
     let mut rows = Vec::new();
-    for name in ["contact_obstacle", "contact_push"] {
-        let t = r.trace(name)?;
-        let c = summary(r, name)?;
+    for case in [Obstacle, Push] {
+        let t = r.trace(PresetId::Contact(case))?;
+        let c = summary(r, PresetId::Contact(case))?;
         let last = c.last_contact.unwrap_or(0.0);
         let after = window(t, last, t.t[t.len() - 1] + 1.0);
         let peak_u = t.potential[after.clone()]
@@ -429,7 +437,7 @@ fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool
         ok &= end_u <= 1e-3 * peak_u.max(1e-12) && end_u < 1e-5;
         rows.push(format!(
             "{}: last contact at {last:.2} s, U {peak_u:.1e} → {end_u:.1e} at {:.0} s",
-            name.trim_start_matches("contact_"),
+            short(case),
             t.t[t.len() - 1]
         ));
     }

@@ -5,24 +5,21 @@
 
 use crate::error::{Result, SimError};
 use crate::metrics::{cartesian_tracking, ContactSummary};
-use crate::presets::ARMS_3D;
-use crate::report::{summary, Runs};
-
-/// The short name of a run (`ur5_deburr` → `deburr`).
-fn short(name: &str) -> &str {
-    name.trim_start_matches("ur5_")
-}
+use crate::preset_id::{Arm3dCase, PresetId};
+use crate::report::{summary, timed_summary, Runs};
 
 /// The PVFC runs: the three scenarios (the passive digital controller at 1 kHz) and the
 /// deburring run in continuous time.
-fn pvfc_runs() -> Vec<String> {
-    let mut v: Vec<String> = ARMS_3D.iter().map(|s| s.to_string()).collect();
-    v.push(format!("{}_continuous", ARMS_3D[0]));
-    v
-}
+const PVFC_RUNS: [Arm3dCase; 4] = [
+    Arm3dCase::Deburr,
+    Arm3dCase::Wall,
+    Arm3dCase::Push,
+    Arm3dCase::DeburrContinuous,
+];
 
-fn pair(r: &Runs, name: &str) -> Result<(ContactSummary, ContactSummary)> {
-    Ok((summary(r, name)?, summary(r, &format!("{name}-timed"))?))
+fn pair(r: &Runs, case: Arm3dCase) -> Result<(ContactSummary, ContactSummary)> {
+    let id = PresetId::Arm3d(case);
+    Ok((summary(r, id)?, timed_summary(r, id)?))
 }
 
 pub(crate) fn arm_claims(
@@ -31,14 +28,14 @@ pub(crate) fn arm_claims(
 ) -> Result<()> {
     let mut ok = true;
     let mut rows = Vec::new();
-    for name in pvfc_runs() {
-        let c = summary(r, &name)?;
+    for case in PVFC_RUNS {
+        let c = summary(r, PresetId::Arm3d(case))?;
         ok &= c.audit <= 1e-6;
-        rows.push(format!("{}: {:.1e}", short(&name), c.audit));
+        rows.push(format!("{}: {:.1e}", case.label(), c.audit));
     }
     let mut worst_timed = 0.0f64;
-    for name in ARMS_3D {
-        let c = summary(r, &format!("{name}-timed"))?;
+    for case in Arm3dCase::FILES {
+        let c = timed_summary(r, PresetId::Arm3d(case))?;
         ok &= c.audit <= 1e-6;
         worst_timed = worst_timed.max(c.audit);
     }
@@ -51,13 +48,13 @@ pub(crate) fn arm_claims(
     );
     let mut ok = true;
     let mut rows = Vec::new();
-    for name in pvfc_runs() {
-        let c = summary(r, &name)?;
+    for case in PVFC_RUNS {
+        let c = summary(r, PresetId::Arm3d(case))?;
         let e0 = c.energy_scale;
         ok &= c.passivity_margin >= -1e-6 * e0 && c.energy_bound_margin >= -1e-6 * e0;
         rows.push(format!(
             "{}: pumped {:.2} J of κ_a(0) = {:.0} J, margins {:.2} J and {:+.1e} J",
-            short(&name),
+            case.label(),
             c.energy_pumped,
             e0,
             c.passivity_margin,
@@ -73,12 +70,12 @@ pub(crate) fn arm_claims(
     );
     let mut ok = true;
     let mut rows = Vec::new();
-    for name in &ARMS_3D[..2] {
-        let (p, t) = pair(r, name)?;
+    for case in [Arm3dCase::Deburr, Arm3dCase::Wall] {
+        let (p, t) = pair(r, case)?;
         ok &= t.peak_force > p.peak_force && t.energy_pumped > p.energy_pumped;
         rows.push(format!(
             "{}: PVFC {:.1} N / {:.2} J, timed {:.1} N / {:.2} J",
-            short(name),
+            case.label(),
             p.peak_force,
             p.energy_pumped,
             t.peak_force,
@@ -92,7 +89,7 @@ pub(crate) fn arm_claims(
         rows.join("; "),
         ok,
     );
-    let (p, t) = pair(r, ARMS_3D[2])?;
+    let (p, t) = pair(r, Arm3dCase::Push)?;
     push(
         "arm3d.push",
         "A push on the forearm (a moving obstacle): how hard each controller resists",
@@ -101,18 +98,16 @@ pub(crate) fn arm_claims(
             "PVFC {:.0} N, W_contact {:+.2} J, final β {:.3}; timed {:.0} N, W_contact {:+.2} J",
             p.peak_force,
             p.work_contact,
-            r.trace(ARMS_3D[2])?.beta.last().copied().unwrap_or(f64::NAN),
+            r.trace(PresetId::Arm3d(Arm3dCase::Push))?.beta.last().copied().unwrap_or(f64::NAN),
             t.peak_force,
             t.work_contact
         ),
         true,
     );
     let mut rows = Vec::new();
-    for name in [ARMS_3D[0].to_string(), format!("{}-timed", ARMS_3D[0])] {
-        let (s, t) = r
-            .runs
-            .get(&name)
-            .ok_or_else(|| SimError::Setting(format!("run `{name}` is missing")))?;
+    let deburr = PresetId::Arm3d(Arm3dCase::Deburr);
+    for name in [deburr.name(), deburr.timed_name()] {
+        let (s, t) = r.named(&name)?;
         let system = r
             .arm_system(s)?
             .ok_or_else(|| SimError::Setting(format!("run `{name}` is not a URDF arm's")))?;

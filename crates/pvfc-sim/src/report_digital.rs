@@ -5,27 +5,33 @@
 
 use crate::error::Result;
 use crate::metrics::energy_drift;
+use crate::preset_id::{Digital, DigitalCase, PresetId, DIGITAL_RATES};
 use crate::report::{summary, Runs};
 
-/// The scenarios and rates of the side-by-side comparison.
-const CASES: [&str; 4] = ["free", "wall", "push", "obstacle"];
-const RATES: [u32; 3] = [1000, 250, 100];
+/// A digital comparison's run.
+fn run(case: DigitalCase, rate: u32, controller: Digital) -> PresetId {
+    PresetId::Digital {
+        case,
+        rate,
+        controller,
+    }
+}
 
 /// The audit of a run relative to `κ_a(0)`: the residual of the contact columns, or, for a
 /// free frictionless run without add-ons (the ZOH's free runs have no work columns), the
 /// drift of `κ_a`.
-fn audit(r: &Runs, name: &str) -> Result<f64> {
-    let t = r.trace(name)?;
+fn audit(r: &Runs, id: PresetId) -> Result<f64> {
+    let t = r.trace(id)?;
     Ok(match t.contact {
-        Some(_) => summary(r, name)?.audit,
+        Some(_) => summary(r, id)?.audit,
         None => energy_drift(t),
     })
 }
 
 /// The largest energy the controller created, `max_t (κ_a(t) − κ_a(0) − ΣW)` (J; ≤ 0 when it
 /// created none), and the run's `κ_a(0)`.
-fn created(r: &Runs, name: &str) -> Result<(f64, f64)> {
-    let t = r.trace(name)?;
+fn created(r: &Runs, id: PresetId) -> Result<(f64, f64)> {
+    let t = r.trace(id)?;
     let e0 = t.energy[0];
     let worst = match &t.contact {
         Some(c) => c
@@ -47,14 +53,14 @@ pub(crate) fn digital_claims(
 ) -> Result<()> {
     let mut ok = true;
     let mut rows = Vec::new();
-    for case in CASES {
-        for rate in RATES {
-            let base = format!("digital_{case}_{rate}hz");
+    for case in DigitalCase::ALL {
+        for rate in DIGITAL_RATES {
             let (p, z) = (
-                audit(r, &format!("{base}_passive"))?,
-                audit(r, &format!("{base}_zoh"))?,
+                audit(r, run(case, rate, Digital::Passive))?,
+                audit(r, run(case, rate, Digital::Zoh))?,
             );
             ok &= p <= 1e-8;
+            let case = case.label();
             rows.push(format!("{case} {rate} Hz: passive {p:.1e}, ZOH {z:.1e}"));
         }
     }
@@ -67,13 +73,13 @@ pub(crate) fn digital_claims(
     );
     let mut ok = true;
     let mut rows = Vec::new();
-    for case in ["wall", "push", "obstacle"] {
-        for rate in RATES {
-            let base = format!("digital_{case}_{rate}hz");
+    for case in [DigitalCase::Wall, DigitalCase::Push, DigitalCase::Obstacle] {
+        for rate in DIGITAL_RATES {
             let (p, z) = (
-                summary(r, &format!("{base}_passive"))?,
-                summary(r, &format!("{base}_zoh"))?,
+                summary(r, run(case, rate, Digital::Passive))?,
+                summary(r, run(case, rate, Digital::Zoh))?,
             );
+            let case = case.label();
             let e0 = p.energy_scale;
             ok &= p.passivity_margin >= -1e-8 * e0 && p.energy_bound_margin >= -1e-8 * e0;
             rows.push(format!(
@@ -89,12 +95,9 @@ pub(crate) fn digital_claims(
         rows.join("; "),
         ok,
     );
-    let drive = "digital_wall_1000hz_drive";
-    let t = r.trace(drive)?;
-    let (s, _) = r
-        .runs
-        .get(drive)
-        .ok_or_else(|| crate::error::SimError::Setting(format!("run `{drive}` is missing")))?;
+    let drive = PresetId::DigitalDrive;
+    let ideal_drive = run(DigitalCase::Wall, 1000, Digital::Passive);
+    let (s, t) = r.run(drive)?;
     let spec = s.controller.passive.clone().unwrap_or_default();
     let delta = spec
         .encoder_counts
@@ -111,9 +114,9 @@ pub(crate) fn digital_claims(
         .count();
     let bound = delta * max_u1;
     let (made, e0) = created(r, drive)?;
-    let ideal = summary(r, "digital_wall_1000hz_passive")?;
+    let ideal = summary(r, ideal_drive)?;
     let d = summary(r, drive)?;
-    let (u_drive, u_ideal) = (r.mean_u(drive)?, r.mean_u("digital_wall_1000hz_passive")?);
+    let (u_drive, u_ideal) = (r.mean_u(drive)?, r.mean_u(ideal_drive)?);
     push(
         "digital.drive",
         "On a drive (torque limits well below what the law asks at the wall, encoders of 2^17 counts per turn, positions only) the passive controller still creates no energy beyond the encoders' bounded rounding term",
@@ -128,8 +131,8 @@ pub(crate) fn digital_claims(
         made <= bound + 1e-8 * e0 && d.energy_bound_margin >= -bound - 1e-8 * e0,
     );
     let (p, c) = (
-        r.mean_u("fig8_R100_passive")?,
-        r.mean_u("fig8_R100_continuous")?,
+        r.mean_u(PresetId::Fig8Passive)?,
+        r.mean_u(PresetId::Fig8Continuous)?,
     );
     push(
         "digital.tracking",

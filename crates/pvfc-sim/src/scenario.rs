@@ -4,7 +4,6 @@ use crate::arm::JointContourSpec;
 use crate::contact::ContactSpec;
 use crate::error::{Result, SimError};
 use crate::friction::JointFriction;
-use crate::paper::{PaperController, PaperField, PaperPassiveController};
 use nalgebra::Vector2;
 use pvfc_core::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -25,6 +24,23 @@ pub fn direct_drive_arm() -> ScaraParameters<f64> {
         i2: 0.15,
     }
 }
+
+/// The velocity field of the planar arm's scenarios (section V): the Lissajous contour, the
+/// torus navigation function of eq. (17), exponential self-pacing (eq. 21).
+pub type PaperField = SuspendedField<
+    f64,
+    Torus<f64, 2>,
+    Lissajous<f64, 2>,
+    TorusNavigation<f64, 2>,
+    ExponentialPacing<f64>,
+    2,
+>;
+
+/// The controller of the planar arm's scenarios ([`Scenario::controller`]).
+pub type PaperController = Controller<f64, Torus<f64, 2>, Scara<f64>, PaperField, 2>;
+
+/// That controller in the passive digital mode (`pvfc_core::passive`).
+pub type PaperPassiveController = PassiveController<f64, Torus<f64, 2>, Scara<f64>, PaperField, 2>;
 
 /// Which arm to simulate.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -396,7 +412,7 @@ impl Default for InitialSpec {
 }
 
 /// How the loop is simulated.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum Mode {
     /// The controller runs at its own rate with zero-order hold (`Controller::step`), the

@@ -247,7 +247,7 @@ fn an_arm_log_carries_its_3d_scene_for_foxglove() {
         }
     }
     // A planar run has no scene.
-    let mut planar = pvfc_sim::presets::fig8(100.0);
+    let mut planar = pvfc_sim::presets::fig8(100);
     planar.duration = 0.01;
     let tp = pvfc_sim::simulate::simulate(&planar, &mut |_| {}).unwrap();
     assert!(ArmScene::of_run(&planar, &tp).unwrap().is_none());

@@ -3,8 +3,10 @@
 //! compensation is 24–40× (not ~2×) the compensated U, and the timed tracker of Fig. 1 (with
 //! an exact model and ω_n = 20 rad/s) stays closer to the contour than PVFC. See README.
 
+use pvfc_sim::preset_id::PresetId;
 use pvfc_sim::report::{claims, Claim, Runs};
 use pvfc_sim::reproduce::run_all;
+use pvfc_sim::scenario::Mode;
 use std::sync::OnceLock;
 
 fn all_claims() -> &'static (Runs, Vec<Claim>) {
@@ -37,7 +39,10 @@ fn assert_holds(id: &str) {
 #[test]
 fn frictionless_energy_drift_is_below_1e_6_over_60_s() {
     assert_holds("energy.continuous");
-    let t = all_claims().0.trace("energy_continuous").unwrap();
+    let t = all_claims()
+        .0
+        .trace(PresetId::Energy(Mode::Continuous))
+        .unwrap();
     assert_eq!(t.len(), 60_001, "60 s at 1 kHz");
 }
 
@@ -79,7 +84,10 @@ fn fig10_u_lower_at_r2_than_r1_and_less_gain_from_2_to_3() {
 
 #[test]
 fn the_sampled_loop_energy_change_is_reported_and_small() {
-    let t = all_claims().0.trace("energy_sampled").unwrap();
+    let t = all_claims()
+        .0
+        .trace(PresetId::Energy(Mode::Sampled))
+        .unwrap();
     let drift = pvfc_sim::metrics::energy_drift(t);
     // Not a property of PVFC but of the discretisation: measured 3.8e-4 over 60 s.
     assert!(

@@ -1,6 +1,7 @@
 //! Scenario files, URDF models and MCAP logs: parsing, typed errors, round trips.
 
 use pvfc_sim::log::{read_mcap, write_mcap, CONTROLLER_TOPIC, JOINT_STATE_TOPIC};
+use pvfc_sim::preset_id::{Digital, DigitalCase, PresetId};
 use pvfc_sim::scenario::{direct_drive_arm, Scenario};
 use pvfc_sim::urdf::{scara_from_urdf, scara_from_urdf_str};
 use pvfc_sim::{presets, SimError};
@@ -32,6 +33,32 @@ fn shipped_scenarios_are_the_presets() {
         .expect("the contact example has a [contact] table");
     assert_eq!(c.obstacles.len(), 2);
     assert_eq!(c.obstacles[1].motion.len(), 3);
+}
+
+/// Every preset is named by its typed id, in `pvfc reproduce`'s order, and every id names
+/// one preset: the report and the figures find their runs by these ids.
+#[test]
+fn the_presets_are_named_by_their_typed_ids() {
+    let mut scenarios = presets::all();
+    scenarios.extend(presets::arms_3d().unwrap());
+    let names: Vec<String> = scenarios.iter().map(|s| s.name.clone()).collect();
+    let ids = PresetId::all();
+    let from_ids: Vec<String> = ids.iter().map(PresetId::name).collect();
+    assert_eq!(names, from_ids);
+    for id in ids {
+        assert_eq!(PresetId::from_name(&id.name()), Some(id));
+        assert_eq!(id.to_string(), id.name());
+    }
+    assert_eq!(PresetId::from_name("fig8_R150"), None);
+    assert_eq!(
+        PresetId::Digital {
+            case: DigitalCase::Wall,
+            rate: 250,
+            controller: Digital::Passive
+        }
+        .name(),
+        "digital_wall_250hz_passive"
+    );
 }
 
 fn scenario_error(text: &str) -> String {
@@ -110,7 +137,7 @@ fn bad_urdfs_name_the_element() {
 
 #[test]
 fn mcap_logs_read_back_with_counts_and_values() {
-    let mut s = presets::fig8(100.0);
+    let mut s = presets::fig8(100);
     s.duration = 0.5;
     let t = pvfc_sim::simulate::simulate(&s, &mut |_| {}).unwrap();
     let dir = std::env::temp_dir().join(format!("pvfc-mcap-test-{}", std::process::id()));

@@ -1,0 +1,259 @@
+//! Typed names of the built-in scenarios ([`crate::presets`]): the presets take their names
+//! from here, and the report and the figures find their runs by these ids, so that a run's
+//! name is spelled in one place.
+
+use crate::scenario::Mode;
+use std::fmt;
+
+/// The planar contact scenarios (the wall, the deburring, the push, the obstacle).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum ContactCase {
+    /// `contact_wall`: the arm meets a wall on its contour.
+    Wall,
+    /// `contact_wall_sampled`: the wall with `Controller::step` at 1 kHz.
+    WallSampled,
+    /// `contact_deburr`: deburring with the force-scheduled nominal speed.
+    Deburr,
+    /// `contact_deburr_unscheduled`: the same without the schedule.
+    DeburrUnscheduled,
+    /// `contact_push`: a ball pushes the arm off its contour.
+    Push,
+    /// `contact_obstacle`: a block in the way.
+    Obstacle,
+}
+
+/// The cases of the digital-controller comparison.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum DigitalCase {
+    /// Frictionless free motion.
+    Free,
+    /// The wall.
+    Wall,
+    /// The push.
+    Push,
+    /// The obstacle.
+    Obstacle,
+}
+
+impl DigitalCase {
+    /// Every case, in the report's order.
+    pub const ALL: [DigitalCase; 4] = [
+        DigitalCase::Free,
+        DigitalCase::Wall,
+        DigitalCase::Push,
+        DigitalCase::Obstacle,
+    ];
+
+    /// Its name in a run's name (`free`, `wall`, …).
+    pub fn label(self) -> &'static str {
+        match self {
+            DigitalCase::Free => "free",
+            DigitalCase::Wall => "wall",
+            DigitalCase::Push => "push",
+            DigitalCase::Obstacle => "obstacle",
+        }
+    }
+}
+
+/// Which sampled controller a digital run uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Digital {
+    /// `Controller::step` under a zero-order hold.
+    Zoh,
+    /// The passive digital controller (`pvfc_core::passive`).
+    Passive,
+}
+
+impl Digital {
+    /// Its name in a run's name.
+    pub fn label(self) -> &'static str {
+        match self {
+            Digital::Zoh => "zoh",
+            Digital::Passive => "passive",
+        }
+    }
+}
+
+/// The UR5's 3-D contact scenarios (`scenarios/ur5_*.toml`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Arm3dCase {
+    /// `ur5_deburr`.
+    Deburr,
+    /// `ur5_wall`.
+    Wall,
+    /// `ur5_push`.
+    Push,
+    /// `ur5_deburr_continuous`: the deburring run in continuous time.
+    DeburrContinuous,
+}
+
+impl Arm3dCase {
+    /// The cases read from files, each beside its timed baseline, deburring first.
+    pub const FILES: [Arm3dCase; 3] = [Arm3dCase::Deburr, Arm3dCase::Wall, Arm3dCase::Push];
+
+    /// Its short name (`deburr`, `wall`, `push`, `deburr_continuous`).
+    pub fn label(self) -> &'static str {
+        match self {
+            Arm3dCase::Deburr => "deburr",
+            Arm3dCase::Wall => "wall",
+            Arm3dCase::Push => "push",
+            Arm3dCase::DeburrContinuous => "deburr_continuous",
+        }
+    }
+}
+
+/// A built-in scenario. [`name`](Self::name) is the scenario's (and its run's, log's and
+/// figure's) name; its timed baseline's run is `NAME-timed`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum PresetId {
+    /// Fig. 6: the unforced response.
+    Fig6,
+    /// Fig. 7: the approach from `(0, 0)` with self-pacing `R`.
+    Fig7 {
+        /// `R` of eq. (21).
+        pacing: u32,
+    },
+    /// Fig. 8: self-pacing `R` with friction compensation.
+    Fig8 {
+        /// `R` of eq. (21).
+        pacing: u32,
+    },
+    /// Fig. 9: self-pacing `R` without friction compensation.
+    Fig9 {
+        /// `R` of eq. (21).
+        pacing: u32,
+    },
+    /// Fig. 10: nominal speed `r`.
+    Fig10 {
+        /// `r` of eq. (36).
+        nominal_speed: u32,
+    },
+    /// Fig. 1: PVFC beside a timed-trajectory tracker.
+    Fig1,
+    /// The frictionless energy check, continuous or sampled.
+    Energy(Mode),
+    /// A planar contact scenario.
+    Contact(ContactCase),
+    /// A digital-controller run: a case at a rate (Hz) with a controller.
+    Digital {
+        /// The case.
+        case: DigitalCase,
+        /// The controller's rate (Hz).
+        rate: u32,
+        /// The controller.
+        controller: Digital,
+    },
+    /// The wall at 1 kHz on a realistic drive (limits, encoders, positions only).
+    DigitalDrive,
+    /// Fig. 8 (`R = 100`) with the passive controller at 1 kHz.
+    Fig8Passive,
+    /// Fig. 8 (`R = 100`) with the continuous-time controller.
+    Fig8Continuous,
+    /// A UR5 3-D contact scenario.
+    Arm3d(Arm3dCase),
+}
+
+/// The rates of the digital comparison (Hz).
+pub const DIGITAL_RATES: [u32; 3] = [1000, 250, 100];
+
+impl PresetId {
+    /// The scenario's name.
+    pub fn name(&self) -> String {
+        match *self {
+            PresetId::Fig6 => "fig6_unforced".into(),
+            PresetId::Fig7 { pacing } => format!("fig7_R{pacing}"),
+            PresetId::Fig8 { pacing } => format!("fig8_R{pacing}"),
+            PresetId::Fig9 { pacing } => format!("fig9_R{pacing}"),
+            PresetId::Fig10 { nominal_speed } => format!("fig10_r{nominal_speed}"),
+            PresetId::Fig1 => "fig1_pvfc_vs_timed".into(),
+            PresetId::Energy(Mode::Continuous) => "energy_continuous".into(),
+            PresetId::Energy(Mode::Sampled) => "energy_sampled".into(),
+            PresetId::Contact(c) => match c {
+                ContactCase::Wall => "contact_wall",
+                ContactCase::WallSampled => "contact_wall_sampled",
+                ContactCase::Deburr => "contact_deburr",
+                ContactCase::DeburrUnscheduled => "contact_deburr_unscheduled",
+                ContactCase::Push => "contact_push",
+                ContactCase::Obstacle => "contact_obstacle",
+            }
+            .into(),
+            PresetId::Digital {
+                case,
+                rate,
+                controller,
+            } => format!("digital_{}_{rate}hz_{}", case.label(), controller.label()),
+            PresetId::DigitalDrive => "digital_wall_1000hz_drive".into(),
+            PresetId::Fig8Passive => "fig8_R100_passive".into(),
+            PresetId::Fig8Continuous => "fig8_R100_continuous".into(),
+            PresetId::Arm3d(a) => format!("ur5_{}", a.label()),
+        }
+    }
+
+    /// The name of its timed baseline's run (`NAME-timed`).
+    pub fn timed_name(&self) -> String {
+        format!("{}-timed", self.name())
+    }
+
+    /// Every preset, in the order `pvfc reproduce` runs them (the planar ones of
+    /// [`presets::all`](crate::presets::all), then the UR5's of
+    /// [`presets::arms_3d`](crate::presets::arms_3d)).
+    pub fn all() -> Vec<PresetId> {
+        let mut v = vec![
+            PresetId::Fig6,
+            PresetId::Fig7 { pacing: 0 },
+            PresetId::Fig7 { pacing: 100 },
+        ];
+        v.extend([0, 100, 200].map(|pacing| PresetId::Fig8 { pacing }));
+        v.extend([0, 50, 100, 200].map(|pacing| PresetId::Fig9 { pacing }));
+        v.extend([1, 2, 3].map(|nominal_speed| PresetId::Fig10 { nominal_speed }));
+        v.push(PresetId::Fig1);
+        v.push(PresetId::Energy(Mode::Continuous));
+        v.push(PresetId::Energy(Mode::Sampled));
+        v.extend(
+            [
+                ContactCase::Wall,
+                ContactCase::WallSampled,
+                ContactCase::Deburr,
+                ContactCase::DeburrUnscheduled,
+                ContactCase::Push,
+                ContactCase::Obstacle,
+            ]
+            .map(PresetId::Contact),
+        );
+        for case in DigitalCase::ALL {
+            for rate in DIGITAL_RATES {
+                for controller in [Digital::Passive, Digital::Zoh] {
+                    v.push(PresetId::Digital {
+                        case,
+                        rate,
+                        controller,
+                    });
+                }
+            }
+        }
+        v.extend([
+            PresetId::DigitalDrive,
+            PresetId::Fig8Passive,
+            PresetId::Fig8Continuous,
+        ]);
+        v.extend(Arm3dCase::FILES.map(PresetId::Arm3d));
+        v.push(PresetId::Arm3d(Arm3dCase::DeburrContinuous));
+        v
+    }
+
+    /// The preset of this name, if any.
+    pub fn from_name(name: &str) -> Option<PresetId> {
+        PresetId::all().into_iter().find(|id| id.name() == name)
+    }
+}
+
+impl fmt::Display for PresetId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.name())
+    }
+}
