@@ -423,7 +423,7 @@ fn simulate_sampled<E: Environment + ?Sized, S: Stepper<Torus<f64, 2>, 2>>(
     let v = joint_vector::<2>(&s.initial.v, "initial.v")?;
     let mut planar = Planar {
         env,
-        kin: PlanarArm::from(&s.arm()?),
+        kin: PlanarArm::of(&s.arm()?)?,
     };
     run_loop::sampled(
         s,
@@ -458,7 +458,7 @@ fn simulate_continuous<E: Environment + ?Sized>(
     };
     let mut planar = Planar {
         env,
-        kin: PlanarArm::from(&s.arm()?),
+        kin: PlanarArm::of(&s.arm()?)?,
     };
     run_loop::continuous(s, sys, st, &mut planar, with_contact.then_some(2), progress)
 }
@@ -519,7 +519,7 @@ pub fn simulate_timed_in(
     let v = joint_vector::<2>(&s.initial.v, "initial.v")?;
     let mut planar = Planar {
         env,
-        kin: PlanarArm::from(&s.arm()?),
+        kin: PlanarArm::of(&s.arm()?)?,
     };
     let law = |tau: f64, q: &Torus<f64, 2>, v: &Vector2<f64>| {
         let [xd, dxd, ddxd] = contour.coordinates(tau);

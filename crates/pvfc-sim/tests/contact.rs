@@ -5,6 +5,7 @@
 use nalgebra::Vector2;
 use proptest::prelude::*;
 use pvfc_core::lie::{LieGroup, Torus};
+use pvfc_core::mechanics::ScaraParameters;
 use pvfc_core::ErrorKind;
 use pvfc_sim::contact::{
     ContactLaw, ContactWorld, Environment, HalfPlane, Keyframe, ObstacleSpec, PlanarArm, RobotPart,
@@ -18,14 +19,22 @@ use pvfc_sim::simulate::{simulate, simulate_in};
 use pvfc_sim::SimError;
 use std::path::Path;
 
-const ARM: PlanarArm = PlanarArm { l1: 0.4, l2: 0.35 };
+/// A two-link arm with links of 0.4 and 0.35 m.
+fn arm() -> PlanarArm {
+    PlanarArm::of(&ScaraParameters {
+        l1: 0.4,
+        l2: 0.35,
+        ..ScaraParameters::pelican()
+    })
+    .unwrap()
+}
 
 /// A point attached to a part, given in the part's frame (along the link, across it).
 fn attached(part: RobotPart, q: &Torus<f64, 2>, along: f64, across: f64) -> Vector2<f64> {
     let a = q.angles();
     let (origin, angle) = match part {
         RobotPart::Link1 => (Vector2::zeros(), a[0]),
-        _ => (ARM.elbow(q), a[0] + a[1]),
+        _ => (arm().elbow(q), a[0] + a[1]),
     };
     let (c, s) = (angle.cos(), angle.sin());
     origin + Vector2::new(c * along - s * across, s * along + c * across)
@@ -48,8 +57,8 @@ proptest! {
     ) {
         let (q, v, f) = (Torus::new(Vector2::new(q1, q2)), Vector2::new(v1, v2), Vector2::new(fx, fy));
         let p = attached(part(i), &q, along, across);
-        let vp = ARM.point_velocity(part(i), &q, &v, &p);
-        let tau = ARM.joint_torque(part(i), &q, &p, &f);
+        let vp = arm().point_velocity(part(i), &q, &v, &p);
+        let tau = arm().joint_torque(part(i), &q, &p, &f);
         prop_assert!((f.dot(&vp) - tau.dot(&v)).abs() <= 1e-12 * (1.0 + f.norm() * v.norm()));
         let h = 1e-6;
         let fwd = attached(part(i), &q.retract(&v, h), along, across);
@@ -68,7 +77,7 @@ proptest! {
         let q = Torus::new(Vector2::new(q1, q2));
         let v = Vector2::new(v1, v2);
         let law = ContactLaw { stiffness: 1e5, damping: 0.7, friction: 0.3, slip_velocity: 0.02 };
-        let face = ARM.tip(&q).x + 0.015 - depth;
+        let face = arm().tip(&q).x + 0.015 - depth;
         let spec = pvfc_sim::contact::ContactSpec {
             link_radius: [0.04, 0.03],
             tool_radius: 0.015,
@@ -85,7 +94,7 @@ proptest! {
         };
         let mut world = ContactWorld::new(&spec, &presets_arm()).unwrap();
         let mut plane = HalfPlane {
-            arm: ARM,
+            arm: arm(),
             normal: Vector2::new(-1.0, 0.0),
             offset: -face,
             tool_radius: 0.015,
@@ -211,7 +220,7 @@ fn analytic_wall_and_rapier_wall_give_the_same_run() {
     let rapier = simulate(&s, &mut |_| {}).unwrap();
     let spec = s.contact.clone().unwrap();
     let mut plane = HalfPlane {
-        arm: PlanarArm::from(&s.arm().unwrap()),
+        arm: PlanarArm::of(&s.arm().unwrap()).unwrap(),
         normal: Vector2::new(-1.0, 0.0),
         offset: -0.68,
         tool_radius: spec.tool_radius,
@@ -309,7 +318,7 @@ fn sampled_controller_at_the_wall() {
     let mut s = presets::contact_wall_sampled();
     s.duration = 4.0;
     let mut plane = HalfPlane {
-        arm: PlanarArm::from(&s.arm().unwrap()),
+        arm: PlanarArm::of(&s.arm().unwrap()).unwrap(),
         normal: Vector2::new(-1.0, 0.0),
         offset: -0.68,
         tool_radius: 0.015,

@@ -126,14 +126,16 @@ impl<T: Real> Scara<T> {
         (self.a1, self.a2, self.a3)
     }
 
+    /// Forward kinematics: the position of the elbow (joint 2, the end of link 1).
+    pub fn elbow(&self, q: &Torus<T, 2>) -> nalgebra::Vector2<T> {
+        let q1 = q.angles()[0];
+        nalgebra::Vector2::new(q1.cos(), q1.sin()) * self.params.l1
+    }
+
     /// Forward kinematics: the position of the end of link 2 in the plane.
     pub fn end_effector(&self, q: &Torus<T, 2>) -> nalgebra::Vector2<T> {
-        let (q1, q2) = (q.angles()[0], q.angles()[1]);
-        let (l1, l2) = (self.params.l1, self.params.l2);
-        nalgebra::Vector2::new(
-            l1 * q1.cos() + l2 * (q1 + q2).cos(),
-            l1 * q1.sin() + l2 * (q1 + q2).sin(),
-        )
+        let s = q.angles()[0] + q.angles()[1];
+        self.elbow(q) + nalgebra::Vector2::new(s.cos(), s.sin()) * self.params.l2
     }
 }
 

@@ -56,7 +56,8 @@ impl ContactWorld {
     /// Builds the world of `spec` around an arm with the given parameters.
     pub fn new(spec: &ContactSpec, arm: &ScaraParameters<f64>) -> Result<Self> {
         spec.validate()?;
-        let arm = PlanarArm::from(arm);
+        let arm = PlanarArm::of(arm)?;
+        let (l1, l2) = arm.lengths();
         let mut colliders = ColliderSet::new();
         let types = ActiveCollisionTypes::all();
         let robot_groups =
@@ -72,8 +73,8 @@ impl ContactWorld {
                 .build()
         };
         // Link 2's capsule ends at the tool's centre; the tool disc protrudes beyond it.
-        let link1 = colliders.insert(link(arm.l1, r1));
-        let link2 = colliders.insert(link((arm.l2 - r2).max(0.0), r2));
+        let link1 = colliders.insert(link(l1, r1));
+        let link2 = colliders.insert(link((l2 - r2).max(0.0), r2));
         let tool = colliders.insert(
             ColliderBuilder::ball(spec.tool_radius)
                 .active_collision_types(types)
