@@ -23,6 +23,16 @@ pub struct ArmController {
     initial: SimArm,
 }
 
+impl ArmController {
+    fn build(robot: &Robot, settings: ArmSettings) -> PyResult<Self> {
+        let ctl = SimArm::new(&robot.robot, &settings).map_err(sim_err)?;
+        Ok(ArmController {
+            initial: ctl.clone(),
+            ctl,
+        })
+    }
+}
+
 #[pymethods]
 impl ArmController {
     #[new]
@@ -53,15 +63,15 @@ impl ArmController {
             )));
         }
         let flat = array(waypoints, "waypoints", &[k, n])?;
-        let settings = ArmSettings {
-            contour: JointContourSpec::Waypoints {
-                points: flat.chunks(n).map(|c| c.to_vec()).collect(),
-                spacing,
-            },
-            h: match h {
-                Some(h) => dyn_vector(h, "h", n)?,
-                None => vec![1.0; n],
-            },
+        let contour = JointContourSpec::Waypoints {
+            points: flat.chunks(n).map(|c| c.to_vec()).collect(),
+            spacing,
+        };
+        let h = match h {
+            Some(h) => dyn_vector(h, "h", n)?,
+            None => vec![1.0; n],
+        };
+        let settings = ControllerSettings {
             self_pacing,
             energy,
             flywheel_inertia,
@@ -74,11 +84,7 @@ impl ArmController {
             nominal_speed,
             tau0,
         };
-        let ctl = SimArm::new(&robot.robot, &settings).map_err(sim_err)?;
-        Ok(ArmController {
-            initial: ctl.clone(),
-            ctl,
-        })
+        Self::build(robot, settings.arm_settings(contour, h))
     }
 
     /// A controller composed of a robot, a joint-space contour (`WaypointCurve`, `Lissajous`
@@ -131,25 +137,7 @@ impl ArmController {
             None => vec![1.0; n],
         };
         let d = ControllerSettings::default();
-        let s = settings.unwrap_or(&d);
-        let settings = ArmSettings {
-            contour: spec,
-            h,
-            self_pacing: s.self_pacing,
-            energy: s.energy,
-            flywheel_inertia: s.flywheel_inertia,
-            gamma: s.gamma,
-            gravity_compensation: s.gravity_compensation,
-            friction_compensation: s.friction_compensation.clone(),
-            friction_band: s.friction_band,
-            nominal_speed: s.nominal_speed,
-            tau0: s.tau0,
-        };
-        let ctl = SimArm::new(&robot.robot, &settings).map_err(sim_err)?;
-        Ok(ArmController {
-            initial: ctl.clone(),
-            ctl,
-        })
+        Self::build(robot, settings.unwrap_or(&d).arm_settings(spec, h))
     }
 
     /// The number of joints.

@@ -3,6 +3,7 @@
 
 use crate::convert::any_array;
 use numpy::PyArray1;
+use pvfc_sim::arm::{ArmSettings, JointContourSpec};
 use pyo3::prelude::*;
 
 /// The settings of a PVFC controller: self-pacing `R` (eq. 21), the energy level `Ē` and the
@@ -30,6 +31,25 @@ pub(crate) struct ControllerSettings {
     pub(crate) nominal_speed: Option<(f64, f64)>,
     #[pyo3(get)]
     pub(crate) tau0: f64,
+}
+
+impl ControllerSettings {
+    /// The settings of an arm's controller with this contour and these navigation weights.
+    pub(crate) fn arm_settings(&self, contour: JointContourSpec, h: Vec<f64>) -> ArmSettings {
+        ArmSettings {
+            contour,
+            h,
+            self_pacing: self.self_pacing,
+            energy: self.energy,
+            flywheel_inertia: self.flywheel_inertia,
+            gamma: self.gamma,
+            gravity_compensation: self.gravity_compensation,
+            friction_compensation: self.friction_compensation.clone(),
+            friction_band: self.friction_band,
+            nominal_speed: self.nominal_speed,
+            tau0: self.tau0,
+        }
+    }
 }
 
 impl Default for ControllerSettings {

@@ -9,18 +9,10 @@ import numpy as np
 import pytest
 
 import pvfc
+import test_arm
 
 MODELS = pathlib.Path(__file__).resolve().parents[3] / "models"
-UR5_WAYPOINTS = np.array(
-    [
-        [0.0, -1.2, 1.4, -1.8, -1.57, 0.0],
-        [0.5, -1.0, 1.2, -1.7, -1.4, 0.3],
-        [0.8, -1.4, 1.6, -1.6, -1.2, 0.6],
-        [0.3, -1.7, 1.9, -1.9, -1.5, 0.2],
-        [-0.3, -1.5, 1.7, -2.0, -1.8, -0.3],
-        [-0.5, -1.1, 1.3, -1.8, -1.7, -0.4],
-    ]
-)
+UR5_WAYPOINTS = np.array(test_arm.UR5_WAYPOINTS)
 
 
 def ur5() -> pvfc.Robot:
@@ -68,8 +60,6 @@ def test_a_six_joint_lissajous_and_ellipse_sample_their_formulas() -> None:
 
 
 def test_a_composed_lissajous_controller_drives_the_ur5_onto_its_contour() -> None:
-    from test_arm import rk4
-
     robot = ur5()
     contour = pvfc.Lissajous([0.4, 0.2, 0.2, 0.2, 0.2, 0.3], [8.0, 4.0, 8.0, 4.0, 8.0, 8.0], offset=UR5_WAYPOINTS[0], period=8.0)
     ctl = pvfc.ArmController.compose(
@@ -80,7 +70,7 @@ def test_a_composed_lissajous_controller_drives_the_ur5_onto_its_contour() -> No
     for _ in range(4000):
         torque = ctl.step(q, v, 1e-3)
         for _ in range(2):
-            q, v = rk4(robot, q, v, torque, 5e-4)
+            q, v = test_arm.rk4(robot, q, v, torque, 5e-4)
     u = ctl.evaluate(q, v, *ctl.state[:3])["potential"]
     assert u < 1e-3 * u0, (u0, u)
     np.testing.assert_allclose(ctl.contour_point(2.0), contour.sample(2.0)[0], atol=1e-12)

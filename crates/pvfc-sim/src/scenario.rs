@@ -861,9 +861,15 @@ impl Scenario {
     /// The controller, with its add-ons and initial internal states. The controller's model
     /// of the arm is the plant's (no model mismatch).
     pub fn controller(&self) -> Result<PaperController> {
+        self.controller_with(Scara::new(self.arm()?)?)
+    }
+
+    /// [`controller`](Self::controller) with the arm's model already built (a run reads the
+    /// arm once).
+    pub fn controller_with(&self, arm: Scara<f64>) -> Result<PaperController> {
         let c = &self.controller;
         let flywheel = Flywheel::new(c.flywheel_inertia, c.energy)?;
-        let law = PvfcLaw::new(Scara::new(self.arm()?)?, self.field()?, flywheel, c.gamma)?;
+        let law = PvfcLaw::new(arm, self.field()?, flywheel, c.gamma)?;
         let mut ctl = Controller::new(law).with_state(InternalState {
             tau: self.initial.tau,
             tau_dot: self.initial.tau_dot,

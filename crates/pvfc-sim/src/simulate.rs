@@ -308,11 +308,13 @@ pub fn simulate(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
     if s.is_chain() {
         return crate::chain_run::simulate_chain(s, progress);
     }
-    match (s.simulation.mode, environment(s)?) {
-        (Mode::Sampled, None) => sampled(s, &mut Free, false, progress),
-        (Mode::Sampled, Some(mut env)) => sampled(s, &mut *env, true, progress),
-        (Mode::Continuous, None) => simulate_continuous(s, &mut Free, false, progress),
-        (Mode::Continuous, Some(mut env)) => simulate_continuous(s, &mut *env, true, progress),
+    // The arm is read once per run (a URDF arm's file included).
+    let arm = Scara::new(s.arm()?)?;
+    match (s.simulation.mode, environment_with(s, &arm)?) {
+        (Mode::Sampled, None) => sampled(s, arm, &mut Free, false, progress),
+        (Mode::Sampled, Some(mut env)) => sampled(s, arm, &mut *env, true, progress),
+        (Mode::Continuous, None) => simulate_continuous(s, arm, &mut Free, false, progress),
+        (Mode::Continuous, Some(mut env)) => simulate_continuous(s, arm, &mut *env, true, progress),
     }
 }
 
@@ -324,9 +326,10 @@ pub fn simulate_in(
     env: &mut dyn Environment,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
+    let arm = Scara::new(s.arm()?)?;
     match s.simulation.mode {
-        Mode::Continuous => simulate_continuous(s, env, true, progress),
-        Mode::Sampled => sampled(s, env, true, progress),
+        Mode::Continuous => simulate_continuous(s, arm, env, true, progress),
+        Mode::Sampled => sampled(s, arm, env, true, progress),
     }
 }
 
@@ -344,15 +347,26 @@ impl Environment for Free {
 pub fn environment(s: &Scenario) -> Result<Option<Box<dyn Environment>>> {
     match &s.contact {
         None => Ok(None),
+        Some(_) => environment_with(s, &Scara::new(s.arm()?)?),
+    }
+}
+
+/// [`environment`] around the arm's model already built.
+fn environment_with(s: &Scenario, arm: &Scara<f64>) -> Result<Option<Box<dyn Environment>>> {
+    match &s.contact {
+        None => Ok(None),
         #[cfg(feature = "contact")]
         Some(spec) => Ok(Some(Box::new(crate::contact::ContactWorld::new(
             spec,
-            &s.arm()?,
+            arm.parameters(),
         )?))),
         #[cfg(not(feature = "contact"))]
-        Some(_) => Err(SimError::Setting(
-            "the scenario has a [contact] table, but pvfc-sim was built without its `contact` feature".into(),
-        )),
+        Some(_) => {
+            let _ = arm;
+            Err(SimError::Setting(
+                "the scenario has a [contact] table, but pvfc-sim was built without its `contact` feature".into(),
+            ))
+        }
     }
 }
 
@@ -361,16 +375,17 @@ pub fn environment(s: &Scenario) -> Result<Option<Box<dyn Environment>>> {
 /// the work columns (with no contact they hold the audit).
 fn sampled<E: Environment + ?Sized>(
     s: &Scenario,
+    arm: Scara<f64>,
     env: &mut E,
     with_contact: bool,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    let ctl = s.controller()?;
+    let ctl = s.controller_with(arm)?;
     match &s.controller.passive {
-        None => simulate_sampled(s, env, with_contact, ctl, progress),
+        None => simulate_sampled(s, arm, env, with_contact, ctl, progress),
         Some(spec) => {
             let drive = crate::stepper::PassiveDrive::new(ctl, spec, [true; 2])?;
-            simulate_sampled(s, env, true, drive, progress)
+            simulate_sampled(s, arm, env, true, drive, progress)
         }
     }
 }
@@ -413,17 +428,17 @@ impl<E: Environment + ?Sized> Surroundings<Torus<f64, 2>, 2> for Planar<'_, E> {
 /// The SCARA's sampled-data loop ([`run_loop::sampled`]) with the controller `ctl`.
 fn simulate_sampled<E: Environment + ?Sized, S: Stepper<Torus<f64, 2>, 2>>(
     s: &Scenario,
+    arm: Scara<f64>,
     env: &mut E,
     with_contact: bool,
     ctl: S,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    let arm = Scara::new(s.arm()?)?;
     let q = Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?);
     let v = joint_vector::<2>(&s.initial.v, "initial.v")?;
     let mut planar = Planar {
         env,
-        kin: PlanarArm::of(&s.arm()?)?,
+        kin: PlanarArm::from(arm),
     };
     run_loop::sampled(
         s,
@@ -439,13 +454,14 @@ fn simulate_sampled<E: Environment + ?Sized, S: Stepper<Torus<f64, 2>, 2>>(
 /// The SCARA's continuous-time loop ([`run_loop::continuous`]).
 fn simulate_continuous<E: Environment + ?Sized>(
     s: &Scenario,
+    arm: Scara<f64>,
     env: &mut E,
     with_contact: bool,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    let ctl = s.controller()?;
+    let ctl = s.controller_with(arm)?;
     let sys = ClosedLoop {
-        plant: Scara::new(s.arm()?)?,
+        plant: arm,
         controller: ctl,
     };
     let i = ctl.state();
@@ -458,7 +474,7 @@ fn simulate_continuous<E: Environment + ?Sized>(
     };
     let mut planar = Planar {
         env,
-        kin: PlanarArm::of(&s.arm()?)?,
+        kin: PlanarArm::from(arm),
     };
     run_loop::continuous(s, sys, st, &mut planar, with_contact.then_some(2), progress)
 }
@@ -479,15 +495,28 @@ pub fn simulate_timed(
     if s.is_chain() {
         return crate::chain_run::simulate_timed_chain(s, b, tau_rate, progress);
     }
-    match environment(s)? {
-        Some(mut env) => simulate_timed_in(s, b, tau_rate, Some(&mut *env), progress),
-        None => simulate_timed_in(s, b, tau_rate, None, progress),
+    let arm = Scara::new(s.arm()?)?;
+    match environment_with(s, &arm)? {
+        Some(mut env) => timed_in(s, arm, b, tau_rate, Some(&mut *env), progress),
+        None => timed_in(s, arm, b, tau_rate, None, progress),
     }
 }
 
 /// [`simulate_timed`] against a given environment (or none).
 pub fn simulate_timed_in(
     s: &Scenario,
+    b: &BaselineSpec,
+    tau_rate: f64,
+    env: Option<&mut dyn Environment>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
+    timed_in(s, Scara::new(s.arm()?)?, b, tau_rate, env, progress)
+}
+
+/// [`simulate_timed_in`] with the arm's model already built.
+fn timed_in(
+    s: &Scenario,
+    arm: Scara<f64>,
     b: &BaselineSpec,
     tau_rate: f64,
     env: Option<&mut dyn Environment>,
@@ -501,7 +530,6 @@ pub fn simulate_timed_in(
     if !tau_rate.is_finite() {
         return Err(SimError::Setting("baseline: τ rate must be finite".into()));
     }
-    let arm = Scara::new(s.arm()?)?;
     let contour = s.contour()?;
     let nav = TorusNavigation::paper(joint_vector::<2>(&s.controller.h, "controller.h")?)?;
     let comp = match &s.controller.friction_compensation {
@@ -519,7 +547,7 @@ pub fn simulate_timed_in(
     let v = joint_vector::<2>(&s.initial.v, "initial.v")?;
     let mut planar = Planar {
         env,
-        kin: PlanarArm::of(&s.arm()?)?,
+        kin: PlanarArm::from(arm),
     };
     let law = |tau: f64, q: &Torus<f64, 2>, v: &Vector2<f64>| {
         let [xd, dxd, ddxd] = contour.coordinates(tau);
