@@ -174,55 +174,76 @@ where
         s: &AugmentedState<T, G, D>,
         k1: &Derivative<T, D>,
         dt: T,
-        mut stage: impl FnMut(
+        stage: impl FnMut(
             usize,
             T,
             &AugmentedState<T, G, D>,
         ) -> core::result::Result<Derivative<T, D>, E>,
     ) -> core::result::Result<AugmentedState<T, G, D>, E> {
-        let half: T = pvfc_core::scalar::cast(0.5);
-        let sixth: T = pvfc_core::scalar::cast(1.0 / 6.0);
-        let twelfth: T = pvfc_core::scalar::cast(1.0 / 12.0);
-        let dexpinv = |theta: &Tangent<T, D>, v: &Tangent<T, D>| {
-            let b = G::lie_bracket(theta, v);
-            v - b * half + G::lie_bracket(theta, &b) * twelfth
-        };
-        let at = |theta: &Tangent<T, D>, k: &Derivative<T, D>, c: T| AugmentedState {
-            q: s.q.compose(&G::exp(theta)),
-            v: s.v + k.v * (c * dt),
-            tau: s.tau + k.tau * (c * dt),
-            tau_dot: s.tau_dot + k.tau_dot * (c * dt),
-            flywheel_speed: s.flywheel_speed + k.flywheel_speed * (c * dt),
-        };
-        let k1 = *k1;
-        let t1 = k1.q; // θ = 0
-        let th2 = t1 * (half * dt);
-        let s2 = at(&th2, &k1, half);
-        let k2 = stage(1, half * dt, &s2)?;
-        let t2 = dexpinv(&th2, &k2.q);
-        let th3 = t2 * (half * dt);
-        let s3 = at(&th3, &k2, half);
-        let k3 = stage(2, half * dt, &s3)?;
-        let t3 = dexpinv(&th3, &k3.q);
-        let th4 = t3 * dt;
-        let s4 = at(&th4, &k3, T::one());
-        let k4 = stage(3, dt, &s4)?;
-        let t4 = dexpinv(&th4, &k4.q);
-        let w = dt * sixth;
-        let two = T::one() + T::one();
-        let theta = (t1 + t2 * two + t3 * two + t4) * w;
-        Ok(AugmentedState {
-            q: s.q.compose(&G::exp(&theta)).normalized(),
-            v: s.v + (k1.v + k2.v * two + k3.v * two + k4.v) * w,
-            tau: s.tau + (k1.tau + k2.tau * two + k3.tau * two + k4.tau) * w,
-            tau_dot: s.tau_dot
-                + (k1.tau_dot + k2.tau_dot * two + k3.tau_dot * two + k4.tau_dot) * w,
-            flywheel_speed: s.flywheel_speed
-                + (k1.flywheel_speed
-                    + k2.flywheel_speed * two
-                    + k3.flywheel_speed * two
-                    + k4.flywheel_speed)
-                    * w,
-        })
+        rkmk4(s, k1, dt, stage)
     }
+}
+
+/// The RKMK4 step (Runge–Kutta–Munthe-Kaas, classical RK4 tableau) of an augmented state:
+/// the one integrator of the simulation. [`ClosedLoop::rk4_with_stages`] steps the closed
+/// loop with it; a sampled-data run steps the plant alone under its held torque with it
+/// (the internal states' rates are then zero). `stage(i, c·dt, s_i)` gives the derivatives of
+/// the stages `i = 1, 2, 3`, given `k1` at `s`.
+pub fn rkmk4<T, G, E, const D: usize>(
+    s: &AugmentedState<T, G, D>,
+    k1: &Derivative<T, D>,
+    dt: T,
+    mut stage: impl FnMut(
+        usize,
+        T,
+        &AugmentedState<T, G, D>,
+    ) -> core::result::Result<Derivative<T, D>, E>,
+) -> core::result::Result<AugmentedState<T, G, D>, E>
+where
+    T: Real,
+    G: LieGroup<T, D>,
+{
+    let half: T = pvfc_core::scalar::cast(0.5);
+    let sixth: T = pvfc_core::scalar::cast(1.0 / 6.0);
+    let twelfth: T = pvfc_core::scalar::cast(1.0 / 12.0);
+    let dexpinv = |theta: &Tangent<T, D>, v: &Tangent<T, D>| {
+        let b = G::lie_bracket(theta, v);
+        v - b * half + G::lie_bracket(theta, &b) * twelfth
+    };
+    let at = |theta: &Tangent<T, D>, k: &Derivative<T, D>, c: T| AugmentedState {
+        q: s.q.compose(&G::exp(theta)),
+        v: s.v + k.v * (c * dt),
+        tau: s.tau + k.tau * (c * dt),
+        tau_dot: s.tau_dot + k.tau_dot * (c * dt),
+        flywheel_speed: s.flywheel_speed + k.flywheel_speed * (c * dt),
+    };
+    let k1 = *k1;
+    let t1 = k1.q; // θ = 0
+    let th2 = t1 * (half * dt);
+    let s2 = at(&th2, &k1, half);
+    let k2 = stage(1, half * dt, &s2)?;
+    let t2 = dexpinv(&th2, &k2.q);
+    let th3 = t2 * (half * dt);
+    let s3 = at(&th3, &k2, half);
+    let k3 = stage(2, half * dt, &s3)?;
+    let t3 = dexpinv(&th3, &k3.q);
+    let th4 = t3 * dt;
+    let s4 = at(&th4, &k3, T::one());
+    let k4 = stage(3, dt, &s4)?;
+    let t4 = dexpinv(&th4, &k4.q);
+    let w = dt * sixth;
+    let two = T::one() + T::one();
+    let theta = (t1 + t2 * two + t3 * two + t4) * w;
+    Ok(AugmentedState {
+        q: s.q.compose(&G::exp(&theta)).normalized(),
+        v: s.v + (k1.v + k2.v * two + k3.v * two + k4.v) * w,
+        tau: s.tau + (k1.tau + k2.tau * two + k3.tau * two + k4.tau) * w,
+        tau_dot: s.tau_dot + (k1.tau_dot + k2.tau_dot * two + k3.tau_dot * two + k4.tau_dot) * w,
+        flywheel_speed: s.flywheel_speed
+            + (k1.flywheel_speed
+                + k2.flywheel_speed * two
+                + k3.flywheel_speed * two
+                + k4.flywheel_speed)
+                * w,
+    })
 }

@@ -2,7 +2,7 @@
 
 use crate::contact::{ContactForces, Environment, PlanarArm};
 use crate::error::{Result, SimError};
-use crate::integrate::{ClosedLoop, RK4_WEIGHTS};
+use crate::integrate::{ClosedLoop, Derivative, RK4_WEIGHTS};
 use crate::run_loop::{self, Surroundings};
 use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
 use crate::series::JointSeries;
@@ -266,6 +266,8 @@ impl<'a> Row<'a> {
 
 /// One RK4 step of the arm alone under the generalized force `force(i, c, q, q̇)` at the
 /// stages `i = 0..4` (time offsets `c = 0, h/2, h/2, h`): motor torque, friction, contact.
+/// The step is the simulation's one integrator, [`crate::integrate::rkmk4`], on `(q, q̇)`
+/// with the controller's internal states held (their rates zero).
 pub(crate) fn plant_rk4<G, Sys, const N: usize>(
     arm: &Sys,
     q: &G,
@@ -277,20 +279,27 @@ where
     G: LieGroup<f64, N>,
     Sys: MechanicalSystem<f64, G, N>,
 {
-    let mut f = |i: usize, c: f64, q: &G, v: &SVector<f64, N>| -> Result<SVector<f64, N>> {
-        let u = force(i, c, q, v)?;
-        Ok(arm.acceleration(q, v, &u)?)
+    let mut rate =
+        |i: usize, c: f64, x: &AugmentedState<f64, G, N>| -> Result<Derivative<f64, N>> {
+            let u = force(i, c, &x.q, &x.v)?;
+            Ok(Derivative {
+                q: x.v,
+                v: arm.acceleration(&x.q, &x.v, &u)?,
+                tau: 0.0,
+                tau_dot: 0.0,
+                flywheel_speed: 0.0,
+            })
+        };
+    let s = AugmentedState {
+        q: *q,
+        v: *v,
+        tau: 0.0,
+        tau_dot: 0.0,
+        flywheel_speed: 0.0,
     };
-    let a1 = f(0, 0.0, q, v)?;
-    let (q2, v2) = (q.retract(v, 0.5 * h), v + a1 * (0.5 * h));
-    let a2 = f(1, 0.5 * h, &q2, &v2)?;
-    let (q3, v3) = (q.retract(&v2, 0.5 * h), v + a2 * (0.5 * h));
-    let a3 = f(2, 0.5 * h, &q3, &v3)?;
-    let (q4, v4) = (q.retract(&v3, h), v + a3 * h);
-    let a4 = f(3, h, &q4, &v4)?;
-    let qn = q.retract(&((v + v2 * 2.0 + v3 * 2.0 + v4) / 6.0), h);
-    let vn = v + (a1 + a2 * 2.0 + a3 * 2.0 + a4) * (h / 6.0);
-    Ok((qn, vn))
+    let k1 = rate(0, 0.0, &s)?;
+    let next = crate::integrate::rkmk4(&s, &k1, h, rate)?;
+    Ok((next.q, next.v))
 }
 
 /// Timing of a run: controller period, plant step, number of controller periods.
