@@ -98,3 +98,12 @@ pub fn out_series<'py>(
         .map(|a| a.into_pyarray(py))
         .unwrap_or_else(|_| Array2::<f64>::zeros((0, s.dof())).into_pyarray(py))
 }
+
+/// A trace column as a fresh array: shape `(n,)` for a scalar column, `(n, width)` for a
+/// vector column.
+pub fn out_column<'py>(py: Python<'py>, v: pvfc_sim::trace::Values<'_>) -> Bound<'py, PyAny> {
+    match v {
+        pvfc_sim::trace::Values::Scalar(x) => out1(py, x.to_vec()).into_any(),
+        pvfc_sim::trace::Values::Vectors(s) => out_series(py, s).into_any(),
+    }
+}

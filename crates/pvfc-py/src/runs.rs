@@ -1,9 +1,8 @@
 //! Scenarios and runs: `pvfc.Scenario`, `SimulationResult`, `simulate`, `simulate_many`,
 //! `simulate_timed`, `read_mcap`.
 
-use crate::convert::{dyn_vector, out1, out_series};
+use crate::convert::{dyn_vector, out1, out_column};
 use crate::errors::sim_err;
-use numpy::{PyArray1, PyArray2};
 use pvfc_sim::scenario::Scenario as SimScenario;
 use pvfc_sim::simulate::Trace;
 use pyo3::exceptions::PyValueError;
@@ -113,54 +112,30 @@ pub(crate) struct SimulationResult {
     period: f64,
 }
 
-macro_rules! series {
-    ($($name:ident => $field:ident, $doc:literal;)*) => {
+/// The run's columns as properties, one per entry of `pvfc_sim::trace_columns!` (the one
+/// list of them: the MCAP log writes the same).
+macro_rules! trace_getters {
+    (
+        trace { $($n:ident as $p:ident : $shape:ident $log:ident $doc:literal;)* }
+        contact { $($rest:tt)* }
+    ) => {
         #[pymethods]
         impl SimulationResult {
             $(
                 #[doc = $doc]
                 #[getter]
-                fn $name<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-                    out1(py, self.t.$field.clone())
+                fn $p<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
+                    out_column(py, pvfc_sim::trace::Values::from(&self.t.$n))
                 }
             )*
         }
     };
 }
 
-series! {
-    t => t, "Time (s).";
-    tau => tau, "Contour parameter τ (unwrapped).";
-    tau_dot => tau_dot, "dτ/dt.";
-    flywheel_speed => flywheel_speed, "Flywheel speed q̇_F (rad/s).";
-    beta => beta, "β = √(κ_a/Ē).";
-    potential => potential, "U(E), eq. (17).";
-    lambda1 => lambda1, "Self-pacing gain λ₁.";
-    lambda2 => lambda2, "Self-pacing gain λ₂.";
-    energy => energy, "Augmented kinetic energy κ_a (J).";
-    friction_power => friction_power, "Power of the plant's friction (W, ≤ 0).";
-}
+pvfc_sim::trace_columns!(trace_getters);
 
 #[pymethods]
 impl SimulationResult {
-    /// Joint angles, shape (n, 2).
-    #[getter]
-    fn q<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        out_series(py, &self.t.q)
-    }
-
-    /// Joint velocities, shape (n, 2).
-    #[getter]
-    fn qdot<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        out_series(py, &self.t.v)
-    }
-
-    /// Motor torques, shape (n, 2).
-    #[getter]
-    fn torque<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        out_series(py, &self.t.torque)
-    }
-
     /// The run's name.
     #[getter]
     fn name(&self) -> String {
@@ -184,16 +159,9 @@ impl SimulationResult {
             return Ok(None);
         };
         let d = PyDict::new(py);
-        d.set_item("force", out_series(py, &c.force))?;
-        d.set_item("normal_force", out1(py, c.normal_force.clone()))?;
-        d.set_item("depth", out1(py, c.depth.clone()))?;
-        d.set_item("torque", out_series(py, &c.torque))?;
-        d.set_item("tool", out_series(py, &c.tool))?;
-        d.set_item("work_contact", out1(py, c.work_contact.clone()))?;
-        d.set_item("work_friction", out1(py, c.work_friction.clone()))?;
-        d.set_item("work_controller", out1(py, c.work_controller.clone()))?;
-        d.set_item("work_gravity", out1(py, c.work_gravity.clone()))?;
-        d.set_item("nominal_speed", out1(py, c.nominal_speed.clone()))?;
+        for col in pvfc_sim::trace::CONTACT_COLUMNS {
+            d.set_item(col.python, out_column(py, (col.get)(c)))?;
+        }
         d.set_item("audit_residual", out1(py, c.audit_residual(&self.t.energy)))?;
         Ok(Some(d))
     }

@@ -494,9 +494,14 @@ pub struct ArmSystem {
 }
 
 impl ArmSystem {
-    /// Builds the system of a URDF arm's scenario (`[plant] urdf`).
+    /// Builds the system of a URDF arm's scenario (`[plant] urdf`), checking the scenario
+    /// against the robot on the way: this is also how [`Scenario::validate`] checks a URDF
+    /// arm's scenario.
+    ///
+    /// [`Scenario::validate`]: crate::scenario::Scenario::validate
     pub fn build(s: &crate::scenario::Scenario) -> Result<Self> {
         let robot = s.robot()?;
+        s.check_chain(&robot)?;
         let settings = s.arm_settings_for(&robot)?;
         let controller = ArmController::new(&robot, &settings)?;
         Ok(ArmSystem {

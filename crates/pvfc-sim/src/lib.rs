@@ -35,6 +35,7 @@ pub mod scenario;
 pub mod series;
 pub mod simulate;
 mod stepper;
+pub mod trace;
 pub mod urdf;
 
 pub use error::{Result, SimError};

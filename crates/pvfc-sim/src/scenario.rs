@@ -634,16 +634,18 @@ impl Scenario {
                 return bad("contact.force_schedule needs controller.nominal_speed (eq. 36)");
             }
         }
-        if let Some(p) = &self.controller.passive {
-            if self.simulation.mode != Mode::Sampled {
-                return bad(
-                    "controller.passive: the passive digital controller runs in the sampled mode",
-                );
-            }
-            p.validate_for(self.dof()?)?;
+        if self.controller.passive.is_some() && self.simulation.mode != Mode::Sampled {
+            return bad(
+                "controller.passive: the passive digital controller runs in the sampled mode",
+            );
         }
         if self.is_chain() {
-            return self.validate_chain();
+            // A URDF arm is validated by building its system: the same code path as a run's,
+            // the URDF read once.
+            return crate::arm::ArmSystem::build(self).map(drop);
+        }
+        if let Some(p) = &self.controller.passive {
+            p.validate_for(2)?;
         }
         if self.contact_3d.is_some() {
             return bad("contact_3d: 3-D contact is for URDF arms; the SCARA's is [contact]");
@@ -786,14 +788,16 @@ impl Scenario {
         })
     }
 
-    fn validate_chain(&self) -> Result<()> {
+    /// The checks of a URDF arm's scenario against its robot (the lengths of the per-joint
+    /// lists, the 3-D contact, the baseline, the passive drive), for
+    /// [`ArmSystem::build`](crate::arm::ArmSystem::build).
+    pub(crate) fn check_chain(&self, robot: &crate::robot::Robot) -> Result<()> {
         let bad = |what: &str| Err(SimError::Setting(what.to_string()));
         if self.contact.is_some() {
             return bad(
                 "contact: the planar contact is for the SCARA; a URDF arm's is [contact_3d]",
             );
         }
-        let robot = self.robot()?;
         let n = robot.dof();
         for (x, field) in [
             (&self.initial.q, "initial.q"),
@@ -823,7 +827,9 @@ impl Scenario {
                 )));
             }
         }
-        crate::arm::ArmController::new(&robot, &self.arm_settings_for(&robot)?)?;
+        if let Some(p) = &self.controller.passive {
+            p.validate_for(n)?;
+        }
         Ok(())
     }
 

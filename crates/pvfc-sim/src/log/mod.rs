@@ -6,8 +6,8 @@ pub mod cdr;
 pub mod scene;
 
 use crate::error::{Result, SimError};
-use crate::simulate::Trace;
-use cdr::{Field, MessageType, Width};
+use crate::trace::{Column, Shape, Trace, Values, CONTACT_COLUMNS, TRACE_COLUMNS};
+use cdr::{Field, MessageType};
 use scene::ArmScene;
 use std::collections::BTreeMap;
 use std::io::BufWriter;
@@ -21,64 +21,64 @@ pub const CONTROLLER_TOPIC: &str = "/pvfc/controller";
 
 /// Topic of the contact columns (runs with an environment): `force`, `normal_force`,
 /// `depth`, `torque`, `tool`, `work_contact`, `work_friction`, `work_controller`,
-/// `nominal_speed`.
+/// `work_gravity`, `nominal_speed`.
 pub const CONTACT_TOPIC: &str = "/pvfc/contact";
 
 fn mcap_err(e: impl std::fmt::Display) -> SimError {
     SimError::Mcap(e.to_string())
 }
 
-/// The joint state's message for `n` joints.
-fn joint_state(n: usize) -> MessageType {
-    MessageType {
-        name: "pvfc/msg/JointState".into(),
-        fields: vec![
-            Field::array("q", Width::F32, n),
-            Field::array("v", Width::F32, n),
-            Field::array("torque", Width::F32, n),
-        ],
-    }
+/// A message of the columns of `trace` that `keep` selects, as the log writes them (field
+/// names, widths and order from [`crate::trace_columns!`]; vectors as fixed-size arrays of
+/// the trace's own size).
+fn message<S>(
+    name: &str,
+    columns: &[Column<S>],
+    trace: &S,
+    keep: impl Fn(&Column<S>) -> bool,
+) -> (MessageType, Vec<Column<S>>) {
+    let chosen: Vec<Column<S>> = columns
+        .iter()
+        .filter(|c| c.log.is_some() && keep(c))
+        .copied()
+        .collect();
+    let fields = chosen
+        .iter()
+        .filter_map(|c| {
+            let width = c.log?;
+            Some(match (c.get)(trace) {
+                Values::Vectors(v) => Field::array(c.name, width, v.dof()),
+                Values::Scalar(_) => Field::scalar(c.name, width),
+            })
+        })
+        .collect();
+    (
+        MessageType {
+            name: name.into(),
+            fields,
+        },
+        chosen,
+    )
 }
 
-/// The controller's message: `energy` (κ_a, the audit's) in `float64`.
-fn controller() -> MessageType {
-    let f = |name| Field::scalar(name, Width::F32);
-    MessageType {
-        name: "pvfc/msg/Controller".into(),
-        fields: vec![
-            Field::scalar("energy", Width::F64),
-            f("tau"),
-            f("tau_dot"),
-            f("flywheel_speed"),
-            f("beta"),
-            f("potential"),
-            f("lambda1"),
-            f("lambda2"),
-            f("friction_power"),
-        ],
-    }
-}
-
-/// The contact columns' message for a `dim`-D workspace and `dof` joints: the works (the
-/// audit's) in `float64`.
-fn contact(dim: usize, dof: usize) -> MessageType {
-    let f = |name| Field::scalar(name, Width::F32);
-    let vector = |name, n| Field::array(name, Width::F32, n);
-    MessageType {
-        name: "pvfc/msg/Contact".into(),
-        fields: vec![
-            Field::scalar("work_contact", Width::F64),
-            Field::scalar("work_friction", Width::F64),
-            Field::scalar("work_controller", Width::F64),
-            Field::scalar("work_gravity", Width::F64),
-            vector("force", dim),
-            f("normal_force"),
-            f("depth"),
-            vector("torque", dof),
-            vector("tool", dim),
-            f("nominal_speed"),
-        ],
-    }
+/// Encodes sample `i` of `columns` of `trace` as the message `t`.
+fn encode_sample<S>(
+    t: &MessageType,
+    columns: &[Column<S>],
+    trace: &S,
+    i: usize,
+    buf: &mut Vec<u8>,
+) -> Result<()> {
+    let values: Vec<Values<'_>> = columns.iter().map(|c| (c.get)(trace)).collect();
+    let samples = values
+        .iter()
+        .zip(columns)
+        .map(|(v, c)| {
+            v.sample(i)
+                .ok_or_else(|| mcap_err(format!("column {} has no sample {i}", c.name)))
+        })
+        .collect::<Result<Vec<&[f64]>>>()?;
+    t.encode(&samples, buf)
 }
 
 /// What a log holds beside the plot channels, and how densely they are sampled.
@@ -139,15 +139,21 @@ pub fn write_mcap_with(trace: &Trace, options: &LogOptions<'_>, path: &Path) -> 
             .map_err(mcap_err)?;
         w.add_channel(schema, topic, "cdr", &meta).map_err(mcap_err)
     };
+    // The joint state (q, v, torque), the controller's internals, and the contact columns.
+    let (jt, jcols) = message("pvfc/msg/JointState", TRACE_COLUMNS, trace, |c| {
+        c.shape != Shape::Scalar
+    });
+    let (ct, ccols) = message("pvfc/msg/Controller", TRACE_COLUMNS, trace, |c| {
+        c.shape == Shape::Scalar
+    });
     let kt = trace
         .contact
         .as_ref()
-        .map(|c| contact(c.force.dof(), c.torque.dof()));
-    let (jt, ct) = (joint_state(trace.q.dof()), controller());
+        .map(|c| message("pvfc/msg/Contact", CONTACT_COLUMNS, c, |_| true));
     let jc = channel(&jt, JOINT_STATE_TOPIC)?;
     let cc = channel(&ct, CONTROLLER_TOPIC)?;
     let kc = match &kt {
-        Some(kt) => Some((channel(kt, CONTACT_TOPIC)?, kt)),
+        Some((kt, kcols)) => Some((channel(kt, CONTACT_TOPIC)?, kt, kcols)),
         None => None,
     };
     if let Some(scene) = options.scene {
@@ -165,39 +171,12 @@ pub fn write_mcap_with(trace: &Trace, options: &LogOptions<'_>, path: &Path) -> 
             };
             w.write_to_known_channel(&header, data).map_err(mcap_err)
         };
-        jt.encode(&[&trace.q[i], &trace.v[i], &trace.torque[i]], &mut buf)?;
+        encode_sample(&jt, &jcols, trace, i, &mut buf)?;
         put(jc, &buf)?;
-        ct.encode(
-            &[
-                &[trace.energy[i]],
-                &[trace.tau[i]],
-                &[trace.tau_dot[i]],
-                &[trace.flywheel_speed[i]],
-                &[trace.beta[i]],
-                &[trace.potential[i]],
-                &[trace.lambda1[i]],
-                &[trace.lambda2[i]],
-                &[trace.friction_power[i]],
-            ],
-            &mut buf,
-        )?;
+        encode_sample(&ct, &ccols, trace, i, &mut buf)?;
         put(cc, &buf)?;
-        if let (Some((kc, kt)), Some(c)) = (kc, &trace.contact) {
-            kt.encode(
-                &[
-                    &[c.work_contact[i]],
-                    &[c.work_friction[i]],
-                    &[c.work_controller[i]],
-                    &[c.work_gravity[i]],
-                    &c.force[i],
-                    &[c.normal_force[i]],
-                    &[c.depth[i]],
-                    &c.torque[i],
-                    &c.tool[i],
-                    &[c.nominal_speed[i]],
-                ],
-                &mut buf,
-            )?;
+        if let (Some((kc, kt, kcols)), Some(c)) = (kc, &trace.contact) {
+            encode_sample(kt, kcols, c, i, &mut buf)?;
             put(kc, &buf)?;
         }
     }
