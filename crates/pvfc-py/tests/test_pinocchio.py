@@ -1,6 +1,7 @@
 """pvfc's rigid-body models against Pinocchio, the reference implementation, on the UR5 and
-the Franka Panda of ``example-robot-data``: M, C, Ṁ = C + Cᵀ, g, RNEA, the tool pose and the
-tool Jacobian at 1,000 random states each.
+the Franka Panda of ``example-robot-data`` and six more of its arms (UR3, UR10, xArm 7, Z1,
+SO-101, TALOS's left arm): M, C, Ṁ = C + Cᵀ, g, RNEA, the tool pose and the tool Jacobian at
+1,000 random states each.
 
 Conventions matched: Pinocchio's ``crba`` (upper triangle, mirrored), ``computeCoriolisMatrix``
 (Christoffel-consistent, like pvfc's), ``computeGeneralizedGravity`` with Pinocchio's gravity
@@ -51,6 +52,8 @@ def erd_robots() -> pathlib.Path:
     pytest.skip("example-robot-data is not installed")
 
 
+# name: (the package's URDF, the copy shipped under models/ or None, the tip link, the
+# joints Pinocchio locks at 0: a list, or None for every joint pvfc does not move).
 ROBOTS = {
     "ur5": ("ur_description/urdf/ur5_robot.urdf", "ur5/ur5_robot.urdf", "tool0", []),
     "panda": (
@@ -59,19 +62,34 @@ ROBOTS = {
         "panda_hand_tcp",
         ["panda_finger_joint1", "panda_finger_joint2"],
     ),
+    # More arms of the package, read as a user would (none is shipped): the UR3 and UR10,
+    # UFactory's xArm 7, Unitree's Z1, the SO-101 (its gripper frame a point mass fixed to
+    # the wrist, folded in) and TALOS's left arm (the gripper locked, with the point masses
+    # of its force sensor).
+    "ur3": ("ur_description/urdf/ur3_robot.urdf", None, "tool0", []),
+    "ur10": ("ur_description/urdf/ur10_robot.urdf", None, "tool0", []),
+    "xarm7": ("xarm_description/urdf/xarm7.urdf", None, "link_eef", []),
+    "z1": ("z1_description/urdf/z1.urdf", None, "gripperMover", []),
+    "so101": ("so_arm_description/urdf/so101.urdf", None, "gripper_frame_link", None),
+    "talos_left_arm": ("talos_data/robots/talos_left_arm.urdf", None, "arm_left_7_link", None),
 }
 
 
 def models(name: str):
     package_path, shipped, tip, locked = ROBOTS[name]
     urdf = erd_robots() / package_path
-    # The copy shipped under models/ (used by the Rust tests and scenarios) is the package's.
-    assert (REPO / "models" / shipped).read_bytes() == urdf.read_bytes()
+    if shipped is not None:
+        # The copy shipped under models/ (used by the Rust tests and scenarios) is the
+        # package's.
+        assert (REPO / "models" / shipped).read_bytes() == urdf.read_bytes()
     model = pin.buildModelFromUrdf(str(urdf))
+    robot = pvfc.Robot.from_urdf(str(urdf), tip=tip)
+    if locked is None:
+        locked = [j for j in model.names[1:] if j not in robot.joint_names]
     if locked:
         ids = [model.getJointId(j) for j in locked]
         model = pin.buildReducedModel(model, ids, pin.neutral(model))
-    robot = pvfc.Robot.from_urdf(str(urdf), tip=tip).with_gravity(model.gravity.linear)
+    robot = robot.with_gravity(model.gravity.linear)
     assert robot.dof == model.nv == model.nq
     assert robot.joint_names == [model.names[i] for i in range(1, model.njoints)]
     assert sorted(robot.locked_joints) == sorted(locked)
@@ -82,7 +100,7 @@ def rel(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.max(np.abs(a - b)) / max(1.0, float(np.max(np.abs(b)))))
 
 
-@pytest.mark.parametrize("name", ["ur5", "panda"])
+@pytest.mark.parametrize("name", list(ROBOTS))
 def test_dynamics_and_kinematics_match_pinocchio(name: str) -> None:
     robot, model, frame = models(name)
     data = model.createData()

@@ -148,3 +148,77 @@ fn the_scara_urdf_as_a_chain_matches_the_closed_form() {
         assert!(chain.gravity_torque(&SVector::from(*q.angles())).amax() < 1e-12);
     }
 }
+
+/// A point mass (mass > 0, zero rotational inertia: a payload, a sensor, a flange) fixed to a
+/// link is accepted, as Pinocchio accepts it, and folds in by the parallel-axis theorem; what
+/// must be positive definite is each moving body with what is folded into it.
+#[test]
+fn a_point_mass_fixed_to_a_link_folds_in() {
+    let t = ur5_text();
+    let massless = r#"<link name="tool0">
+    <inertial>
+      <mass value="0"/>"#;
+    assert!(t.contains(massless));
+    let payload = t.replace(
+        massless,
+        r#"<link name="tool0">
+    <inertial>
+      <mass value="0.5"/>"#,
+    );
+    let read = |text: &str| {
+        ChainDescription::from_str(text, Path::new("test.urdf"), None, Some("tool0")).unwrap()
+    };
+    let (bare, loaded) = (read(&t), read(&payload));
+    let (w, p) = (&bare.links[5], &loaded.links[5]);
+    assert!((p.mass - w.mass - 0.5).abs() < 1e-12);
+    // tool0 sits 0.0823 m along wrist_3's y axis: the COM and the inertia about it move as
+    // the parallel-axis theorem says.
+    let at = nalgebra::Vector3::new(0.0, 0.0823, 0.0);
+    let com = (w.com * w.mass + at * 0.5) / p.mass;
+    assert!((p.com - com).norm() < 1e-12, "{} vs {com}", p.com);
+    let shift = |m: f64, d: nalgebra::Vector3<f64>| {
+        (nalgebra::Matrix3::identity() * d.dot(&d) - d * d.transpose()) * m
+    };
+    let expected = w.inertia + shift(w.mass, w.com - com) + shift(0.5, at - com);
+    assert!((p.inertia - expected).amax() < 1e-12);
+    // The other bodies are untouched.
+    assert_eq!(bare.links[..5], loaded.links[..5]);
+
+    // A moving link that is a point mass with nothing folded into it is refused, by name.
+    let w3 = t.find(r#"<link name="wrist_3_link">"#).unwrap();
+    let inertia_at = w3 + t[w3..].find("<inertia ").unwrap();
+    let inertia_end = inertia_at + t[inertia_at..].find("/>").unwrap() + 2;
+    let point = format!(
+        "{}{}{}",
+        &t[..inertia_at],
+        r#"<inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>"#,
+        &t[inertia_end..]
+    );
+    let (element, message) = error(&point, None, Some("tool0"));
+    assert_eq!(element, "link wrist_3_link");
+    assert!(message.contains("body's inertia"), "{message}");
+    // With the payload folded in it is still a point-mass body (two points on a line): refused.
+    // A payload with its own inertia makes the body positive definite again.
+    let tool0 = r#"<link name="tool0">
+    <inertial>
+      <mass value="0"/>
+      <origin rpy="0 0 0" xyz="0 0 0"/>
+      <inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>"#;
+    assert!(point.contains(tool0));
+    let solid = point.replace(
+        tool0,
+        r#"<link name="tool0">
+    <inertial>
+      <mass value="0.5"/>
+      <origin rpy="0 0 0" xyz="0 0 0"/>
+      <inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" izz="1e-3"/>"#,
+    );
+    assert!(ChainDescription::from_str(&solid, Path::new("t.urdf"), None, Some("tool0")).is_ok());
+}
+
+#[test]
+fn an_empty_urdf_says_so() {
+    let (element, message) = error("<robot name='x'></robot>", None, None);
+    assert_eq!(element, "robot");
+    assert!(message.contains("no <link>"), "{message}");
+}

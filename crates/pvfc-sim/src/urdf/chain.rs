@@ -243,6 +243,7 @@ impl<'a> Reader<'a> {
             .collect();
         match roots.as_slice() {
             [one] => Ok(one),
+            [] if self.robot.links.is_empty() => Err(self.e("robot", "the URDF has no <link>")),
             [] => Err(self.e("robot", "no root link (the joints form a cycle)")),
             many => Err(self.e("robot", format!("several root links: {}", many.join(", ")))),
         }
@@ -473,13 +474,20 @@ impl<'a> Reader<'a> {
         }
         let t = &i.inertia;
         let entries = [t.ixx, t.ixy, t.ixz, t.iyy, t.iyz, t.izz];
-        let own = RigidInertia::from_urdf(m, &pose_of(&i.origin), entries);
-        own.validate("inertial").map_err(|e| {
-            self.e(
+        // A link's own inertia may be a point mass's (zero) or otherwise semi-definite, as
+        // Pinocchio accepts: a tool, a sensor or a flange fixed to a link adds its mass and
+        // its parallel-axis term. What must be positive definite is each moving body's
+        // inertia with everything folded into it, checked in `read`.
+        if !semi_definite(entries) {
+            return Err(self.e(
                 element(),
-                format!("<inertia> {entries:?} must be symmetric positive definite: {e}"),
-            )
-        })?;
+                format!(
+                    "<inertia> {entries:?} must be finite, symmetric positive definite, or \
+                     semi-definite (a point mass)"
+                ),
+            ));
+        }
+        let own = RigidInertia::from_urdf(m, &pose_of(&i.origin), entries);
         let placed = own.transformed(at);
         Ok(Some(match body {
             Some(b) => b.combined(&placed),
@@ -513,4 +521,16 @@ impl<'a> Reader<'a> {
         }
         Ok(body)
     }
+}
+
+/// `true` when the URDF's inertia entries `[ixx, ixy, ixz, iyy, iyz, izz]` are finite and
+/// form a positive semi-definite matrix (to rounding: eigenvalues ≥ −1e-12 of the largest).
+fn semi_definite(i: [f64; 6]) -> bool {
+    if !i.iter().all(|x| x.is_finite()) {
+        return false;
+    }
+    let m = nalgebra::Matrix3::new(i[0], i[1], i[2], i[1], i[3], i[4], i[2], i[4], i[5]);
+    let e = m.symmetric_eigenvalues();
+    let scale = e.amax();
+    e.iter().all(|l| *l >= -1e-12 * scale)
 }
