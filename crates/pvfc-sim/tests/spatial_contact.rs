@@ -423,12 +423,16 @@ fn urdf_collision_primitives_are_placed_on_their_bodies() {
         );
         assert_eq!(c.points[0].0, body);
     }
-    // Bad sizes name the link; an unknown package names the link, the mesh and the fix.
+    // Bad sizes name the link when a contact world uses them; the chain's dynamics still
+    // load (a malformed <collision> does not stop a robot that touches nothing). An unknown
+    // package names the link, the mesh and the fix.
     let bad = urdf.replace(r#"radius="0.03""#, r#"radius="-0.03""#);
-    let e =
+    let d =
         pvfc_sim::urdf::ChainDescription::from_str(&bad, Path::new("p.urdf"), None, Some("tip"))
-            .unwrap_err()
-            .to_string();
+            .unwrap();
+    let e = SpatialWorld::new(&s, &Robot::from_description(d).unwrap())
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("link knob <collision>") && e.contains("> 0"),
         "{e}"

@@ -389,7 +389,7 @@ impl<'a> Reader<'a> {
             let Some(b) = *body else {
                 continue; // fixed to the base: does not move
             };
-            collisions.extend(link_collisions(self.path, self.link(link)?, b, from_body)?);
+            collisions.extend(link_collisions(self.link(link)?, b, from_body));
             for side in self.child_joints.get(link).into_iter().flatten() {
                 if on_path.contains(&side.child.link.as_str()) {
                     continue;
@@ -433,7 +433,7 @@ impl<'a> Reader<'a> {
         out: &mut Vec<LinkCollision>,
     ) -> Result<()> {
         let link = self.link(&j.child.link)?;
-        out.extend(link_collisions(self.path, link, b, at)?);
+        out.extend(link_collisions(link, b, at));
         for below in self
             .child_joints
             .get(link.name.as_str())

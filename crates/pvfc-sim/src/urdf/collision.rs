@@ -2,7 +2,6 @@
 //! (for 3-D contact, [`crate::contact::spatial`]). Reading them never opens a mesh file: a mesh
 //! is kept by name and resolved only when a contact world asks for it ([`resolve_mesh`]).
 
-use super::err;
 use crate::error::{Result, SimError};
 use pvfc_core::mechanics::Pose;
 use std::collections::BTreeMap;
@@ -62,16 +61,14 @@ pub struct LinkCollision {
     pub geometry: CollisionGeometry,
 }
 
-/// The collision elements of `link`, placed at `at` on body `body`; sizes checked (finite,
-/// > 0), naming the link.
+/// The collision elements of `link`, placed at `at` on body `body`. Their sizes are checked
+/// when a contact world uses them ([`CollisionGeometry::check`]), not here: a malformed
+/// `<collision>` must not stop the dynamics of a chain that never touches anything.
 pub(crate) fn link_collisions(
-    path: &Path,
     link: &urdf_rs::Link,
     body: usize,
     at: &Pose<f64>,
-) -> Result<Vec<LinkCollision>> {
-    let element = || format!("link {} <collision>", link.name);
-    let positive = |xs: &[f64]| xs.iter().all(|x| x.is_finite() && *x > 0.0);
+) -> Vec<LinkCollision> {
     link.collision
         .iter()
         .map(|c| {
@@ -93,29 +90,40 @@ pub(crate) fn link_collisions(
                     scale: scale.map_or([1.0; 3], |s| s.0),
                 },
             };
-            let sizes: Vec<f64> = match &geometry {
-                CollisionGeometry::Box { size } => size.to_vec(),
-                CollisionGeometry::Cylinder { radius, length }
-                | CollisionGeometry::Capsule { radius, length } => vec![*radius, *length],
-                CollisionGeometry::Sphere { radius } => vec![*radius],
-                CollisionGeometry::Mesh { scale, .. } => scale.to_vec(),
-            };
-            if !positive(&sizes) {
-                return Err(err(
-                    path,
-                    element(),
-                    format!("sizes {sizes:?} must be finite and > 0"),
-                ));
-            }
             let origin = Pose::from_xyz_rpy(c.origin.xyz.0, c.origin.rpy.0);
-            Ok(LinkCollision {
+            LinkCollision {
                 body,
                 link: link.name.clone(),
                 origin: at.compose(&origin),
                 geometry,
-            })
+            }
         })
         .collect()
+}
+
+impl CollisionGeometry {
+    /// The shape's sizes (a box's sides, a radius and a length, a mesh's scale).
+    pub fn sizes(&self) -> Vec<f64> {
+        match self {
+            CollisionGeometry::Box { size } => size.to_vec(),
+            CollisionGeometry::Cylinder { radius, length }
+            | CollisionGeometry::Capsule { radius, length } => vec![*radius, *length],
+            CollisionGeometry::Sphere { radius } => vec![*radius],
+            CollisionGeometry::Mesh { scale, .. } => scale.to_vec(),
+        }
+    }
+
+    /// Checks that every size is finite and > 0; the error names `link`'s `<collision>`.
+    pub fn check(&self, link: &str) -> Result<()> {
+        let sizes = self.sizes();
+        if sizes.iter().all(|x| x.is_finite() && *x > 0.0) {
+            Ok(())
+        } else {
+            Err(SimError::Setting(format!(
+                "link {link} <collision>: sizes {sizes:?} must be finite and > 0"
+            )))
+        }
+    }
 }
 
 /// The file of a mesh's `filename`: `package://NAME/REST` is `packages[NAME]/REST` (as ROS

@@ -133,6 +133,7 @@ impl Solid {
         urdf_dir: &Path,
         packages: &BTreeMap<String, PathBuf>,
     ) -> Result<(Solid, Pose<f64>)> {
+        c.geometry.check(&c.link)?;
         Ok(match &c.geometry {
             CollisionGeometry::Box { size } => (
                 Solid::Cuboid(Cuboid::new(RVector::from_array(*size) * 0.5)),
