@@ -61,24 +61,26 @@ fn message<S>(
     )
 }
 
-/// Encodes sample `i` of `columns` of `trace` as the message `t`.
-fn encode_sample<S>(
+/// Encodes sample `i` of the columns' `values` (those of [`message`]) as the message `t`.
+fn encode_sample(
     t: &MessageType,
-    columns: &[Column<S>],
-    trace: &S,
+    values: &[(&'static str, Values<'_>)],
     i: usize,
     buf: &mut Vec<u8>,
 ) -> Result<()> {
-    let values: Vec<Values<'_>> = columns.iter().map(|c| (c.get)(trace)).collect();
     let samples = values
         .iter()
-        .zip(columns)
-        .map(|(v, c)| {
+        .map(|(name, v)| {
             v.sample(i)
-                .ok_or_else(|| mcap_err(format!("column {} has no sample {i}", c.name)))
+                .ok_or_else(|| mcap_err(format!("column {name} has no sample {i}")))
         })
         .collect::<Result<Vec<&[f64]>>>()?;
     t.encode(&samples, buf)
+}
+
+/// The samples of `columns` of `trace`, by name.
+fn values_of<'a, S>(columns: &[Column<S>], trace: &'a S) -> Vec<(&'static str, Values<'a>)> {
+    columns.iter().map(|c| (c.name, (c.get)(trace))).collect()
 }
 
 /// What a log holds beside the plot channels, and how densely they are sampled.
@@ -153,8 +155,13 @@ pub fn write_mcap_with(trace: &Trace, options: &LogOptions<'_>, path: &Path) -> 
     let jc = channel(&jt, JOINT_STATE_TOPIC)?;
     let cc = channel(&ct, CONTROLLER_TOPIC)?;
     let kc = match &kt {
-        Some((kt, kcols)) => Some((channel(kt, CONTACT_TOPIC)?, kt, kcols)),
+        Some((kt, _)) => Some((channel(kt, CONTACT_TOPIC)?, kt)),
         None => None,
+    };
+    let (jvals, cvals) = (values_of(&jcols, trace), values_of(&ccols, trace));
+    let kvals = match (&kt, &trace.contact) {
+        (Some((_, kcols)), Some(c)) => Some(values_of(kcols, c)),
+        _ => None,
     };
     if let Some(scene) = options.scene {
         scene::write_scene(&mut w, scene, &meta)?;
@@ -171,12 +178,12 @@ pub fn write_mcap_with(trace: &Trace, options: &LogOptions<'_>, path: &Path) -> 
             };
             w.write_to_known_channel(&header, data).map_err(mcap_err)
         };
-        encode_sample(&jt, &jcols, trace, i, &mut buf)?;
+        encode_sample(&jt, &jvals, i, &mut buf)?;
         put(jc, &buf)?;
-        encode_sample(&ct, &ccols, trace, i, &mut buf)?;
+        encode_sample(&ct, &cvals, i, &mut buf)?;
         put(cc, &buf)?;
-        if let (Some((kc, kt, kcols)), Some(c)) = (kc, &trace.contact) {
-            encode_sample(kt, kcols, c, i, &mut buf)?;
+        if let (Some((kc, kt)), Some(kvals)) = (kc, &kvals) {
+            encode_sample(kt, kvals, i, &mut buf)?;
             put(kc, &buf)?;
         }
     }
