@@ -222,3 +222,21 @@ fn an_empty_urdf_says_so() {
     assert_eq!(element, "robot");
     assert!(message.contains("no <link>"), "{message}");
 }
+
+/// A `<texture/>` without `filename` (invalid, visual only; iCub's and Romeo's URDFs have
+/// them) does not stop the chain from loading: urdf-rs alone refuses it without naming it.
+#[test]
+fn an_empty_texture_is_ignored() {
+    let t = ur5_text();
+    let at = t.find("<link ").unwrap();
+    let textured = format!(
+        "{}<material name=\"metal\"><texture /><color rgba=\"0.7 0.7 0.7 1\"/></material>\n{}",
+        &t[..at],
+        &t[at..]
+    );
+    let read = |text: &str| {
+        ChainDescription::from_str(text, Path::new("test.urdf"), None, Some("tool0")).unwrap()
+    };
+    assert_eq!(read(&textured).links, read(&t).links);
+    assert!(urdf_rs::read_from_string(&textured).is_err());
+}

@@ -93,8 +93,7 @@ impl ChainDescription {
         base: Option<&str>,
         tip: Option<&str>,
     ) -> Result<Self> {
-        let robot =
-            urdf_rs::read_from_string(text).map_err(|e| err(path, "robot", e.to_string()))?;
+        let robot = super::parse(text, path)?;
         Reader::new(&robot, path)?.read(base, tip)
     }
 
@@ -524,13 +523,14 @@ impl<'a> Reader<'a> {
 }
 
 /// `true` when the URDF's inertia entries `[ixx, ixy, ixz, iyy, iyz, izz]` are finite and
-/// form a positive semi-definite matrix (to rounding: eigenvalues ≥ −1e-12 of the largest).
+/// form a positive semi-definite matrix, to rounding: eigenvalues ≥ −1e-12 of the largest, or
+/// of 1 kg·m² when all are smaller (iCub's point masses carry entries such as −5.4e-20).
 fn semi_definite(i: [f64; 6]) -> bool {
     if !i.iter().all(|x| x.is_finite()) {
         return false;
     }
     let m = nalgebra::Matrix3::new(i[0], i[1], i[2], i[1], i[3], i[4], i[2], i[4], i[5]);
     let e = m.symmetric_eigenvalues();
-    let scale = e.amax();
+    let scale = e.amax().max(1.0);
     e.iter().all(|l| *l >= -1e-12 * scale)
 }

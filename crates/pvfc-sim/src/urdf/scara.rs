@@ -20,7 +20,7 @@ pub fn scara_from_urdf(path: &Path) -> Result<ScaraParameters<f64>> {
 
 /// As [`scara_from_urdf`], from the file's text (`path` only names it in errors).
 pub fn scara_from_urdf_str(text: &str, path: &Path) -> Result<ScaraParameters<f64>> {
-    let robot = urdf_rs::read_from_string(text).map_err(|e| err(path, "robot", e.to_string()))?;
+    let robot = super::parse(text, path)?;
     let moving: Vec<&urdf_rs::Joint> = robot
         .joints
         .iter()
