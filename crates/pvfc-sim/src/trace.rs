@@ -106,14 +106,6 @@ impl Values<'_> {
             Values::Vectors(s) => s.get(i),
         }
     }
-
-    /// The numbers per sample (1 for a scalar column).
-    pub fn width(&self) -> usize {
-        match self {
-            Values::Scalar(_) => 1,
-            Values::Vectors(s) => s.dof(),
-        }
-    }
 }
 
 /// One column of a trace `S` ([`Trace`] or [`ContactTrace`]), as the log and the bindings

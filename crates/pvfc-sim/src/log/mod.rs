@@ -28,36 +28,34 @@ fn mcap_err(e: impl std::fmt::Display) -> SimError {
     SimError::Mcap(e.to_string())
 }
 
-/// A message of the columns of `trace` that `keep` selects, as the log writes them (field
+/// The message of the columns of `trace` that `keep` selects, as the log writes them (field
 /// names, widths and order from [`crate::trace_columns!`]; vectors as fixed-size arrays of
-/// the trace's own size).
-fn message<S>(
+/// the trace's own size), with those columns' samples, by name, for [`encode_sample`].
+fn message<'a, S>(
     name: &str,
     columns: &[Column<S>],
-    trace: &S,
+    trace: &'a S,
     keep: impl Fn(&Column<S>) -> bool,
-) -> (MessageType, Vec<Column<S>>) {
-    let chosen: Vec<Column<S>> = columns
+) -> (MessageType, Vec<(&'static str, Values<'a>)>) {
+    let (fields, values) = columns
         .iter()
-        .filter(|c| c.log.is_some() && keep(c))
-        .copied()
-        .collect();
-    let fields = chosen
-        .iter()
+        .filter(|c| keep(c))
         .filter_map(|c| {
             let width = c.log?;
-            Some(match (c.get)(trace) {
+            let values = (c.get)(trace);
+            let field = match values {
                 Values::Vectors(v) => Field::array(c.name, width, v.dof()),
                 Values::Scalar(_) => Field::scalar(c.name, width),
-            })
+            };
+            Some((field, (c.name, values)))
         })
-        .collect();
+        .unzip();
     (
         MessageType {
             name: name.into(),
             fields,
         },
-        chosen,
+        values,
     )
 }
 
@@ -76,11 +74,6 @@ fn encode_sample(
         })
         .collect::<Result<Vec<&[f64]>>>()?;
     t.encode(&samples, buf)
-}
-
-/// The samples of `columns` of `trace`, by name.
-fn values_of<'a, S>(columns: &[Column<S>], trace: &'a S) -> Vec<(&'static str, Values<'a>)> {
-    columns.iter().map(|c| (c.name, (c.get)(trace))).collect()
 }
 
 /// What a log holds beside the plot channels, and how densely they are sampled.
@@ -142,10 +135,10 @@ pub fn write_mcap_with(trace: &Trace, options: &LogOptions<'_>, path: &Path) -> 
         w.add_channel(schema, topic, "cdr", &meta).map_err(mcap_err)
     };
     // The joint state (q, v, torque), the controller's internals, and the contact columns.
-    let (jt, jcols) = message("pvfc/msg/JointState", TRACE_COLUMNS, trace, |c| {
+    let (jt, jvals) = message("pvfc/msg/JointState", TRACE_COLUMNS, trace, |c| {
         c.shape != Shape::Scalar
     });
-    let (ct, ccols) = message("pvfc/msg/Controller", TRACE_COLUMNS, trace, |c| {
+    let (ct, cvals) = message("pvfc/msg/Controller", TRACE_COLUMNS, trace, |c| {
         c.shape == Shape::Scalar
     });
     let kt = trace
@@ -155,13 +148,8 @@ pub fn write_mcap_with(trace: &Trace, options: &LogOptions<'_>, path: &Path) -> 
     let jc = channel(&jt, JOINT_STATE_TOPIC)?;
     let cc = channel(&ct, CONTROLLER_TOPIC)?;
     let kc = match &kt {
-        Some((kt, _)) => Some((channel(kt, CONTACT_TOPIC)?, kt)),
+        Some((kt, kvals)) => Some((channel(kt, CONTACT_TOPIC)?, kt, kvals)),
         None => None,
-    };
-    let (jvals, cvals) = (values_of(&jcols, trace), values_of(&ccols, trace));
-    let kvals = match (&kt, &trace.contact) {
-        (Some((_, kcols)), Some(c)) => Some(values_of(kcols, c)),
-        _ => None,
     };
     if let Some(scene) = options.scene {
         scene::write_scene(&mut w, scene, &meta)?;
@@ -182,7 +170,7 @@ pub fn write_mcap_with(trace: &Trace, options: &LogOptions<'_>, path: &Path) -> 
         put(jc, &buf)?;
         encode_sample(&ct, &cvals, i, &mut buf)?;
         put(cc, &buf)?;
-        if let (Some((kc, kt)), Some(kvals)) = (kc, &kvals) {
+        if let Some((kc, kt, kvals)) = kc {
             encode_sample(kt, kvals, i, &mut buf)?;
             put(kc, &buf)?;
         }
