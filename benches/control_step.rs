@@ -3,16 +3,26 @@
 //! so states, branches and τ are those of a real run. Criterion reports the time of the
 //! 1000 steps; divide by 1000 for one step (the throughput line gives steps per second).
 //! Also: the same for f32, for a rigid body on SO(3), and one RK4 step of the closed loop.
+//!
+//! After criterion's groups (with `--bench`, not in `cargo test`'s quick pass), the passive
+//! step's overhead over `Controller::step` is measured **interleaved**: 1,000 steps of each,
+//! alternately, for many rounds, and the median of the per-round ratios is printed. Criterion
+//! times one benchmark after the other, so on a shared machine a change of load between the
+//! two shifts their ratio; two batches run back to back see the same load.
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{criterion_group, Criterion, Throughput};
 use nalgebra::{Matrix3, Vector2, Vector3};
 use pvfc::prelude::*;
 use pvfc::sim::presets::pelican_example;
 use pvfc::sim::ClosedLoop;
 use std::hint::black_box;
+use std::time::Instant;
 
 const STEPS: usize = 1000;
 const DT: f64 = 1e-3;
+
+/// Measured states `(q, q̇)` of the SCARA, one per 1 kHz sample.
+type Samples<T> = Vec<(Torus<T, 2>, Vector2<T>)>;
 
 /// Records (q, q̇) along a closed-loop run of `sys` from `s`.
 fn record<G, Sys, F, const D: usize>(
@@ -36,10 +46,9 @@ where
         .collect()
 }
 
-fn control_step(c: &mut Criterion) {
-    let mut g = c.benchmark_group("control_step_x1000");
-    g.throughput(Throughput::Elements(STEPS as u64));
-
+/// The paper's SCARA controller (the `pelican_example` scenario), and the states recorded
+/// along its closed-loop run from `q = (0, 0)`.
+fn scara_f64() -> (ScaraLissajousController<f64>, Samples<f64>) {
     let scara = pelican_example()
         .controller()
         .expect("the example is valid");
@@ -52,16 +61,13 @@ fn control_step(c: &mut Criterion) {
         tau_dot: i.tau_dot,
         flywheel_speed: i.flywheel_speed,
     };
-    let samples = record(&sys, start);
-    g.bench_function("scara_lissajous_f64", |b| {
-        b.iter(|| {
-            let mut ctl = scara;
-            for (q, v) in &samples {
-                black_box(ctl.step(black_box(q), black_box(v), DT).expect("valid"));
-            }
-        })
-    });
+    (scara, record(&sys, start))
+}
 
+/// The paper's SCARA controller in f32, and the recorded states rounded to f32.
+fn scara_f32(
+    samples: &[(Torus<f64, 2>, Vector2<f64>)],
+) -> (ScaraLissajousController<f32>, Samples<f32>) {
     let field32 = SuspendedField::new(
         Lissajous::<f32, 2>::paper(),
         TorusNavigation::paper(Vector2::new(1.0f32, 1.0)).expect("valid"),
@@ -84,6 +90,25 @@ fn control_step(c: &mut Criterion) {
             )
         })
         .collect();
+    (scara32, samples32)
+}
+
+fn control_step(c: &mut Criterion) {
+    let mut g = c.benchmark_group("control_step_x1000");
+    g.throughput(Throughput::Elements(STEPS as u64));
+
+    let (scara, samples) = scara_f64();
+    let sys = ClosedLoop::matched(scara);
+    g.bench_function("scara_lissajous_f64", |b| {
+        b.iter(|| {
+            let mut ctl = scara;
+            for (q, v) in &samples {
+                black_box(ctl.step(black_box(q), black_box(v), DT).expect("valid"));
+            }
+        })
+    });
+
+    let (scara32, samples32) = scara_f32(&samples);
     g.bench_function("scara_lissajous_f32", |b| {
         b.iter(|| {
             let mut ctl = scara32;
@@ -164,5 +189,105 @@ fn control_step(c: &mut Criterion) {
     });
 }
 
+/// `a` and `b` run alternately, `rounds` times: the median time of each (µs per call) and
+/// the median of the per-round ratios `b/a`, with its quartiles.
+fn interleaved(rounds: usize, mut a: impl FnMut(), mut b: impl FnMut()) -> [f64; 5] {
+    let time = |f: &mut dyn FnMut()| {
+        let start = Instant::now();
+        f();
+        start.elapsed().as_secs_f64() * 1e6
+    };
+    let (mut ta, mut tb, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..rounds {
+        let x = time(&mut a);
+        let y = time(&mut b);
+        ta.push(x);
+        tb.push(y);
+        ratios.push(y / x);
+    }
+    let quantile = |v: &mut Vec<f64>, p: f64| {
+        v.sort_by(f64::total_cmp);
+        v[((v.len() - 1) as f64 * p).round() as usize]
+    };
+    [
+        quantile(&mut ta, 0.5),
+        quantile(&mut tb, 0.5),
+        quantile(&mut ratios, 0.5),
+        quantile(&mut ratios, 0.25),
+        quantile(&mut ratios, 0.75),
+    ]
+}
+
+/// The passive step over `Controller::step` (issue 11's budget: ≤ 15 %), SCARA f64 and
+/// f32, 1,000 recorded steps per call, measured interleaved (see the header).
+fn passive_overhead() {
+    const ROUNDS: usize = 2000;
+    let (scara, samples) = scara_f64();
+    let (scara32, samples32) = scara_f32(&samples);
+    let passive = PassiveController::new(scara);
+    let passive32 = PassiveController::new(scara32);
+    let f64_ratio = interleaved(
+        ROUNDS,
+        || {
+            let mut ctl = scara;
+            for (q, v) in &samples {
+                black_box(ctl.step(black_box(q), black_box(v), DT).expect("valid"));
+            }
+        },
+        || {
+            let mut ctl = passive;
+            for (q, v) in &samples {
+                black_box(
+                    ctl.step(black_box(q), Some(black_box(v)), None, DT)
+                        .expect("valid"),
+                );
+            }
+        },
+    );
+    let f32_ratio = interleaved(
+        ROUNDS,
+        || {
+            let mut ctl = scara32;
+            for (q, v) in &samples32 {
+                black_box(ctl.step(black_box(q), black_box(v), 1e-3).expect("valid"));
+            }
+        },
+        || {
+            let mut ctl = passive32;
+            for (q, v) in &samples32 {
+                black_box(
+                    ctl.step(black_box(q), Some(black_box(v)), None, 1e-3)
+                        .expect("valid"),
+                );
+            }
+        },
+    );
+    println!("passive step ÷ Controller::step, interleaved, {ROUNDS} rounds of 1,000 steps each:");
+    for (name, [a, b, r, lo, hi]) in [("f64", f64_ratio), ("f32", f32_ratio)] {
+        println!(
+            "  SCARA {name}: step {a:.1} µs, passive {b:.1} µs (medians); ratio {:+.1} % \
+             (quartiles {:+.1} %, {:+.1} %; budget +15 %)",
+            (r - 1.0) * 100.0,
+            (lo - 1.0) * 100.0,
+            (hi - 1.0) * 100.0
+        );
+    }
+}
+
 criterion_group!(benches, control_step);
-criterion_main!(benches);
+
+fn main() {
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+    // Only when benchmarking (`cargo test` runs this target once, quickly), and unless a
+    // filter excludes it.
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let filters: Vec<&String> = args.iter().filter(|a| !a.starts_with('-')).collect();
+    let wanted = filters.is_empty()
+        || filters
+            .iter()
+            .any(|f| "scara_lissajous_passive_interleaved".contains(f.as_str()));
+    if args.iter().any(|a| a == "--bench") && wanted {
+        passive_overhead();
+    }
+}
