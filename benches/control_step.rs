@@ -93,6 +93,41 @@ fn scara_f32(
     (scara32, samples32)
 }
 
+/// One pass of a fresh copy of `ctl` (`Controller::step`) through the recorded states.
+fn run_steps<T, G, Sys, F, const D: usize>(
+    mut ctl: Controller<T, G, Sys, F, D>,
+    samples: &[(G, Tangent<T, D>)],
+    dt: T,
+) where
+    T: Real,
+    G: LieGroup<T, D>,
+    Sys: MechanicalSystem<T, G, D>,
+    F: VelocityField<T, G, D>,
+{
+    for (q, v) in samples {
+        black_box(ctl.step(black_box(q), black_box(v), dt).expect("valid"));
+    }
+}
+
+/// The same with the passive digital controller (`pvfc_core::passive`), measured velocities.
+fn run_passive<T, G, Sys, F, const D: usize>(
+    mut ctl: PassiveController<T, G, Sys, F, D>,
+    samples: &[(G, Tangent<T, D>)],
+    dt: T,
+) where
+    T: Real,
+    G: VectorGroup<T, D>,
+    Sys: MechanicalSystem<T, G, D>,
+    F: VelocityField<T, G, D>,
+{
+    for (q, v) in samples {
+        black_box(
+            ctl.step(black_box(q), Some(black_box(v)), None, dt)
+                .expect("valid"),
+        );
+    }
+}
+
 fn control_step(c: &mut Criterion) {
     let mut g = c.benchmark_group("control_step_x1000");
     g.throughput(Throughput::Elements(STEPS as u64));
@@ -100,49 +135,23 @@ fn control_step(c: &mut Criterion) {
     let (scara, samples) = scara_f64();
     let sys = ClosedLoop::matched(scara);
     g.bench_function("scara_lissajous_f64", |b| {
-        b.iter(|| {
-            let mut ctl = scara;
-            for (q, v) in &samples {
-                black_box(ctl.step(black_box(q), black_box(v), DT).expect("valid"));
-            }
-        })
+        b.iter(|| run_steps(scara, &samples, DT))
     });
 
     let (scara32, samples32) = scara_f32(&samples);
     g.bench_function("scara_lissajous_f32", |b| {
-        b.iter(|| {
-            let mut ctl = scara32;
-            for (q, v) in &samples32 {
-                black_box(ctl.step(black_box(q), black_box(v), 1e-3).expect("valid"));
-            }
-        })
+        b.iter(|| run_steps(scara32, &samples32, 1e-3))
     });
 
     // The passive digital controller (pvfc_core::passive) on the same states, measured
     // velocities, beside the step above (the budget: ≤ 15 % over it).
     let passive = PassiveController::new(scara);
     g.bench_function("scara_lissajous_f64_passive", |b| {
-        b.iter(|| {
-            let mut ctl = passive;
-            for (q, v) in &samples {
-                black_box(
-                    ctl.step(black_box(q), Some(black_box(v)), None, DT)
-                        .expect("valid"),
-                );
-            }
-        })
+        b.iter(|| run_passive(passive, &samples, DT))
     });
     let passive32 = PassiveController::new(scara32);
     g.bench_function("scara_lissajous_f32_passive", |b| {
-        b.iter(|| {
-            let mut ctl = passive32;
-            for (q, v) in &samples32 {
-                black_box(
-                    ctl.step(black_box(q), Some(black_box(v)), None, 1e-3)
-                        .expect("valid"),
-                );
-            }
-        })
+        b.iter(|| run_passive(passive32, &samples32, 1e-3))
     });
 
     let field = SuspendedField::new(
@@ -168,12 +177,7 @@ fn control_step(c: &mut Criterion) {
     };
     let body_samples = record(&body_sys, body_start);
     g.bench_function("rigid_body_so3_f64", |b| {
-        b.iter(|| {
-            let mut ctl = body;
-            for (q, v) in &body_samples {
-                black_box(ctl.step(black_box(q), black_box(v), DT).expect("valid"));
-            }
-        })
+        b.iter(|| run_steps(body, &body_samples, DT))
     });
     g.finish();
 
@@ -228,39 +232,13 @@ fn passive_overhead() {
     let passive32 = PassiveController::new(scara32);
     let f64_ratio = interleaved(
         ROUNDS,
-        || {
-            let mut ctl = scara;
-            for (q, v) in &samples {
-                black_box(ctl.step(black_box(q), black_box(v), DT).expect("valid"));
-            }
-        },
-        || {
-            let mut ctl = passive;
-            for (q, v) in &samples {
-                black_box(
-                    ctl.step(black_box(q), Some(black_box(v)), None, DT)
-                        .expect("valid"),
-                );
-            }
-        },
+        || run_steps(scara, &samples, DT),
+        || run_passive(passive, &samples, DT),
     );
     let f32_ratio = interleaved(
         ROUNDS,
-        || {
-            let mut ctl = scara32;
-            for (q, v) in &samples32 {
-                black_box(ctl.step(black_box(q), black_box(v), 1e-3).expect("valid"));
-            }
-        },
-        || {
-            let mut ctl = passive32;
-            for (q, v) in &samples32 {
-                black_box(
-                    ctl.step(black_box(q), Some(black_box(v)), None, 1e-3)
-                        .expect("valid"),
-                );
-            }
-        },
+        || run_steps(scara32, &samples32, 1e-3),
+        || run_passive(passive32, &samples32, 1e-3),
     );
     println!("passive step ÷ Controller::step, interleaved, {ROUNDS} rounds of 1,000 steps each:");
     for (name, [a, b, r, lo, hi]) in [("f64", f64_ratio), ("f32", f32_ratio)] {
