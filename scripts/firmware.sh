@@ -3,6 +3,8 @@
 # flash and RAM, run it (10,000 control steps at 1 kHz, its exit code says whether the
 # controller faulted), compare its trace with the host twin (tests/firmware_twin.rs), and count
 # the instructions of a control step from an execution trace.
+# Then the same for the 6-joint step (--bin ur5) and the passive digital controller (--bin
+# passive).
 # Needs: rustup target thumbv7em-none-eabihf, qemu-system-arm, binutils-arm-none-eabi.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -41,3 +43,16 @@ timeout 120 qemu-system-arm -machine netduinoplus2 -nographic -semihosting-confi
   -kernel "$ur5" | tee "$out/ur5.txt"
 grep -q "no fault" "$out/ur5.txt"
 python3 scripts/firmware_instructions.py "$ur5" --symbol pvfc_arm_step --steps 200 | tee "$out/ur5_instructions.txt"
+
+echo "--- the passive digital controller (encoder positions only, 2^17 counts, |u| <= 3 N·m): run and count"
+passive=$fw/target/thumbv7em-none-eabihf/release/passive
+arm-none-eabi-size "$passive" | tee -a "$out/size.txt"
+timeout 120 qemu-system-arm -machine netduinoplus2 -nographic -semihosting-config enable=on,target=native \
+  -kernel "$passive" | tee "$out/passive.txt"
+grep -q "no fault" "$out/passive.txt"
+# The same measured states through Controller::step and through the passive step (velocity
+# measured, as the host bench), then the loop's encoder-only passive step.
+for symbol in pvfc_control_step pvfc_passive_step pvfc_encoder_step; do
+  echo "$symbol:"
+  python3 scripts/firmware_instructions.py "$passive" --symbol "$symbol" --steps 1000
+done | tee "$out/passive_instructions.txt"
