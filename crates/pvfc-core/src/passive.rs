@@ -334,7 +334,12 @@ where
         } else {
             T::one()
         };
-        let torque = coupling * scale + add_on;
+        // (Unscaled, the usual case: the same sum without the four products by 1.)
+        let torque = if scale < T::one() {
+            coupling * scale + add_on
+        } else {
+            coupling + add_on
+        };
         let mut command = torque.robot;
         let mut saturated = false;
         if let Some(limits) = &self.limits {
