@@ -36,23 +36,27 @@ grep -q "test result: ok. 1 passed" "$out/twin.txt"
 echo "--- instructions per control step (QEMU execution trace)"
 python3 scripts/firmware_instructions.py "$elf" --steps 1000 | tee "$out/instructions.txt"
 
+# run_bin NAME: size one of the firmware's binaries and run it in QEMU; it must end without a
+# fault (its log in $out/NAME.txt).
+run_bin() {
+  local bin=$fw/target/thumbv7em-none-eabihf/release/$1
+  arm-none-eabi-size "$bin" | tee -a "$out/size.txt"
+  timeout 120 qemu-system-arm -machine netduinoplus2 -nographic -semihosting-config enable=on,target=native \
+    -kernel "$bin" | tee "$out/$1.txt"
+  grep -q "no fault" "$out/$1.txt"
+}
+
 echo "--- the 6-joint f32 step (UR5, gravity compensation): run and count"
-ur5=$fw/target/thumbv7em-none-eabihf/release/ur5
-arm-none-eabi-size "$ur5" | tee -a "$out/size.txt"
-timeout 120 qemu-system-arm -machine netduinoplus2 -nographic -semihosting-config enable=on,target=native \
-  -kernel "$ur5" | tee "$out/ur5.txt"
-grep -q "no fault" "$out/ur5.txt"
-python3 scripts/firmware_instructions.py "$ur5" --symbol pvfc_arm_step --steps 200 | tee "$out/ur5_instructions.txt"
+run_bin ur5
+python3 scripts/firmware_instructions.py "$fw/target/thumbv7em-none-eabihf/release/ur5" --symbol pvfc_arm_step \
+  --steps 200 | tee "$out/ur5_instructions.txt"
 
 echo "--- the passive digital controller (encoder positions only, 2^17 counts, |u| <= 3 N·m): run and count"
-passive=$fw/target/thumbv7em-none-eabihf/release/passive
-arm-none-eabi-size "$passive" | tee -a "$out/size.txt"
-timeout 120 qemu-system-arm -machine netduinoplus2 -nographic -semihosting-config enable=on,target=native \
-  -kernel "$passive" | tee "$out/passive.txt"
-grep -q "no fault" "$out/passive.txt"
+run_bin passive
 # The same measured states through Controller::step and through the passive step (velocity
 # measured, as the host bench), then the loop's encoder-only passive step.
 for symbol in pvfc_control_step pvfc_passive_step pvfc_encoder_step; do
   echo "$symbol:"
-  python3 scripts/firmware_instructions.py "$passive" --symbol "$symbol" --steps 1000
+  python3 scripts/firmware_instructions.py "$fw/target/thumbv7em-none-eabihf/release/passive" \
+    --symbol "$symbol" --steps 1000
 done | tee "$out/passive_instructions.txt"

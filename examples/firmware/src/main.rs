@@ -16,6 +16,7 @@
 #![no_main]
 
 mod hil;
+mod step;
 
 use core::cell::RefCell;
 use cortex_m::interrupt::{free, Mutex};
@@ -26,6 +27,7 @@ use hil::{Plant, Sample, STEPS, TRACE_EVERY};
 use panic_halt as _;
 use pvfc_core::nalgebra::Vector2;
 use pvfc_core::prelude::*;
+use step::pvfc_control_step;
 
 /// The core clock of the STM32F405 as QEMU models it (Hz).
 const CORE_CLOCK: u32 = 168_000_000;
@@ -54,18 +56,6 @@ static TRACE: Mutex<RefCell<[Sample<f32>; STEPS / TRACE_EVERY]>> = Mutex::new(Re
         kinetic_energy: 0.0,
     }; STEPS / TRACE_EVERY],
 ));
-
-/// One control step, out of line so that its instructions can be counted from an execution
-/// trace (`scripts/firmware_instructions.py`).
-#[no_mangle]
-#[inline(never)]
-fn pvfc_control_step(
-    ctl: &mut ScaraLissajousController<f32>,
-    q: &Torus<f32, 2>,
-    v: &Vector2<f32>,
-) -> Result<StepOutput<f32, 2>, Error> {
-    ctl.step(q, v, hil::DT as f32)
-}
 
 #[exception]
 fn SysTick() {

@@ -14,6 +14,8 @@
 #[path = "../hil.rs"]
 #[allow(dead_code)] // the loop's constants and trace are the SysTick firmware's
 mod hil;
+#[path = "../step.rs"]
+mod step;
 
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
@@ -22,6 +24,7 @@ use panic_halt as _;
 use pvfc_core::lie::Torus;
 use pvfc_core::nalgebra::{ComplexField, Vector2};
 use pvfc_core::prelude::*;
+use step::pvfc_control_step;
 
 /// The passive controller of the paper's SCARA.
 type Passive = PassiveController<
@@ -45,17 +48,6 @@ const STEPS: usize = 1_000;
 const COUNT: f32 = core::f32::consts::TAU / 131_072.0;
 /// The drives' torque limit (N·m).
 const LIMIT: f32 = 3.0;
-
-/// `Controller::step`, out of line for the instruction count.
-#[no_mangle]
-#[inline(never)]
-fn pvfc_control_step(
-    ctl: &mut ScaraLissajousController<f32>,
-    q: &Torus<f32, 2>,
-    v: &Vector2<f32>,
-) -> Result<StepOutput<f32, 2>, Error> {
-    ctl.step(q, v, hil::DT as f32)
-}
 
 /// The passive step with the velocity measured (as the host bench runs it), out of line.
 #[no_mangle]
