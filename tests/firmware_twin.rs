@@ -118,8 +118,9 @@ fn firmware_trace_matches_the_host_twin() {
         f32_vs_f64[0], f32_vs_f64[1], f32_vs_f64[2], f32_vs_f64[3]
     );
     // The printed trace is quantised (1 µrad, 1e-6 in τ, 1e-9 in U, 1 µJ). The target and the
-    // host in f32 run the same arithmetic but for libm's exp and sqrt (the host's are the
-    // standard library's): measured ≤ 1e-6 rad, the print's resolution; bound 1e-5 rad.
+    // host in f32 run the same arithmetic but for the square root (the host's hardware one,
+    // the target's `Real::sqrt_fast`): measured ≤ 1.2e-6 rad, about the print's resolution;
+    // bound 1e-5 rad.
     // Against f64: f32 rounding (6e-8 relative per operation) through a loop that converges
     // onto the contour, where errors do not grow: measured 2.8e-5 rad over 10 s; bound 2e-4 rad
     // (relative 1.5e-4 of the arm's ~1.3 rad excursion), and 2e-4 in τ.

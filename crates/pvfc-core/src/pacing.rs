@@ -72,7 +72,7 @@ impl<T: Real> ExponentialPacing<T> {
 impl<T: Real> SelfPacing<T> for ExponentialPacing<T> {
     #[inline]
     fn gains(&self, u: T) -> PacingGains<T> {
-        let l1 = (-self.r * u).exp();
+        let l1 = (-self.r * u).exp_fast();
         let d1 = -self.r * l1;
         PacingGains {
             lambda1: l1,

@@ -1,4 +1,5 @@
-//! The fused `sin_cos_fast` against the standard library, over random arguments.
+//! The fast elementary functions of `Real` (`sin_cos_fast`, `sqrt_fast`, `exp_fast`) against the
+//! standard library, over random arguments.
 
 use proptest::prelude::*;
 use pvfc_core::Real;
@@ -105,4 +106,53 @@ fn f32_sin_cos_of_large_arguments_stay_accurate() {
     }
     let (s, c) = f32::INFINITY.sin_cos_fast();
     assert!(s.is_nan() && c.is_nan());
+}
+
+/// The inline `f32` exponential against the correctly rounded one (the `f64` exponential
+/// rounded to `f32`): within 2 ulp over random and evenly spaced arguments of its fast range,
+/// the standard `exp` outside it, exact special values; `f64` is the standard `exp`.
+#[test]
+fn exp_fast_is_within_two_ulp() {
+    let ulps = |a: f32, b: f32| (a.to_bits() as i64 - b.to_bits() as i64).abs();
+    let reference = |x: f32| (x as f64).exp() as f32;
+    let mut worst = 0;
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    for i in 0..400_000 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        // Half uniform on [−87, 87], half log-spread small arguments of both signs.
+        let u = (state >> 40) as f32 / (1u64 << 24) as f32;
+        let x = if i % 2 == 0 {
+            (u * 2.0 - 1.0) * 87.0
+        } else {
+            let sign = if state & 1 == 0 { 1.0 } else { -1.0 };
+            sign * 10f32.powf(-30.0 * u)
+        };
+        worst = worst.max(ulps(x.exp_fast(), reference(x)));
+    }
+    for k in -87_000..=87_000 {
+        let x = k as f32 * 1e-3;
+        worst = worst.max(ulps(x.exp_fast(), reference(x)));
+    }
+    assert!(worst <= 2, "worst {worst} ulp");
+    // Outside the fast range: the standard library's exp.
+    for x in [
+        87.5f32,
+        88.7,
+        89.0,
+        -87.5,
+        -100.0,
+        -103.0,
+        -200.0,
+        f32::INFINITY,
+    ] {
+        assert_eq!(x.exp_fast(), x.exp(), "{x}");
+    }
+    assert_eq!(f32::NEG_INFINITY.exp_fast(), 0.0);
+    assert!(f32::NAN.exp_fast().is_nan() && f64::NAN.exp_fast().is_nan());
+    assert_eq!(0.0f32.exp_fast(), 1.0);
+    for x in [-700.0, -3.5, 0.0, 1e-9, 2.0, 700.0] {
+        assert_eq!(x.exp_fast(), f64::exp(x));
+    }
 }
