@@ -60,18 +60,27 @@ fn special_values() {
     assert!((s - 1.0).abs() < 1e-16 && c.abs() < 1e-16);
 }
 
+/// The distance of two `f32` in units in the last place.
+fn ulps(a: f32, b: f32) -> i64 {
+    (a.to_bits() as i64 - b.to_bits() as i64).abs()
+}
+
+/// Marsaglia's xorshift64: the next pseudo-random state (reproducible arguments).
+fn xorshift(state: &mut u64) {
+    *state ^= *state << 13;
+    *state ^= *state >> 7;
+    *state ^= *state << 17;
+}
+
 /// The `f32` square root of `no_std` targets against the correctly rounded one: within 2 ulp
 /// over random normal and subnormal arguments, exact special values.
 #[test]
 fn sqrt_newton_f32_is_within_two_ulp() {
     use pvfc_core::scalar::sqrt_newton_f32;
-    let ulps = |a: f32, b: f32| (a.to_bits() as i64 - b.to_bits() as i64).abs();
     let mut worst = 0;
     let mut state = 0x2545_f491_4f6c_dd1du64;
     for _ in 0..200_000 {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
+        xorshift(&mut state);
         let x = f32::from_bits((state as u32) & 0x7f7f_ffff); // finite, positive
         worst = worst.max(ulps(sqrt_newton_f32(x), x.sqrt()));
     }
@@ -113,14 +122,11 @@ fn f32_sin_cos_of_large_arguments_stay_accurate() {
 /// the standard `exp` outside it, exact special values; `f64` is the standard `exp`.
 #[test]
 fn exp_fast_is_within_two_ulp() {
-    let ulps = |a: f32, b: f32| (a.to_bits() as i64 - b.to_bits() as i64).abs();
     let reference = |x: f32| (x as f64).exp() as f32;
     let mut worst = 0;
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
     for i in 0..400_000 {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
+        xorshift(&mut state);
         // Half uniform on [−87, 87], half log-spread small arguments of both signs.
         let u = (state >> 40) as f32 / (1u64 << 24) as f32;
         let x = if i % 2 == 0 {
