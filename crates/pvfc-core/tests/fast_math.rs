@@ -73,7 +73,8 @@ fn xorshift(state: &mut u64) {
 }
 
 /// The `f32` square root of `no_std` targets against the correctly rounded one: within 2 ulp
-/// over random normal and subnormal arguments, exact special values.
+/// over random normal and subnormal arguments and over every argument in [1, 4), exact special
+/// values.
 #[test]
 fn sqrt_newton_f32_is_within_two_ulp() {
     use pvfc_core::scalar::sqrt_newton_f32;
@@ -82,6 +83,12 @@ fn sqrt_newton_f32_is_within_two_ulp() {
     for _ in 0..200_000 {
         xorshift(&mut state);
         let x = f32::from_bits((state as u32) & 0x7f7f_ffff); // finite, positive
+        worst = worst.max(ulps(sqrt_newton_f32(x), x.sqrt()));
+    }
+    // Every f32 in [1, 4): the estimate's error repeats with each factor of 4 (the exponent's
+    // parity and the mantissa), so this covers every normal argument's case.
+    for bits in 1.0f32.to_bits()..4.0f32.to_bits() {
+        let x = f32::from_bits(bits);
         worst = worst.max(ulps(sqrt_newton_f32(x), x.sqrt()));
     }
     for x in [
@@ -98,7 +105,12 @@ fn sqrt_newton_f32_is_within_two_ulp() {
     }
     assert!(worst <= 2, "worst {worst} ulp");
     assert_eq!(sqrt_newton_f32(0.0), 0.0);
-    assert!(sqrt_newton_f32(-1.0).is_nan() && sqrt_newton_f32(f32::NAN).is_nan());
+    assert_eq!(sqrt_newton_f32(-0.0).to_bits(), (-0.0f32).to_bits());
+    assert!(
+        sqrt_newton_f32(-1.0).is_nan()
+            && sqrt_newton_f32(-1e-40).is_nan()
+            && sqrt_newton_f32(f32::NAN).is_nan()
+    );
     assert_eq!(sqrt_newton_f32(f32::INFINITY), f32::INFINITY);
 }
 

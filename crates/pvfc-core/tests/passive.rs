@@ -228,3 +228,42 @@ fn the_correction_vanishes_as_the_period_goes_to_zero() {
         );
     }
 }
+
+/// Torque limits clamp each joint's command to `±limit` and report it: at states where the
+/// law asks for more than the limit on one joint only, that joint is clamped, the other is
+/// the unlimited controller's torque, and `saturated` is set; within the limits nothing
+/// changes and `saturated` is clear.
+#[test]
+fn torque_limits_clamp_each_joint_and_report_it() {
+    let free = PassiveController::new(controller(50.0, 1.0).starting_at_rest(0.0));
+    let (mut clamped_some, mut clear_some) = (false, false);
+    for k in 0..40 {
+        let q = Torus::new(Vector2::new(0.1 * k as f64 - 2.0, 0.3 - 0.05 * k as f64));
+        let v = Vector2::new(0.2 * (k % 7) as f64 - 0.6, 0.1 * (k % 5) as f64 - 0.2);
+        let mut unlimited = free; // (a copy)
+        let want = unlimited.step(&q, Some(&v), None, 1e-3).unwrap().torque;
+        // Joint 0 limited below what the law asks (when it asks anything), joint 1 above it.
+        let limits = Vector2::new(0.5 * want[0].abs(), 2.0 * want[1].abs() + 1.0);
+        if limits[0] <= 0.0 {
+            continue;
+        }
+        let mut ctl = free.with_torque_limits(limits).unwrap();
+        let out = ctl.step(&q, Some(&v), None, 1e-3).unwrap();
+        assert_eq!(
+            out.torque[0],
+            limits[0].copysign(want[0]),
+            "joint 0 at step {k}"
+        );
+        assert_eq!(out.torque[1], want[1], "joint 1 at step {k}");
+        assert!(out.energy.saturated);
+        clamped_some = true;
+        let mut ctl = free
+            .with_torque_limits(want.abs() * 2.0 + Vector2::repeat(1.0))
+            .unwrap();
+        let out = ctl.step(&q, Some(&v), None, 1e-3).unwrap();
+        assert_eq!(out.torque, want);
+        assert!(!out.energy.saturated);
+        clear_some = true;
+    }
+    assert!(clamped_some && clear_some);
+}
