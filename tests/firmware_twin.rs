@@ -122,7 +122,7 @@ fn firmware_trace_matches_the_host_twin() {
     // the target's `Real::sqrt_fast`): measured ≤ 1.2e-6 rad, about the print's resolution;
     // bound 1e-5 rad.
     // Against f64: f32 rounding (6e-8 relative per operation) through a loop that converges
-    // onto the contour, where errors do not grow: measured 2.8e-5 rad over 10 s; bound 2e-4 rad
+    // onto the contour, where errors do not grow: measured 2.7e-5 rad over 10 s; bound 2e-4 rad
     // (relative 1.5e-4 of the arm's ~1.3 rad excursion), and 2e-4 in τ.
     assert!(vs32[0] < 1e-5, "q: firmware vs host f32 {:e} rad", vs32[0]);
     assert!(vs64[0] < 2e-4, "q: firmware vs host f64 {:e} rad", vs64[0]);
