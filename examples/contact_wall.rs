@@ -7,7 +7,7 @@
 
 use pvfc::sim::metrics::contact_summary;
 use pvfc::sim::presets;
-use pvfc::sim::reproduce::run_scenario;
+use pvfc::sim::simulate::run_scenario;
 
 fn main() -> Result<(), pvfc::sim::SimError> {
     let scenario = presets::contact_wall();

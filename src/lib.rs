@@ -13,3 +13,15 @@
 pub use pvfc_core as core;
 pub use pvfc_core::prelude;
 pub use pvfc_sim as sim;
+
+/// The Rust snippets of the README and of the user's manual (`docs/src`), compiled and run as
+/// doctests, so that every snippet a user copies builds.
+#[cfg(doctest)]
+mod manual {
+    #[doc = include_str!("../README.md")]
+    struct Readme;
+    #[doc = include_str!("../docs/src/reference/crates.md")]
+    struct Crates;
+    #[doc = include_str!("../docs/src/guide/digital-controller.md")]
+    struct DigitalController;
+}

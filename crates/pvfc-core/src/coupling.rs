@@ -64,7 +64,7 @@ impl<T: Real> Flywheel<T> {
     }
 
     /// The flywheel speed that gives the robot at rest `β = 1`: `√(2Ē/M_F)`
-    /// (control-law.md §5: with everything at rest nothing ever moves).
+    /// (the manual's control law, `docs/src/reference/control-law.md` §5: with everything at rest nothing ever moves).
     pub fn speed_for_unit_beta(&self) -> T {
         (self.energy * cast::<T>(2.0) / self.inertia).sqrt_fast()
     }

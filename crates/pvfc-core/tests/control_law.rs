@@ -1,4 +1,4 @@
-//! The properties of control-law.md §6, over random states, for every kind of system and for
+//! The properties of the manual's control law, `docs/src/reference/control-law.md` §6, over random states, for every kind of system and for
 //! both scalar types: skew-symmetry of G and R, passivity q̇_aᵀT_a = 0, wᵀV_a = 0, G V_a = w,
 //! ½V_aᵀM_aV_a = Ē, invariance of q̇_a = βV_a, Proposition 1, and V̇ against finite
 //! differences.

@@ -211,7 +211,7 @@ fn starting_at_rest_gives_unit_beta_and_starts_moving() {
         out.torque.norm() > 0.0,
         "at rest with a charged flywheel the coupling must push"
     );
-    // With everything at rest, nothing moves (control-law.md §5).
+    // With everything at rest, nothing moves (the manual's control law, `docs/src/reference/control-law.md` §5).
     let mut still = Controller::new(law(50.0));
     let out = still
         .step(&Torus::new(Vector2::new(0.0, 0.0)), &Vector2::zeros(), 1e-3)

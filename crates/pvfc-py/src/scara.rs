@@ -46,7 +46,7 @@ impl Scara {
         })
     }
 
-    /// The CICESE Pelican arm (control-law.md §1).
+    /// The CICESE Pelican arm (the manual's control law, `docs/src/reference/control-law.md` §1).
     #[staticmethod]
     fn pelican() -> Self {
         Scara {

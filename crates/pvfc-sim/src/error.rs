@@ -99,7 +99,8 @@ pub enum WaypointProblem {
 pub type Result<T> = std::result::Result<T, SimError>;
 
 impl SimError {
-    pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+    /// An I/O error on `path`.
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         SimError::Io {
             path: path.into(),
             source,

@@ -1,10 +1,12 @@
 //! # pvfc-sim
 //!
-//! Closed-loop simulation of Passive Velocity Field Control and the paper's experiments:
-//! plants with friction ([`friction`]), arms from URDF ([`urdf`]), the closed loop and its
-//! integrators ([`integrate`]), scenarios as data ([`scenario`], [`presets`]), runs
-//! ([`simulate`]), MCAP logs ([`log`]), the numbers behind the paper's claims ([`report`]) and
-//! the figures ([`plot`]). The `pvfc` command line drives it all.
+//! The simulation library of Passive Velocity Field Control: plants with friction
+//! ([`friction`]), arms from URDF ([`urdf`]), the closed loop and its integrators
+//! ([`integrate`]), scenarios as data ([`scenario`], [`presets`]), runs ([`simulate`]), traces
+//! ([`trace`]), metrics ([`metrics`]), contact ([`contact`]) and MCAP logs ([`log`]).
+//!
+//! It has no command line and draws no figures: the `pvfc` command (crate `pvfc-cli`) and the
+//! Python wheel (`pvfc-py`) are built on it.
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -13,7 +15,6 @@
 
 pub mod arm;
 pub mod cartesian;
-pub mod chain_plot;
 pub mod chain_run;
 pub mod contact;
 pub mod error;
@@ -21,14 +22,8 @@ pub mod friction;
 pub mod integrate;
 pub mod log;
 pub mod metrics;
-pub mod plot;
-mod plot_digital;
 pub mod preset_id;
 pub mod presets;
-pub mod report;
-mod report_arms;
-mod report_digital;
-pub mod reproduce;
 pub mod robot;
 mod run_loop;
 pub mod scenario;

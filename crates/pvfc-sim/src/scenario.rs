@@ -48,7 +48,7 @@ pub type PaperPassiveController = PassiveController<f64, Torus<f64, 2>, Scara<f6
 pub enum ArmSpec {
     /// The built-in direct-drive arm ([`direct_drive_arm`], the same as `models/scara.urdf`).
     DirectDrive,
-    /// The CICESE Pelican arm (control-law.md §1).
+    /// The CICESE Pelican arm (the manual's control law, `docs/src/reference/control-law.md` §1).
     Pelican,
     /// An arm read from a URDF file (relative paths are relative to the scenario file).
     Urdf(PathBuf),

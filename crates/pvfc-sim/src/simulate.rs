@@ -1,5 +1,6 @@
 //! Running a scenario: the sampled-data or continuous PVFC loop, and the timed baseline.
 
+use crate::arm::ArmSystem;
 use crate::contact::{ContactForces, Environment, PlanarArm};
 use crate::error::{Result, SimError};
 use crate::integrate::{ClosedLoop, Derivative};
@@ -329,4 +330,49 @@ fn timed_in(
         law,
         progress,
     )
+}
+
+/// Runs one scenario: the PVFC loop, and the timed baseline if the scenario asks for one
+/// (at PVFC's mean `τ̇` over its last 12 s unless the scenario fixes the rate).
+pub fn run_scenario(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Vec<Trace>> {
+    let system = if s.is_chain() {
+        Some(ArmSystem::build(s)?)
+    } else {
+        None
+    };
+    run_scenario_with(s, system.as_ref(), progress)
+}
+
+/// [`run_scenario`] with a URDF arm's system already built (`None` for the SCARA): the URDF
+/// is read and a Cartesian path solved once for both runs.
+pub fn run_scenario_with(
+    s: &Scenario,
+    system: Option<&ArmSystem>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Vec<Trace>> {
+    let pvfc = match system {
+        Some(sys) => crate::chain_run::simulate_chain_with(s, sys, progress)?,
+        None => simulate(s, progress)?,
+    };
+    let mut out = vec![];
+    if let Some(b) = &s.baseline {
+        let rate = match b.tau_rate {
+            Some(r) => r,
+            None => {
+                let n = pvfc.len() - 1;
+                let from = pvfc
+                    .t
+                    .iter()
+                    .position(|&t| t >= pvfc.t[n] - 12.0)
+                    .unwrap_or(0);
+                (pvfc.tau[n] - pvfc.tau[from]) / (pvfc.t[n] - pvfc.t[from]).max(f64::EPSILON)
+            }
+        };
+        out.push(match system {
+            Some(sys) => crate::chain_run::simulate_timed_chain_with(s, sys, b, rate, &mut |_| {})?,
+            None => simulate_timed(s, b, rate, &mut |_| {})?,
+        });
+    }
+    out.insert(0, pvfc);
+    Ok(out)
 }

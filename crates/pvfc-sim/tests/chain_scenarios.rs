@@ -323,7 +323,7 @@ fn a_urdf_arm_on_a_table_keeps_its_energy_audit() {
 fn the_deburring_scenario_runs_beside_its_timed_baseline() {
     let mut s = Scenario::from_file(&file("ur5_deburr.toml")).unwrap();
     s.duration = 4.0;
-    let runs = pvfc_sim::reproduce::run_scenario(&s, &mut |_| {}).unwrap();
+    let runs = pvfc_sim::simulate::run_scenario(&s, &mut |_| {}).unwrap();
     assert_eq!(runs.len(), 2);
     assert_eq!(runs[1].name, "ur5_deburr-timed");
     for t in &runs {

@@ -31,7 +31,7 @@ pub struct ScaraParameters<T: Real> {
 impl<T: Real> ScaraParameters<T> {
     /// The CICESE "Pelican" direct-drive arm (Kelly, Santibáñez & Loría, *Control of Robot
     /// Manipulators in Joint Space*, ch. 5), the documented stand-in for the paper's robot,
-    /// whose parameters are not published (control-law.md §1).
+    /// whose parameters are not published (the manual's control law, `docs/src/reference/control-law.md` §1).
     pub fn pelican() -> Self {
         ScaraParameters {
             m1: cast(6.5225),

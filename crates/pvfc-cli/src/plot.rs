@@ -1,14 +1,14 @@
 //! PNG figures laid out like the paper's Figs. 1 and 6–10 (plotters, bundled DejaVu font).
 
-use crate::contact::{ObstacleSpec, PlanarArm, ShapeSpec};
-use crate::error::{Result, SimError};
-use crate::metrics::last_pass;
-use crate::preset_id::PresetId;
 use crate::report::Runs;
-use crate::scenario::Mode;
-use crate::simulate::Trace;
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use pvfc_sim::contact::{ObstacleSpec, PlanarArm, ShapeSpec};
+use pvfc_sim::error::{Result, SimError};
+use pvfc_sim::metrics::last_pass;
+use pvfc_sim::preset_id::PresetId;
+use pvfc_sim::scenario::Mode;
+use pvfc_sim::simulate::Trace;
 use std::path::{Path, PathBuf};
 use std::sync::Once;
 
@@ -219,7 +219,7 @@ fn desired(runs: &Runs, id: PresetId) -> Result<Series> {
     })
 }
 
-fn path_of(t: &crate::simulate::Trace, range: std::ops::Range<usize>) -> Vec<(f64, f64)> {
+fn path_of(t: &pvfc_sim::simulate::Trace, range: std::ops::Range<usize>) -> Vec<(f64, f64)> {
     t.q.rows(range).map(|q| (q[0], q[1])).collect()
 }
 
@@ -406,7 +406,7 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
     let p = dir.join("fig1_pvfc_vs_timed.png");
     let (s1, pv) = runs.run(PresetId::Fig1)?;
     let tm = runs.timed(PresetId::Fig1)?;
-    let from = |t: &crate::simulate::Trace| {
+    let from = |t: &pvfc_sim::simulate::Trace| {
         t.t.iter()
             .position(|&x| x >= s1.duration - 12.0)
             .unwrap_or(0)

@@ -3,9 +3,9 @@
 //! compensation is 24–40× (not ~2×) the compensated U, and the timed tracker of Fig. 1 (with
 //! an exact model and ω_n = 20 rad/s) stays closer to the contour than PVFC. See README.
 
+use pvfc_cli::report::{claims, Claim, Runs};
+use pvfc_cli::reproduce::run_all;
 use pvfc_sim::preset_id::PresetId;
-use pvfc_sim::report::{claims, Claim, Runs};
-use pvfc_sim::reproduce::run_all;
 use pvfc_sim::scenario::Mode;
 use std::sync::OnceLock;
 
@@ -124,9 +124,9 @@ fn every_claim_is_evaluated_and_the_table_renders() {
         22,
         "12 claims of section V, 6 of contact, 4 of the digital controller"
     );
-    let md = pvfc_sim::report::markdown(c);
+    let md = pvfc_cli::report::markdown(c);
     assert_eq!(md.lines().count(), 2 + c.len());
-    let csv = pvfc_sim::report::csv(c);
+    let csv = pvfc_cli::report::csv(c);
     assert_eq!(csv.lines().count(), 1 + c.len());
 }
 

@@ -2,9 +2,10 @@
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use pvfc_sim::reproduce::{run_all, write_logs, write_summary};
+use pvfc_cli::plot;
+use pvfc_cli::reproduce::{run_all, write_logs, write_summary};
 use pvfc_sim::scenario::Scenario;
-use pvfc_sim::{plot, presets, SimError};
+use pvfc_sim::{presets, SimError};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 

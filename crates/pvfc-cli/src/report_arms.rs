@@ -1,12 +1,12 @@
 //! The claims of the 3-D contact scenarios of a URDF arm ([`presets::arms_3d`]
-//! (crate::presets::arms_3d), issue 12): a UR5 deburring a box's top, at a wall it cannot
+//! (pvfc_sim::presets::arms_3d), issue 12): a UR5 deburring a box's top, at a wall it cannot
 //! pass and pushed on the forearm, each beside the timed tracker; the audit, the passivity
 //! margins, the forces and the Cartesian path error in millimetres.
 
-use crate::error::{Result, SimError};
-use crate::metrics::{cartesian_tracking, ContactSummary};
-use crate::preset_id::{Arm3dCase, PresetId};
 use crate::report::{summary, timed_summary, Runs};
+use pvfc_sim::error::{Result, SimError};
+use pvfc_sim::metrics::{cartesian_tracking, ContactSummary};
+use pvfc_sim::preset_id::{Arm3dCase, PresetId};
 
 /// The PVFC runs: the three scenarios (the passive digital controller at 1 kHz) and the
 /// deburring run in continuous time.

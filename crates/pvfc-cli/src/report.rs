@@ -1,12 +1,12 @@
 //! The numbers behind each claim of section V, computed from the runs of
-//! [`presets::all`](crate::presets::all), as a table (Markdown and CSV).
+//! [`presets::all`](pvfc_sim::presets::all), as a table (Markdown and CSV).
 
-use crate::error::{Result, SimError};
-use crate::metrics::*;
-use crate::preset_id::{Arm3dCase, ContactCase, PresetId};
-use crate::scenario::Mode;
-use crate::scenario::Scenario;
-use crate::simulate::Trace;
+use pvfc_sim::error::{Result, SimError};
+use pvfc_sim::metrics::*;
+use pvfc_sim::preset_id::{Arm3dCase, ContactCase, PresetId};
+use pvfc_sim::scenario::Mode;
+use pvfc_sim::scenario::Scenario;
+use pvfc_sim::simulate::Trace;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
@@ -16,7 +16,7 @@ pub struct Runs {
     /// Scenario and trace, by the scenario's name (the timed baseline as `NAME-timed`).
     pub runs: BTreeMap<String, (Scenario, Trace)>,
     /// The URDF arms' systems, built once per scenario, by the scenario's name.
-    pub arms: BTreeMap<String, crate::arm::ArmSystem>,
+    pub arms: BTreeMap<String, pvfc_sim::arm::ArmSystem>,
 }
 
 impl Runs {
@@ -25,13 +25,13 @@ impl Runs {
     pub fn arm_system(
         &self,
         s: &Scenario,
-    ) -> Result<Option<std::borrow::Cow<'_, crate::arm::ArmSystem>>> {
+    ) -> Result<Option<std::borrow::Cow<'_, pvfc_sim::arm::ArmSystem>>> {
         if !s.is_chain() {
             return Ok(None);
         }
         Ok(Some(match self.arms.get(&s.name) {
             Some(sys) => std::borrow::Cow::Borrowed(sys),
-            None => std::borrow::Cow::Owned(crate::arm::ArmSystem::build(s)?),
+            None => std::borrow::Cow::Owned(pvfc_sim::arm::ArmSystem::build(s)?),
         }))
     }
 

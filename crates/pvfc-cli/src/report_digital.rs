@@ -3,10 +3,10 @@
 //! and 100 Hz, in free motion and at the wall, the push and the obstacle; the passive
 //! controller on a drive (torque limits, encoders, positions only); tracking on Fig. 8.
 
-use crate::error::Result;
-use crate::metrics::energy_drift;
-use crate::preset_id::{Digital, DigitalCase, PresetId, DIGITAL_RATES};
 use crate::report::{summary, Runs};
+use pvfc_sim::error::Result;
+use pvfc_sim::metrics::energy_drift;
+use pvfc_sim::preset_id::{Digital, DigitalCase, PresetId, DIGITAL_RATES};
 
 /// A digital comparison's run.
 fn run(case: DigitalCase, rate: u32, controller: Digital) -> PresetId {
