@@ -4,9 +4,9 @@
 //! * sampled: controller at 1 kHz with zero-order hold, plant RK4 at 10 kHz (the default).
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use pvfc::sim::presets;
+use pvfc::sim::run::simulate;
+use pvfc::sim::scenario::presets;
 use pvfc::sim::scenario::Mode;
-use pvfc::sim::simulate::simulate;
 use std::hint::black_box;
 
 fn closed_loop(c: &mut Criterion) {

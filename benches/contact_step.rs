@@ -7,8 +7,8 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::Vector2;
 use pvfc::core::prelude::*;
 use pvfc::sim::contact::{ContactWorld, Environment};
-use pvfc::sim::presets;
-use pvfc::sim::simulate::simulate;
+use pvfc::sim::run::simulate;
+use pvfc::sim::scenario::presets;
 use pvfc::sim::ClosedLoop;
 use std::hint::black_box;
 
@@ -73,7 +73,7 @@ fn spatial_contact_step(c: &mut Criterion) {
     let robot = s.robot().expect("robot");
     let chain =
         pvfc::core::mechanics::SerialChain::<f64, 6>::try_from(robot.model()).expect("6 joints");
-    let ctl = pvfc::sim::arm::arm_controller(chain, &s.arm_settings().expect("settings"))
+    let ctl = pvfc::sim::model::arm::arm_controller(chain, &s.arm_settings().expect("settings"))
         .expect("controller");
     let sys = ClosedLoop::matched(ctl);
     let kinds = chain.kinds();

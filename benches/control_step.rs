@@ -13,7 +13,7 @@
 use criterion::{criterion_group, Criterion, Throughput};
 use nalgebra::{Matrix3, Vector2, Vector3};
 use pvfc::prelude::*;
-use pvfc::sim::presets::pelican_example;
+use pvfc::sim::scenario::presets::pelican_example;
 use pvfc::sim::ClosedLoop;
 use std::hint::black_box;
 use std::time::Instant;

@@ -6,8 +6,10 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use nalgebra::{SVector, Vector2};
 use pvfc::prelude::*;
-use pvfc::sim::arm::{arm_controller, ArmControllerN, ArmSettings, JointContour, JointContourSpec};
-use pvfc::sim::presets::pelican_example;
+use pvfc::sim::model::arm::{
+    arm_controller, ArmControllerN, ArmSettings, JointContour, JointContourSpec,
+};
+use pvfc::sim::scenario::presets::pelican_example;
 use pvfc::sim::urdf::ChainDescription;
 use pvfc::sim::ClosedLoop;
 use pvfc_core::augmented::AugmentedState;

@@ -5,9 +5,9 @@
 //! cargo run --release --example contact_wall
 //! ```
 
-use pvfc::sim::metrics::contact_summary;
-use pvfc::sim::presets;
-use pvfc::sim::simulate::run_scenario;
+use pvfc::sim::run::run_scenario;
+use pvfc::sim::scenario::presets;
+use pvfc::sim::trace::metrics::contact_summary;
 
 fn main() -> Result<(), pvfc::sim::SimError> {
     let scenario = presets::contact_wall();

@@ -4,7 +4,7 @@
 
 use nalgebra::Vector2;
 use pvfc::prelude::*;
-use pvfc::sim::presets::pelican_example;
+use pvfc::sim::scenario::presets::pelican_example;
 use pvfc::sim::ClosedLoop;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

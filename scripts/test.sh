@@ -18,7 +18,7 @@ py="$venv/bin/python"
 "$py" -c "import pvfc, numpy; print('pvfc', pvfc.__version__, 'numpy', numpy.__version__)"
 
 echo "=== pytest"
-(cd crates/pvfc-py && "../../$py" -m pytest -q -p no:cacheprovider)
+(cd crates/pvfc-py && "../../$py" -m pytest -q -p no:cacheprovider --durations=10)
 
 echo "=== stubtest"
 "$py" -m mypy.stubtest pvfc

@@ -3,7 +3,7 @@
 
 use nalgebra::{Matrix3, Vector2, Vector3};
 use pvfc::prelude::*;
-use pvfc::sim::presets::pelican_example;
+use pvfc::sim::scenario::presets::pelican_example;
 use pvfc::sim::ClosedLoop;
 
 fn paper_start(

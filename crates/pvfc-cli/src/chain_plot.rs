@@ -1,11 +1,11 @@
 //! The figure of a URDF arm's run: joint errors, `U`, `τ̇`, `κ_a`, and the tool's path in 3-D
 //! projected on two planes, against the desired contour's.
 
-use crate::plot::{figure, panel, Series};
-use pvfc_sim::arm::ArmSystem;
+use crate::canvas::{figure, panel, Series};
 use pvfc_sim::error::Result;
+use pvfc_sim::scenario::ArmSystem;
 use pvfc_sim::scenario::Scenario;
-use pvfc_sim::simulate::Trace;
+use pvfc_sim::trace::Trace;
 use std::path::Path;
 
 /// Up to 2,000 samples of `f` over a trace's time.

@@ -12,6 +12,7 @@
 // Library code never unwraps: bad input is an error value.
 #![warn(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+pub mod canvas;
 pub mod chain_plot;
 pub mod plot;
 mod plot_digital;
@@ -19,3 +20,4 @@ pub mod report;
 mod report_arms;
 mod report_digital;
 pub mod reproduce;
+pub mod runs;

@@ -4,8 +4,9 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use pvfc_cli::plot;
 use pvfc_cli::reproduce::{run_all, write_logs, write_summary};
+use pvfc_sim::scenario::presets;
 use pvfc_sim::scenario::Scenario;
-use pvfc_sim::{presets, SimError};
+use pvfc_sim::SimError;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -166,12 +167,12 @@ fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
             t.potential[n],
             t.beta[n],
             t.energy[n],
-            pvfc_sim::metrics::mean_potential_over_pass(t, s.period())
+            pvfc_sim::trace::metrics::mean_potential_over_pass(t, s.period())
                 .map(|u| format!("{u:.3e}"))
                 .unwrap_or_else(|| "(no complete pass)".into())
         );
         let tracking = match runs.arm_system(s)? {
-            Some(sys) => pvfc_sim::metrics::cartesian_tracking(s, &sys.robot, t)?,
+            Some(sys) => pvfc_sim::trace::metrics::cartesian_tracking(s, &sys.robot, t)?,
             None => None,
         };
         if let Some(c) = tracking {
@@ -185,7 +186,7 @@ fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
                 c.speed * 1e3,
             );
         }
-        if let Some(c) = pvfc_sim::metrics::contact_summary(t) {
+        if let Some(c) = pvfc_sim::trace::metrics::contact_summary(t) {
             println!(
                 "{name}: contact: peak force {:.1} N, energy pumped into the contact {:.3} J, work of the environment {:+.3} J, audit residual {:.1e} of {:.3} J",
                 c.peak_force, c.energy_pumped, c.work_contact, c.audit, c.energy_scale

@@ -3,11 +3,11 @@
 //! at the wall, the push and the obstacle: the audit residual (the energy the controller
 //! created or destroyed) and the passivity margin against time.
 
-use crate::plot::{figure, panel, Series};
-use crate::report::Runs;
+use crate::canvas::{figure, panel, Series};
+use crate::runs::Runs;
 use pvfc_sim::error::Result;
-use pvfc_sim::preset_id::{Digital, DigitalCase, PresetId};
-use pvfc_sim::simulate::Trace;
+use pvfc_sim::scenario::preset_id::{Digital, DigitalCase, PresetId};
+use pvfc_sim::trace::Trace;
 use std::path::{Path, PathBuf};
 
 /// `(t, residual)` of a run with work columns, relative to `κ_a(0)` and as an absolute

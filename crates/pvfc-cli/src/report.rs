@@ -1,69 +1,13 @@
 //! The numbers behind each claim of section V, computed from the runs of
-//! [`presets::all`](pvfc_sim::presets::all), as a table (Markdown and CSV).
+//! [`presets::all`](pvfc_sim::scenario::presets::all), as a table (Markdown and CSV).
 
+use crate::runs::Runs;
 use pvfc_sim::error::{Result, SimError};
-use pvfc_sim::metrics::*;
-use pvfc_sim::preset_id::{Arm3dCase, ContactCase, PresetId};
+use pvfc_sim::scenario::preset_id::{Arm3dCase, ContactCase, PresetId};
 use pvfc_sim::scenario::Mode;
-use pvfc_sim::scenario::Scenario;
-use pvfc_sim::simulate::Trace;
-use std::collections::BTreeMap;
+use pvfc_sim::trace::metrics::*;
+use pvfc_sim::trace::Trace;
 use std::fmt::Write as _;
-
-/// The runs of a reproduction: scenario and trace by name.
-#[derive(Clone, Debug, Default)]
-pub struct Runs {
-    /// Scenario and trace, by the scenario's name (the timed baseline as `NAME-timed`).
-    pub runs: BTreeMap<String, (Scenario, Trace)>,
-    /// The URDF arms' systems, built once per scenario, by the scenario's name.
-    pub arms: BTreeMap<String, pvfc_sim::arm::ArmSystem>,
-}
-
-impl Runs {
-    /// The system of scenario `s` if it is a URDF arm: the one built for its runs, or built
-    /// now if these runs did not keep it; `None` for the SCARA.
-    pub fn arm_system(
-        &self,
-        s: &Scenario,
-    ) -> Result<Option<std::borrow::Cow<'_, pvfc_sim::arm::ArmSystem>>> {
-        if !s.is_chain() {
-            return Ok(None);
-        }
-        Ok(Some(match self.arms.get(&s.name) {
-            Some(sys) => std::borrow::Cow::Borrowed(sys),
-            None => std::borrow::Cow::Owned(pvfc_sim::arm::ArmSystem::build(s)?),
-        }))
-    }
-
-    /// The scenario and trace of a preset's run.
-    pub fn run(&self, id: PresetId) -> Result<&(Scenario, Trace)> {
-        self.named(&id.name())
-    }
-
-    /// The trace of a preset's run.
-    pub fn trace(&self, id: PresetId) -> Result<&Trace> {
-        Ok(&self.run(id)?.1)
-    }
-
-    /// The trace of a preset's timed baseline (`NAME-timed`).
-    pub fn timed(&self, id: PresetId) -> Result<&Trace> {
-        Ok(&self.named(&id.timed_name())?.1)
-    }
-
-    /// A run by its name, for runs that are not presets.
-    pub fn named(&self, name: &str) -> Result<&(Scenario, Trace)> {
-        self.runs
-            .get(name)
-            .ok_or_else(|| SimError::Setting(format!("run `{name}` is missing")))
-    }
-
-    pub(crate) fn mean_u(&self, id: PresetId) -> Result<f64> {
-        let (s, t) = self.run(id)?;
-        mean_potential_over_pass(t, s.contour.period).ok_or_else(|| {
-            SimError::Setting(format!("run `{id}` does not cover one pass of the contour"))
-        })
-    }
-}
 
 /// One claim of the paper, with the measure and what came out.
 #[derive(Clone, Debug, PartialEq)]
@@ -298,20 +242,6 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     Ok(out)
 }
 
-pub(crate) fn summary(r: &Runs, id: PresetId) -> Result<ContactSummary> {
-    summarize(r.trace(id)?, &id.name())
-}
-
-/// The contact summary of a preset's timed baseline.
-pub(crate) fn timed_summary(r: &Runs, id: PresetId) -> Result<ContactSummary> {
-    summarize(r.timed(id)?, &id.timed_name())
-}
-
-fn summarize(t: &Trace, name: &str) -> Result<ContactSummary> {
-    contact_summary(t)
-        .ok_or_else(|| SimError::Setting(format!("run `{name}` has no contact columns")))
-}
-
 /// The claims of the contact scenarios (issue 4).
 fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool)) -> Result<()> {
     use ContactCase::*;
@@ -320,13 +250,13 @@ fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool
     let mut worst = 0.0f64;
     let mut rows = Vec::new();
     for case in pvfc {
-        let c = summary(r, PresetId::Contact(case))?;
+        let c = r.summary(PresetId::Contact(case))?;
         worst = worst.max(c.audit);
         rows.push(format!("{}: {:.1e}", short(case), c.audit));
     }
     let mut worst_timed = 0.0f64;
     for case in [Wall, Deburr, Push, Obstacle] {
-        worst_timed = worst_timed.max(timed_summary(r, PresetId::Contact(case))?.audit);
+        worst_timed = worst_timed.max(r.timed_summary(PresetId::Contact(case))?.audit);
     }
     push(
         "contact.audit",
@@ -338,7 +268,7 @@ fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool
     let mut ok = true;
     let mut rows = Vec::new();
     for case in pvfc {
-        let c = summary(r, PresetId::Contact(case))?;
+        let c = r.summary(PresetId::Contact(case))?;
         let e0 = c.energy_scale;
         ok &= c.passivity_margin >= -1e-6 * e0 && c.energy_bound_margin >= -1e-6 * e0;
         rows.push(format!(
@@ -360,7 +290,7 @@ fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool
     let mut rows = Vec::new();
     for case in [Wall, Obstacle, Deburr] {
         let id = PresetId::Contact(case);
-        let (p, t) = (summary(r, id)?, timed_summary(r, id)?);
+        let (p, t) = (r.summary(id)?, r.timed_summary(id)?);
         ok &= t.peak_force > p.peak_force;
         rows.push(format!(
             "{}: PVFC {:.0} N / {:.1} J, timed {:.0} N / {:.1} J",
@@ -378,7 +308,7 @@ fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool
         rows.join("; "),
         ok,
     );
-    let c = summary(r, PresetId::Contact(WallSampled))?;
+    let c = r.summary(PresetId::Contact(WallSampled))?;
     let e0 = c.energy_scale;
     let ts = r.trace(PresetId::Contact(WallSampled))?;
     let (touch, during) = match ts.contact.as_ref() {
@@ -409,8 +339,8 @@ fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool
         .and_then(|c| c.force_schedule)
         .map_or(f64::INFINITY, |f| f.limit);
     let (d, u) = (
-        summary(r, PresetId::Contact(Deburr))?,
-        summary(r, PresetId::Contact(DeburrUnscheduled))?,
+        r.summary(PresetId::Contact(Deburr))?,
+        r.summary(PresetId::Contact(DeburrUnscheduled))?,
     );
     push(
         "contact.deburr",
@@ -426,7 +356,7 @@ fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool
     let mut rows = Vec::new();
     for case in [Obstacle, Push] {
         let t = r.trace(PresetId::Contact(case))?;
-        let c = summary(r, PresetId::Contact(case))?;
+        let c = r.summary(PresetId::Contact(case))?;
         let last = c.last_contact.unwrap_or(0.0);
         let after = window(t, last, t.t[t.len() - 1] + 1.0);
         let peak_u = t.potential[after.clone()]

@@ -1,12 +1,12 @@
 //! The claims of the 3-D contact scenarios of a URDF arm ([`presets::arms_3d`]
-//! (pvfc_sim::presets::arms_3d), issue 12): a UR5 deburring a box's top, at a wall it cannot
+//! (pvfc_sim::scenario::presets::arms_3d), issue 12): a UR5 deburring a box's top, at a wall it cannot
 //! pass and pushed on the forearm, each beside the timed tracker; the audit, the passivity
 //! margins, the forces and the Cartesian path error in millimetres.
 
-use crate::report::{summary, timed_summary, Runs};
+use crate::runs::Runs;
 use pvfc_sim::error::{Result, SimError};
-use pvfc_sim::metrics::{cartesian_tracking, ContactSummary};
-use pvfc_sim::preset_id::{Arm3dCase, PresetId};
+use pvfc_sim::scenario::preset_id::{Arm3dCase, PresetId};
+use pvfc_sim::trace::metrics::{cartesian_tracking, ContactSummary};
 
 /// The PVFC runs: the three scenarios (the passive digital controller at 1 kHz) and the
 /// deburring run in continuous time.
@@ -19,7 +19,7 @@ const PVFC_RUNS: [Arm3dCase; 4] = [
 
 fn pair(r: &Runs, case: Arm3dCase) -> Result<(ContactSummary, ContactSummary)> {
     let id = PresetId::Arm3d(case);
-    Ok((summary(r, id)?, timed_summary(r, id)?))
+    Ok((r.summary(id)?, r.timed_summary(id)?))
 }
 
 pub(crate) fn arm_claims(
@@ -29,13 +29,13 @@ pub(crate) fn arm_claims(
     let mut ok = true;
     let mut rows = Vec::new();
     for case in PVFC_RUNS {
-        let c = summary(r, PresetId::Arm3d(case))?;
+        let c = r.summary(PresetId::Arm3d(case))?;
         ok &= c.audit <= 1e-6;
         rows.push(format!("{}: {:.1e}", case.label(), c.audit));
     }
     let mut worst_timed = 0.0f64;
     for case in Arm3dCase::FILES {
-        let c = timed_summary(r, PresetId::Arm3d(case))?;
+        let c = r.timed_summary(PresetId::Arm3d(case))?;
         ok &= c.audit <= 1e-6;
         worst_timed = worst_timed.max(c.audit);
     }
@@ -49,7 +49,7 @@ pub(crate) fn arm_claims(
     let mut ok = true;
     let mut rows = Vec::new();
     for case in PVFC_RUNS {
-        let c = summary(r, PresetId::Arm3d(case))?;
+        let c = r.summary(PresetId::Arm3d(case))?;
         let e0 = c.energy_scale;
         ok &= c.passivity_margin >= -1e-6 * e0 && c.energy_bound_margin >= -1e-6 * e0;
         rows.push(format!(

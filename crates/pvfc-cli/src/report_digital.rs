@@ -3,10 +3,10 @@
 //! and 100 Hz, in free motion and at the wall, the push and the obstacle; the passive
 //! controller on a drive (torque limits, encoders, positions only); tracking on Fig. 8.
 
-use crate::report::{summary, Runs};
+use crate::runs::Runs;
 use pvfc_sim::error::Result;
-use pvfc_sim::metrics::energy_drift;
-use pvfc_sim::preset_id::{Digital, DigitalCase, PresetId, DIGITAL_RATES};
+use pvfc_sim::scenario::preset_id::{Digital, DigitalCase, PresetId, DIGITAL_RATES};
+use pvfc_sim::trace::metrics::energy_drift;
 
 /// A digital comparison's run.
 fn run(case: DigitalCase, rate: u32, controller: Digital) -> PresetId {
@@ -23,7 +23,7 @@ fn run(case: DigitalCase, rate: u32, controller: Digital) -> PresetId {
 fn audit(r: &Runs, id: PresetId) -> Result<f64> {
     let t = r.trace(id)?;
     Ok(match t.contact {
-        Some(_) => summary(r, id)?.audit,
+        Some(_) => r.summary(id)?.audit,
         None => energy_drift(t),
     })
 }
@@ -76,8 +76,8 @@ pub(crate) fn digital_claims(
     for case in [DigitalCase::Wall, DigitalCase::Push, DigitalCase::Obstacle] {
         for rate in DIGITAL_RATES {
             let (p, z) = (
-                summary(r, run(case, rate, Digital::Passive))?,
-                summary(r, run(case, rate, Digital::Zoh))?,
+                r.summary(run(case, rate, Digital::Passive))?,
+                r.summary(run(case, rate, Digital::Zoh))?,
             );
             let case = case.label();
             let e0 = p.energy_scale;
@@ -114,8 +114,8 @@ pub(crate) fn digital_claims(
         .count();
     let bound = delta * max_u1;
     let (made, e0) = created(r, drive)?;
-    let ideal = summary(r, ideal_drive)?;
-    let d = summary(r, drive)?;
+    let ideal = r.summary(ideal_drive)?;
+    let d = r.summary(drive)?;
     let (u_drive, u_ideal) = (r.mean_u(drive)?, r.mean_u(ideal_drive)?);
     push(
         "digital.drive",

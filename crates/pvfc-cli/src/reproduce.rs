@@ -1,11 +1,12 @@
 //! The paper's reproduction: every preset run, and what the runs produce (MCAP logs, the
 //! summary table of the claims).
 
-use crate::report::{self, Runs};
-use pvfc_sim::arm::ArmSystem;
+use crate::report;
+use crate::runs::Runs;
 use pvfc_sim::error::{Result, SimError};
+use pvfc_sim::run::run_scenario_with;
+use pvfc_sim::scenario::ArmSystem;
 use pvfc_sim::scenario::Scenario;
-use pvfc_sim::simulate::run_scenario_with;
 use std::path::{Path, PathBuf};
 
 /// Runs every scenario; `progress(name)` gives the callback for each run.

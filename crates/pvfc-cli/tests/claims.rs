@@ -3,17 +3,18 @@
 //! compensation is 24–40× (not ~2×) the compensated U, and the timed tracker of Fig. 1 (with
 //! an exact model and ω_n = 20 rad/s) stays closer to the contour than PVFC. See README.
 
-use pvfc_cli::report::{claims, Claim, Runs};
+use pvfc_cli::report::{claims, Claim};
 use pvfc_cli::reproduce::run_all;
-use pvfc_sim::preset_id::PresetId;
+use pvfc_cli::runs::Runs;
+use pvfc_sim::scenario::preset_id::PresetId;
 use pvfc_sim::scenario::Mode;
 use std::sync::OnceLock;
 
 fn all_claims() -> &'static (Runs, Vec<Claim>) {
     static CELL: OnceLock<(Runs, Vec<Claim>)> = OnceLock::new();
     CELL.get_or_init(|| {
-        let runs =
-            run_all(&pvfc_sim::presets::all(), |_| Box::new(|_| {})).expect("the presets run");
+        let runs = run_all(&pvfc_sim::scenario::presets::all(), |_| Box::new(|_| {}))
+            .expect("the presets run");
         let c = claims(&runs).expect("every claim can be evaluated");
         (runs, c)
     })
@@ -88,7 +89,7 @@ fn the_sampled_loop_energy_change_is_reported_and_small() {
         .0
         .trace(PresetId::Energy(Mode::Sampled))
         .unwrap();
-    let drift = pvfc_sim::metrics::energy_drift(t);
+    let drift = pvfc_sim::trace::metrics::energy_drift(t);
     // Not a property of PVFC but of the discretisation: measured 3.8e-4 over 60 s.
     assert!(
         drift > 0.0 && drift < 1e-2,

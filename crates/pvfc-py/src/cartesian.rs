@@ -1,13 +1,13 @@
 //! `pvfc.CartesianPath`: a closed tool path in the robot's base frame (a polyline with
 //! rounded corners, a circle, or a CSV file of points), sampled and turned into the joint
-//! waypoints of a contour by inverse kinematics (`pvfc_sim::cartesian`).
+//! waypoints of a contour by inverse kinematics (`pvfc_sim::model::cartesian`).
 
 use crate::convert::{array, out1};
 use crate::errors::sim_err;
 use crate::robots::Robot;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2};
-use pvfc_sim::cartesian::{CartesianSpec, CircleSpec};
+use pvfc_sim::model::cartesian::{CartesianSpec, CircleSpec};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use std::path::PathBuf;

@@ -6,7 +6,8 @@ use crate::errors::{core_err, sim_err, InvalidParameterError};
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArray2};
 use pvfc_core::prelude::*;
-use pvfc_sim::arm::{DynJointContour, JointContourSpec, MAX_JOINTS, MAX_WAYPOINTS};
+use pvfc_sim::model::arm::{DynJointContour, JointContourSpec};
+use pvfc_sim::model::{MAX_JOINTS, MAX_WAYPOINTS};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 

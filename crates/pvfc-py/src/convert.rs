@@ -92,7 +92,7 @@ pub fn out_dmatrix<'py>(py: Python<'py>, m: &nalgebra::DMatrix<f64>) -> Bound<'p
 /// A fresh `(n, dof)` array from a joint series.
 pub fn out_series<'py>(
     py: Python<'py>,
-    s: &pvfc_sim::series::JointSeries,
+    s: &pvfc_sim::trace::series::JointSeries,
 ) -> Bound<'py, PyArray2<f64>> {
     Array2::from_shape_vec((s.len(), s.dof()), s.as_flat().to_vec())
         .map(|a| a.into_pyarray(py))

@@ -6,7 +6,7 @@ use nalgebra::{SVector, Vector2};
 use numpy::PyArray1;
 use pvfc_core::lie::JointKind;
 use pvfc_core::prelude::*;
-use pvfc_sim::arm::MAX_JOINTS;
+use pvfc_sim::model::MAX_JOINTS;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 

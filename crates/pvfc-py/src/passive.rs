@@ -10,7 +10,7 @@ use nalgebra::Vector2;
 use numpy::PyArray1;
 use pvfc_core::passive::EnergyAccount;
 use pvfc_core::prelude::*;
-use pvfc_sim::arm::{PassiveArm, PassiveOptions};
+use pvfc_sim::model::arm::{PassiveArm, PassiveOptions};
 use pvfc_sim::scenario::PaperPassiveController;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;

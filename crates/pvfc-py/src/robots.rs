@@ -6,7 +6,7 @@ use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
 use pvfc_core::lie::JointKind;
 use pvfc_core::mechanics::Pose;
-use pvfc_sim::robot::Robot as SimRobot;
+use pvfc_sim::model::robot::Robot as SimRobot;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;

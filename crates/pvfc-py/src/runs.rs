@@ -4,7 +4,7 @@
 use crate::convert::{dyn_vector, out1, out_column};
 use crate::errors::sim_err;
 use pvfc_sim::scenario::Scenario as SimScenario;
-use pvfc_sim::simulate::Trace;
+use pvfc_sim::trace::Trace;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -58,7 +58,7 @@ impl Scenario {
     /// A built-in scenario of the paper's section V by name (see `presets()`).
     #[staticmethod]
     fn preset(name: &str) -> PyResult<Self> {
-        pvfc_sim::presets::all()
+        pvfc_sim::scenario::presets::all()
             .into_iter()
             .find(|s| s.name == name)
             .map(|s| Scenario { s })
@@ -72,7 +72,7 @@ impl Scenario {
     /// The names of the built-in scenarios.
     #[staticmethod]
     fn presets() -> Vec<String> {
-        pvfc_sim::presets::all()
+        pvfc_sim::scenario::presets::all()
             .into_iter()
             .map(|s| s.name)
             .collect()
@@ -171,7 +171,7 @@ impl SimulationResult {
     /// (relative), `passivity_margin` and `energy_bound_margin` (J, ≥ 0 when passivity
     /// holds), `last_contact` (s or None). None without contact.
     fn contact_summary<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let Some(c) = pvfc_sim::metrics::contact_summary(&self.t) else {
+        let Some(c) = pvfc_sim::trace::metrics::contact_summary(&self.t) else {
             return Ok(None);
         };
         let d = PyDict::new(py);
@@ -192,7 +192,7 @@ impl SimulationResult {
 
     /// The mean of U over the last complete pass of the contour, or None.
     fn mean_potential_over_pass(&self) -> Option<f64> {
-        pvfc_sim::metrics::mean_potential_over_pass(&self.t, self.period)
+        pvfc_sim::trace::metrics::mean_potential_over_pass(&self.t, self.period)
     }
 
     /// Writes the run as an MCAP log; given the run's scenario of a URDF arm, with its 3-D
@@ -234,7 +234,7 @@ impl SimulationResult {
 pub(crate) fn simulate(py: Python<'_>, scenario: &Scenario) -> PyResult<SimulationResult> {
     let s = scenario.s.clone();
     let t = py
-        .detach(move || pvfc_sim::simulate::simulate(&s, &mut |_| {}))
+        .detach(move || pvfc_sim::run::simulate(&s, &mut |_| {}))
         .map_err(sim_err)?;
     Ok(SimulationResult {
         t,
@@ -255,7 +255,7 @@ pub(crate) fn simulate_many(
     let periods: Vec<f64> = ss.iter().map(|s| s.contour.period).collect();
     let run = move || -> Vec<pvfc_sim::Result<Trace>> {
         ss.par_iter()
-            .map(|s| pvfc_sim::simulate::simulate(s, &mut |_| {}))
+            .map(|s| pvfc_sim::run::simulate(s, &mut |_| {}))
             .collect()
     };
     let traces = py.detach(move || match threads {
@@ -297,7 +297,7 @@ pub(crate) fn simulate_timed(
     };
     let s = scenario.s.clone();
     let t = py
-        .detach(move || pvfc_sim::simulate::simulate_timed(&s, &b, tau_rate, &mut |_| {}))
+        .detach(move || pvfc_sim::run::simulate_timed(&s, &b, tau_rate, &mut |_| {}))
         .map_err(sim_err)?;
     Ok(SimulationResult {
         t,

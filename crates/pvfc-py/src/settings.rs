@@ -3,7 +3,7 @@
 
 use crate::convert::any_array;
 use numpy::PyArray1;
-use pvfc_sim::arm::{ArmSettings, JointContourSpec};
+use pvfc_sim::model::arm::{ArmSettings, JointContourSpec};
 use pyo3::prelude::*;
 
 /// The settings of a PVFC controller: self-pacing `R` (eq. 21), the energy level `Ē` and the

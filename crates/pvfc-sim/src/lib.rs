@@ -1,9 +1,11 @@
 //! # pvfc-sim
 //!
-//! The simulation library of Passive Velocity Field Control: plants with friction
-//! ([`friction`]), arms from URDF ([`urdf`]), the closed loop and its integrators
-//! ([`integrate`]), scenarios as data ([`scenario`], [`presets`]), runs ([`simulate`]), traces
-//! ([`trace`]), metrics ([`metrics`]), contact ([`contact`]) and MCAP logs ([`log`]).
+//! The simulation library of Passive Velocity Field Control, in layers through which the data
+//! of a run flows one way: URDF files ([`urdf`]) and robot models with a run-time number of
+//! joints ([`model`]); contact with the world ([`contact`]); scenarios as plain data, the
+//! paper's presets, and the one builder that makes a scenario's system ([`scenario`]); the
+//! closed loop and its runs ([`run`]); what a run leaves and what is measured on it
+//! ([`trace`]); MCAP logs ([`log`]). `docs/architecture.md` draws the layers.
 //!
 //! It has no command line and draws no figures: the `pvfc` command (crate `pvfc-cli`) and the
 //! Python wheel (`pvfc-py`) are built on it.
@@ -13,25 +15,17 @@
 // Library code never unwraps: bad input is an error value.
 #![warn(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-pub mod arm;
-pub mod cartesian;
-pub mod chain_run;
 pub mod contact;
 pub mod error;
-pub mod friction;
-pub mod integrate;
 pub mod log;
-pub mod metrics;
-pub mod preset_id;
-pub mod presets;
-pub mod robot;
-mod run_loop;
+pub mod model;
+pub mod run;
 pub mod scenario;
-pub mod series;
-pub mod simulate;
-mod stepper;
 pub mod trace;
 pub mod urdf;
 
 pub use error::{Result, SimError};
-pub use integrate::{ClosedLoop, Derivative, Evaluation};
+pub use run::integrate::{ClosedLoop, Derivative, Evaluation};
+pub use run::{run_scenario, simulate, simulate_timed};
+pub use scenario::Scenario;
+pub use trace::{ContactTrace, Trace};

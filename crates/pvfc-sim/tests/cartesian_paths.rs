@@ -4,8 +4,8 @@
 //! it (the null-space pull) while still reaching every point; bad settings are named errors.
 
 use nalgebra::{Rotation3, SVector, UnitQuaternion, Vector3};
-use pvfc_sim::cartesian::{CartesianSpec, CircleSpec};
-use pvfc_sim::robot::Robot;
+use pvfc_sim::model::cartesian::{CartesianSpec, CircleSpec};
+use pvfc_sim::model::robot::Robot;
 use std::path::Path;
 
 fn robot(path: &str, tip: &str) -> Robot {

@@ -2,8 +2,8 @@
 //! UR5 and Panda files parse and run, the frictionless continuous loop keeps κ_a, the
 //! sampled one converges, and bad settings are errors that name the field.
 
+use pvfc_sim::run::simulate;
 use pvfc_sim::scenario::{Mode, Scenario};
-use pvfc_sim::simulate::simulate;
 use std::path::{Path, PathBuf};
 
 fn file(name: &str) -> PathBuf {
@@ -146,14 +146,14 @@ fn a_urdf_arm_runs_with_the_passive_digital_controller() {
 /// that names the waypoint.
 #[test]
 fn a_cartesian_tool_path_becomes_joint_waypoints_or_a_named_error() {
-    use pvfc_sim::cartesian::CircleSpec;
     use pvfc_sim::error::{SimError, WaypointProblem};
+    use pvfc_sim::model::cartesian::CircleSpec;
     let s = Scenario::from_file(&file("ur5_cartesian.toml")).unwrap();
     s.validate().unwrap();
     assert_eq!(s.period(), 12.0);
     let c = s.contour.cartesian.clone().unwrap();
     let robot = s.robot().unwrap();
-    let check = |c: &pvfc_sim::cartesian::CartesianSpec| {
+    let check = |c: &pvfc_sim::model::cartesian::CartesianSpec| {
         let points = c.sample(&s.base_dir).unwrap();
         let q = c.joint_waypoints(&robot, &s.base_dir).unwrap();
         assert_eq!(q.len(), c.samples);
@@ -173,11 +173,12 @@ fn a_cartesian_tool_path_becomes_joint_waypoints_or_a_named_error() {
         major_axis: None,
     });
     check(&circle);
-    let problem =
-        |c: &pvfc_sim::cartesian::CartesianSpec| match c.joint_waypoints(&robot, &s.base_dir) {
-            Err(SimError::Waypoint { index, problem, .. }) => (index, problem),
-            other => panic!("expected a waypoint error, got {other:?}"),
-        };
+    let problem = |c: &pvfc_sim::model::cartesian::CartesianSpec| match c
+        .joint_waypoints(&robot, &s.base_dir)
+    {
+        Err(SimError::Waypoint { index, problem, .. }) => (index, problem),
+        other => panic!("expected a waypoint error, got {other:?}"),
+    };
     let mut far = c.clone();
     far.points[2] = [3.0, 0.2, 0.3];
     far.max_jump = Some(10.0); // only the reach is in question here
@@ -212,7 +213,7 @@ fn an_arm_log_carries_its_3d_scene_for_foxglove() {
     use pvfc_sim::log::{read_mcap, write_mcap_with, LogOptions};
     let mut s = ur5();
     s.duration = 0.2;
-    let t = pvfc_sim::simulate::simulate(&s, &mut |_| {}).unwrap();
+    let t = pvfc_sim::run::simulate(&s, &mut |_| {}).unwrap();
     let scene = ArmScene::of_run(&s, &t).unwrap().unwrap();
     assert_eq!(scene.frames.len(), 7);
     assert_eq!(scene.frames.last().map(String::as_str), Some("tool"));
@@ -247,9 +248,9 @@ fn an_arm_log_carries_its_3d_scene_for_foxglove() {
         }
     }
     // A planar run has no scene.
-    let mut planar = pvfc_sim::presets::fig8(100);
+    let mut planar = pvfc_sim::scenario::presets::fig8(100);
     planar.duration = 0.01;
-    let tp = pvfc_sim::simulate::simulate(&planar, &mut |_| {}).unwrap();
+    let tp = pvfc_sim::run::simulate(&planar, &mut |_| {}).unwrap();
     assert!(ArmScene::of_run(&planar, &tp).unwrap().is_none());
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -323,7 +324,7 @@ fn a_urdf_arm_on_a_table_keeps_its_energy_audit() {
 fn the_deburring_scenario_runs_beside_its_timed_baseline() {
     let mut s = Scenario::from_file(&file("ur5_deburr.toml")).unwrap();
     s.duration = 4.0;
-    let runs = pvfc_sim::simulate::run_scenario(&s, &mut |_| {}).unwrap();
+    let runs = pvfc_sim::run::run_scenario(&s, &mut |_| {}).unwrap();
     assert_eq!(runs.len(), 2);
     assert_eq!(runs[1].name, "ur5_deburr-timed");
     for t in &runs {
@@ -394,7 +395,7 @@ fn the_path_error_says_how_far_and_where_along_the_path() {
 /// on an ellipse keeps κ_a in continuous time and converges onto it, and bad lists are named.
 #[test]
 fn a_urdf_arm_follows_a_joint_space_lissajous_curve_or_ellipse() {
-    use pvfc_sim::arm::ArmController;
+    use pvfc_sim::model::arm::ArmController;
     use pvfc_sim::scenario::JointEllipseSpec;
     let p = Scenario::from_file(&file("panda_lissajous.toml")).unwrap();
     assert_eq!(p.dof().unwrap(), 7);

@@ -12,10 +12,10 @@ use pvfc_sim::contact::{
     ShapeSpec,
 };
 use pvfc_sim::log::{read_mcap, write_mcap, CONTACT_TOPIC};
-use pvfc_sim::metrics::contact_summary;
-use pvfc_sim::presets;
+use pvfc_sim::run::{simulate, simulate_in};
+use pvfc_sim::scenario::presets;
 use pvfc_sim::scenario::Scenario;
-use pvfc_sim::simulate::{simulate, simulate_in};
+use pvfc_sim::trace::metrics::contact_summary;
 use pvfc_sim::SimError;
 use std::path::Path;
 

@@ -1,10 +1,11 @@
 //! Scenario files, URDF models and MCAP logs: parsing, typed errors, round trips.
 
 use pvfc_sim::log::{read_mcap, write_mcap, CONTROLLER_TOPIC, JOINT_STATE_TOPIC};
-use pvfc_sim::preset_id::{Digital, DigitalCase, PresetId};
+use pvfc_sim::scenario::preset_id::{Digital, DigitalCase, PresetId};
+use pvfc_sim::scenario::presets;
 use pvfc_sim::scenario::{direct_drive_arm, Scenario};
 use pvfc_sim::urdf::{scara_from_urdf, scara_from_urdf_str};
-use pvfc_sim::{presets, SimError};
+use pvfc_sim::SimError;
 use std::path::{Path, PathBuf};
 
 fn repo() -> PathBuf {
@@ -139,7 +140,7 @@ fn bad_urdfs_name_the_element() {
 fn mcap_logs_read_back_with_counts_and_values() {
     let mut s = presets::fig8(100);
     s.duration = 0.5;
-    let t = pvfc_sim::simulate::simulate(&s, &mut |_| {}).unwrap();
+    let t = pvfc_sim::run::simulate(&s, &mut |_| {}).unwrap();
     let dir = std::env::temp_dir().join(format!("pvfc-mcap-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("run.mcap");

@@ -9,7 +9,7 @@ use pvfc_sim::contact::spatial::{
     ArmGeometry, SpatialContactSpec, SpatialObstacle, SpatialShape, SpatialWorld,
 };
 use pvfc_sim::contact::ContactLaw;
-use pvfc_sim::robot::Robot;
+use pvfc_sim::model::robot::Robot;
 use std::path::Path;
 
 fn ur5() -> Robot {

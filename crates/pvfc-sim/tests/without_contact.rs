@@ -3,7 +3,9 @@
 //! so that the contact module does not import the presets and the simulation.)
 #![cfg(not(feature = "contact"))]
 
-use pvfc_sim::{presets, simulate::simulate, SimError};
+use pvfc_sim::run::simulate;
+use pvfc_sim::scenario::presets;
+use pvfc_sim::SimError;
 
 #[test]
 fn a_contact_scenario_is_a_clear_error_without_the_feature() {

@@ -6,8 +6,8 @@ pub mod cdr;
 pub mod scene;
 
 use crate::error::{Result, SimError};
-use crate::trace::{Column, Shape, Trace, Values, CONTACT_COLUMNS, TRACE_COLUMNS};
-use cdr::{Field, MessageType};
+use crate::trace::{Column, Precision, Shape, Trace, Values, CONTACT_COLUMNS, TRACE_COLUMNS};
+use cdr::{Field, MessageType, Width};
 use scene::ArmScene;
 use std::collections::BTreeMap;
 use std::io::BufWriter;
@@ -41,7 +41,10 @@ fn message<'a, S>(
         .iter()
         .filter(|c| keep(c))
         .filter_map(|c| {
-            let width = c.log?;
+            let width = match c.precision? {
+                Precision::Plot => Width::F32,
+                Precision::Audit => Width::F64,
+            };
             let values = (c.get)(trace);
             let field = match values {
                 Values::Vectors(v) => Field::array(c.name, width, v.dof()),

@@ -3,10 +3,10 @@
 //! as a closed line (`foxglove.SceneUpdate`), all in the robot's base frame. The messages are
 //! Foxglove's own (the `foxglove` crate), in protobuf with the SDK's schemas.
 
-use crate::arm::ArmSystem;
 use crate::error::{Result, SimError};
+use crate::scenario::ArmSystem;
 use crate::scenario::Scenario;
-use crate::simulate::Trace;
+use crate::trace::Trace;
 use foxglove::messages::{
     line_primitive, Color, FrameTransform, FrameTransforms, LinePrimitive, Point3, Quaternion,
     SceneEntity, SceneUpdate, Timestamp, Vector3,

@@ -3,7 +3,7 @@
 use super::{setting, ArmGeometry, SpatialContact, SpatialContactSpec, SpatialShape};
 use crate::contact::ContactLaw;
 use crate::error::{Result, SimError};
-use crate::robot::Robot;
+use crate::model::robot::Robot;
 use crate::urdf::collision::{resolve_mesh, CollisionGeometry, LinkCollision};
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use pvfc_core::lie::JointKind;

@@ -3,16 +3,13 @@
 //! function, self-pacing, the flywheel, and the add-ons (gravity, friction, nominal speed),
 //! dispatched into the const-generic core.
 
+use super::{fixed, MAX_JOINTS, MAX_WAYPOINTS};
 use crate::error::{Result, SimError};
-use crate::robot::{ChainModel, Robot};
-use nalgebra::SVector;
+use crate::model::robot::{ChainModel, Robot};
 use pvfc_core::augmented::AugmentedState;
 use pvfc_core::contour::ContourSample;
 use pvfc_core::passive::{EnergyAccount, PassiveController};
 use pvfc_core::prelude::*;
-
-/// The most waypoints a joint-space contour may have (the spline's capacity; no allocation).
-pub const MAX_WAYPOINTS: usize = 32;
 
 /// A closed joint-space contour of an arm, as plain data (one entry per joint in every list,
 /// checked against the robot when the controller is built).
@@ -247,17 +244,6 @@ fn setting(message: String) -> SimError {
     SimError::Setting(message)
 }
 
-/// A per-joint list as a vector of the robot's dimension, or an error naming it.
-pub(crate) fn fixed<const N: usize>(x: &[f64], name: &str) -> Result<SVector<f64, N>> {
-    if x.len() != N {
-        return Err(setting(format!(
-            "{name}: {} entries for a {N}-joint robot",
-            x.len()
-        )));
-    }
-    Ok(SVector::from_column_slice(x))
-}
-
 /// Builds the controller of an `N`-joint chain.
 pub fn arm_controller<const N: usize>(
     chain: SerialChain<f64, N>,
@@ -477,43 +463,6 @@ impl PassiveArm {
         })
     }
 }
-
-/// A URDF arm's scenario built once, as the data flows (file → system → run): the robot (its
-/// URDF read once, with the scenario's gravity), the controller's settings (a Cartesian
-/// path's inverse kinematics solved once) and the controller built from them. The runs, the
-/// logs' 3-D scenes, the figures and the Cartesian metrics all take it instead of reading
-/// the scenario's files again.
-#[derive(Clone, Debug)]
-pub struct ArmSystem {
-    /// The robot model.
-    pub robot: Robot,
-    /// The controller's settings.
-    pub settings: ArmSettings,
-    /// The controller, at its initial state.
-    pub controller: ArmController,
-}
-
-impl ArmSystem {
-    /// Builds the system of a URDF arm's scenario (`[plant] urdf`), checking the scenario
-    /// against the robot on the way: this is also how [`Scenario::validate`] checks a URDF
-    /// arm's scenario.
-    ///
-    /// [`Scenario::validate`]: crate::scenario::Scenario::validate
-    pub fn build(s: &crate::scenario::Scenario) -> Result<Self> {
-        let robot = s.robot()?;
-        s.check_chain(&robot)?;
-        let settings = s.arm_settings_for(&robot)?;
-        let controller = ArmController::new(&robot, &settings)?;
-        Ok(ArmSystem {
-            robot,
-            settings,
-            controller,
-        })
-    }
-}
-
-/// The largest number of joints (and of contour coordinates) dispatched at run time.
-pub const MAX_JOINTS: usize = 8;
 
 impl JointContourSpec {
     /// The number of coordinates (the first waypoint's, or the lists' length).

@@ -1,5 +1,6 @@
 //! The closed loop `plant + controller` and its fixed-step integration.
 
+use crate::trace::Work;
 use pvfc_core::augmented::{AugmentedState, AugmentedVector};
 use pvfc_core::controller::Controller;
 use pvfc_core::coupling::CouplingOutput;
@@ -246,4 +247,15 @@ where
                 + k4.flywheel_speed)
                 * w,
     })
+}
+
+impl Work {
+    /// Adds one RK4 step of length `h` given the powers at its four stages.
+    pub(crate) fn add(&mut self, h: f64, p: &[[f64; 4]; 4]) {
+        for (w, pi) in RK4_WEIGHTS.iter().zip(p) {
+            for (acc, x) in self.0.iter_mut().zip(pi) {
+                *acc += h * w * x;
+            }
+        }
+    }
 }

@@ -6,60 +6,60 @@
 //! ([`crate::log`]) writes from, and the Python bindings' getters (`pvfc-py` expands the same
 //! list). A column added to the list appears in all of them.
 
+pub mod metrics;
+pub mod series;
+
 use crate::contact::ContactForces;
-use crate::integrate::RK4_WEIGHTS;
-use crate::log::cdr::Width;
-use crate::series::JointSeries;
-use crate::stepper::Sample;
+use crate::trace::series::JointSeries;
 use nalgebra::Vector2;
 
 /// Calls the macro `$callback` with the columns of a run: `trace { … } contact { … }`, each
 /// entry `name as python_name: Shape Log "doc";` with `Shape` one of `Scalar` (one number
 /// per sample), `Joints` (one per joint), `Workspace` (2 numbers for the planar arm, 3 in
-/// 3-D), and `Log` one of `Time` (the log's timestamp, not a field), `F32` (plot values),
-/// `F64` (the energy audit's columns, whose residuals `float32` would hide). The order is
-/// the order of the fields in the log's messages.
+/// 3-D), and `Precision` one of `Time` (the log's timestamp, not a field), `Plot` (values to
+/// plot: seven digits suffice), `Audit` (the energy audit's columns, whose residuals are
+/// 1e-15 of the energy). The order is the order of the fields in the log's messages.
 #[macro_export]
 macro_rules! trace_columns {
     ($callback:ident) => {
         $callback! {
             trace {
                 t as t: Scalar Time "Time (s).";
-                q as q: Joints F32
+                q as q: Joints Plot
                     "Joint positions (rad, or m for prismatic joints), one row per sample.";
-                v as qdot: Joints F32 "Joint velocities (rad/s, m/s), one row per sample.";
-                energy as energy: Scalar F64
+                v as qdot: Joints Plot "Joint velocities (rad/s, m/s), one row per sample.";
+                energy as energy: Scalar Audit
                     "Augmented kinetic energy κ_a (J): arm + ½τ̇² + flywheel (eq. 5).";
-                tau as tau: Scalar F32 "Contour parameter τ, unwrapped.";
-                tau_dot as tau_dot: Scalar F32 "Its rate dτ/dt.";
-                flywheel_speed as flywheel_speed: Scalar F32
+                tau as tau: Scalar Plot "Contour parameter τ, unwrapped.";
+                tau_dot as tau_dot: Scalar Plot "Its rate dτ/dt.";
+                flywheel_speed as flywheel_speed: Scalar Plot
                     "Flywheel speed q̇_F (rad/s; 0 for the timed baseline).";
-                beta as beta: Scalar F32 "β = √(κ_a/Ē): the speed along the field.";
-                potential as potential: Scalar F32 "The contour error U(E) of eq. (17).";
-                lambda1 as lambda1: Scalar F32 "Self-pacing gain λ₁ (eq. 21).";
-                lambda2 as lambda2: Scalar F32 "Self-pacing gain λ₂ (eq. 21).";
-                torque as torque: Joints F32 "Motor torques (N·m, N), one row per sample.";
-                friction_power as friction_power: Scalar F32
+                beta as beta: Scalar Plot "β = √(κ_a/Ē): the speed along the field.";
+                potential as potential: Scalar Plot "The contour error U(E) of eq. (17).";
+                lambda1 as lambda1: Scalar Plot "Self-pacing gain λ₁ (eq. 21).";
+                lambda2 as lambda2: Scalar Plot "Self-pacing gain λ₂ (eq. 21).";
+                torque as torque: Joints Plot "Motor torques (N·m, N), one row per sample.";
+                friction_power as friction_power: Scalar Plot
                     "Power of the plant's friction on the arm, F_fᵀq̇ ≤ 0 (W).";
             }
             contact {
-                work_contact as work_contact: Scalar F64
+                work_contact as work_contact: Scalar Audit
                     "∫ F_eᵀq̇ dt: the work the environment did on the arm (J); its negative is the energy the arm pumped into the contact.";
-                work_friction as work_friction: Scalar F64
+                work_friction as work_friction: Scalar Audit
                     "∫ F_fᵀq̇ dt: the work of the plant's joint friction (J, ≤ 0).";
-                work_controller as work_controller: Scalar F64
+                work_controller as work_controller: Scalar Audit
                     "The work of everything in the motor torques that is not the workless PVFC coupling: the add-ons (35) and (36) for PVFC, all of ∫ uᵀq̇ dt for the timed baseline (J).";
-                work_gravity as work_gravity: Scalar F64
+                work_gravity as work_gravity: Scalar Audit
                     "−∫ g(q)ᵀq̇ dt: the work of gravity on the arm (J; 0 for the horizontal SCARA).";
-                force as force: Workspace F32
+                force as force: Workspace Plot
                     "The sum of the Cartesian contact forces on the arm (N; 2 numbers per sample for the planar arm, 3 for a URDF arm).";
-                normal_force as normal_force: Scalar F32
+                normal_force as normal_force: Scalar Plot
                     "The sum of the contact normal forces (N): the measured contact force.";
-                depth as depth: Scalar F32 "The deepest penetration (m).";
-                torque as torque: Joints F32
+                depth as depth: Scalar Plot "The deepest penetration (m).";
+                torque as torque: Joints Plot
                     "The environment's joint torques F_e = Jᵀf (N·m), one per joint.";
-                tool as tool: Workspace F32 "The tool centre (m; 2 or 3 numbers, as force).";
-                nominal_speed as nominal_speed: Scalar F32
+                tool as tool: Workspace Plot "The tool centre (m; 2 or 3 numbers, as force).";
+                nominal_speed as nominal_speed: Scalar Plot
                     "The nominal speed r of (36) in force (scheduled on the contact force); 0 without.";
             }
         }
@@ -108,6 +108,16 @@ impl Values<'_> {
     }
 }
 
+/// The precision a column's values need, which the log chooses its encoding from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Precision {
+    /// Values to plot: seven significant digits suffice (`float32` in the log).
+    Plot,
+    /// The energy audit's columns (κ_a and the works), whose residuals are 1e-15 of the
+    /// energy (`float64` in the log).
+    Audit,
+}
+
 /// One column of a trace `S` ([`Trace`] or [`ContactTrace`]), as the log and the bindings
 /// see it.
 #[derive(Debug)]
@@ -120,8 +130,8 @@ pub struct Column<S> {
     pub doc: &'static str,
     /// One number, one per joint, or a workspace vector per sample.
     pub shape: Shape,
-    /// Its width in the log (`None`: the log's timestamp, not a field).
-    pub log: Option<Width>,
+    /// The precision its values need (`None`: the log's timestamp, not a field).
+    pub precision: Option<Precision>,
     /// Its samples.
     pub get: fn(&S) -> Values<'_>,
 }
@@ -165,15 +175,15 @@ macro_rules! column_new {
     };
 }
 
-macro_rules! log_width {
+macro_rules! precision {
     (Time) => {
         None
     };
-    (F32) => {
-        Some(Width::F32)
+    (Plot) => {
+        Some(Precision::Plot)
     };
-    (F64) => {
-        Some(Width::F64)
+    (Audit) => {
+        Some(Precision::Audit)
     };
 }
 
@@ -185,7 +195,7 @@ macro_rules! column_table {
             python: stringify!($p),
             doc: $doc,
             shape: Shape::$shape,
-            log: log_width!($log),
+            precision: precision!($log),
             get: {
                 fn get(t: &$s) -> Values<'_> {
                     Values::from(&t.$n)
@@ -342,17 +352,6 @@ pub(crate) struct ContactSample<'a> {
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Work(pub(crate) [f64; 4]);
 
-impl Work {
-    /// Adds one RK4 step of length `h` given the powers at its four stages.
-    pub(crate) fn add(&mut self, h: f64, p: &[[f64; 4]; 4]) {
-        for (w, pi) in RK4_WEIGHTS.iter().zip(p) {
-            for (acc, x) in self.0.iter_mut().zip(pi) {
-                *acc += h * w * x;
-            }
-        }
-    }
-}
-
 impl Trace {
     /// Number of samples.
     pub fn len(&self) -> usize {
@@ -362,36 +361,6 @@ impl Trace {
     /// `true` when there are no samples.
     pub fn is_empty(&self) -> bool {
         self.t.is_empty()
-    }
-}
-
-impl<'a> Row<'a> {
-    /// The row of a sampled loop's sample: the state `(q, q̇)` and what the controller gave,
-    /// with `κ_a` = the arm's kinetic energy + the controller's storage.
-    pub(crate) fn of_sample<const N: usize>(
-        t: f64,
-        (q, v): (&'a [f64], &'a [f64]),
-        out: &'a Sample<N>,
-        period: f64,
-        kinetic_energy: f64,
-        friction_power: f64,
-    ) -> Self {
-        let st = out.state;
-        Row {
-            t,
-            q,
-            v,
-            tau: st.unwrapped_tau(Some(period)),
-            tau_dot: st.tau_dot,
-            flywheel_speed: st.flywheel_speed,
-            beta: out.diagnostics.beta,
-            potential: out.diagnostics.potential,
-            lambda1: out.diagnostics.lambda1,
-            lambda2: out.diagnostics.lambda2,
-            torque: out.torque.as_slice(),
-            energy: kinetic_energy + out.storage,
-            friction_power,
-        }
     }
 }
 
@@ -459,9 +428,12 @@ mod tests {
             sorted.dedup();
             assert_eq!(sorted.len(), names.len(), "{names:?}");
         }
-        let stamps: Vec<_> = TRACE_COLUMNS.iter().filter(|c| c.log.is_none()).collect();
+        let stamps: Vec<_> = TRACE_COLUMNS
+            .iter()
+            .filter(|c| c.precision.is_none())
+            .collect();
         assert_eq!(stamps.len(), 1);
         assert_eq!(stamps[0].name, "t");
-        assert!(CONTACT_COLUMNS.iter().all(|c| c.log.is_some()));
+        assert!(CONTACT_COLUMNS.iter().all(|c| c.precision.is_some()));
     }
 }

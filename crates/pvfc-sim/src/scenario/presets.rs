@@ -13,8 +13,10 @@
 //!   (36) injects at most `c·2Ē·β(r − β)` W, which must cover the friction losses (~5 W).
 
 use crate::contact::{ContactLaw, ContactSpec, ForceSchedule, Keyframe, ObstacleSpec, ShapeSpec};
-use crate::friction::JointFriction;
-use crate::preset_id::{Arm3dCase, ContactCase, Digital, DigitalCase, PresetId, DIGITAL_RATES};
+use crate::model::friction::JointFriction;
+use crate::scenario::preset_id::{
+    Arm3dCase, ContactCase, Digital, DigitalCase, PresetId, DIGITAL_RATES,
+};
 use crate::scenario::*;
 
 /// The core example (no figure of the paper, the README's first example, the benches and the

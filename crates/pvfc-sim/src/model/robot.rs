@@ -173,7 +173,7 @@ impl Robot {
     }
 
     fn vector<const N: usize>(&self, x: &[f64], name: &str) -> Result<SVector<f64, N>> {
-        let v = crate::arm::fixed::<N>(x, name)?;
+        let v = super::fixed::<N>(x, name)?;
         if !v.iter().all(|v| v.is_finite()) {
             return Err(SimError::Core(pvfc_core::Error::new(
                 pvfc_core::ErrorKind::NonFinite,

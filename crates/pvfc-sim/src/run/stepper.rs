@@ -6,6 +6,7 @@
 
 use crate::error::Result;
 use crate::scenario::PassiveSpec;
+use crate::trace::Row;
 use nalgebra::SVector;
 use pvfc_core::passive::PassiveController;
 use pvfc_core::prelude::*;
@@ -132,5 +133,35 @@ where
 
     fn nominal_speed_mut(&mut self) -> Option<&mut NominalSpeed<f64>> {
         self.controller.controller_mut().nominal_speed_mut()
+    }
+}
+
+impl<'a> Row<'a> {
+    /// The row of a sampled loop's sample: the state `(q, q̇)` and what the controller gave,
+    /// with `κ_a` = the arm's kinetic energy + the controller's storage.
+    pub(crate) fn of_sample<const N: usize>(
+        t: f64,
+        (q, v): (&'a [f64], &'a [f64]),
+        out: &'a Sample<N>,
+        period: f64,
+        kinetic_energy: f64,
+        friction_power: f64,
+    ) -> Self {
+        let st = out.state;
+        Row {
+            t,
+            q,
+            v,
+            tau: st.unwrapped_tau(Some(period)),
+            tau_dot: st.tau_dot,
+            flywheel_speed: st.flywheel_speed,
+            beta: out.diagnostics.beta,
+            potential: out.diagnostics.potential,
+            lambda1: out.diagnostics.lambda1,
+            lambda2: out.diagnostics.lambda2,
+            torque: out.torque.as_slice(),
+            energy: kinetic_energy + out.storage,
+            friction_power,
+        }
     }
 }

@@ -1,71 +1,22 @@
-//! Running a scenario: the sampled-data or continuous PVFC loop, and the timed baseline.
+//! The paper's SCARA run: its closed-form model in free space or in its planar contact world
+//! ([`Environment`]), through the loops every robot shares (`run::loops`), and its timed
+//! baseline.
 
-use crate::arm::ArmSystem;
 use crate::contact::{ContactForces, Environment, PlanarArm};
 use crate::error::{Result, SimError};
-use crate::integrate::{ClosedLoop, Derivative};
-use crate::run_loop::{self, Surroundings};
+use crate::run::integrate::ClosedLoop;
+use crate::run::loops::{self, Surroundings};
+use crate::run::stepper::Stepper;
 use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
-use crate::stepper::Stepper;
 use crate::trace::Work;
-use nalgebra::{SVector, Vector2};
+use nalgebra::Vector2;
 use pvfc_core::prelude::*;
 
-pub use crate::trace::{ContactTrace, Trace};
+use crate::trace::{ContactTrace, Trace};
 
-/// One RK4 step of the arm alone under the generalized force `force(i, c, q, q̇)` at the
-/// stages `i = 0..4` (time offsets `c = 0, h/2, h/2, h`): motor torque, friction, contact.
-/// The step is the simulation's one integrator, [`crate::integrate::rkmk4`], on `(q, q̇)`
-/// with the controller's internal states held (their rates zero).
-pub(crate) fn plant_rk4<G, Sys, const N: usize>(
-    arm: &Sys,
-    q: &G,
-    v: &SVector<f64, N>,
-    h: f64,
-    mut force: impl FnMut(usize, f64, &G, &SVector<f64, N>) -> Result<SVector<f64, N>>,
-) -> Result<(G, SVector<f64, N>)>
-where
-    G: LieGroup<f64, N>,
-    Sys: MechanicalSystem<f64, G, N>,
-{
-    let mut rate =
-        |i: usize, c: f64, x: &AugmentedState<f64, G, N>| -> Result<Derivative<f64, N>> {
-            let u = force(i, c, &x.q, &x.v)?;
-            Ok(Derivative {
-                q: x.v,
-                v: arm.acceleration(&x.q, &x.v, &u)?,
-                tau: 0.0,
-                tau_dot: 0.0,
-                flywheel_speed: 0.0,
-            })
-        };
-    let s = AugmentedState {
-        q: *q,
-        v: *v,
-        tau: 0.0,
-        tau_dot: 0.0,
-        flywheel_speed: 0.0,
-    };
-    let k1 = rate(0, 0.0, &s)?;
-    let next = crate::integrate::rkmk4(&s, &k1, h, rate)?;
-    Ok((next.q, next.v))
-}
-
-/// Timing of a run: controller period, plant step, number of controller periods.
-pub(crate) fn timing(s: &Scenario) -> Result<(f64, f64, usize)> {
-    // Checked again here: a Scenario's fields are public and may have changed since it was
-    // validated, and the trace is sized from them.
-    let n = crate::scenario::run_size(s.duration, s.controller.rate, s.simulation.plant_substeps)?;
-    let dt = 1.0 / s.controller.rate;
-    Ok((dt, dt / s.simulation.plant_substeps as f64, n))
-}
-
-/// Runs the PVFC loop of a scenario (with its `[contact]` world, if it has one). `progress`
-/// is called with the fraction done.
+/// Runs the PVFC loop of the SCARA's scenario (with its `[contact]` world, if it has one).
+/// `progress` is called with the fraction done.
 pub fn simulate(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
-    if s.is_chain() {
-        return crate::chain_run::simulate_chain(s, progress);
-    }
     // The arm is read once per run (a URDF arm's file included).
     let arm = Scara::new(s.arm()?)?;
     match (s.simulation.mode, environment_with(s, &arm)?) {
@@ -142,13 +93,13 @@ fn sampled<E: Environment + ?Sized>(
     match &s.controller.passive {
         None => simulate_sampled(s, arm, env, with_contact, ctl, progress),
         Some(spec) => {
-            let drive = crate::stepper::PassiveDrive::new(ctl, spec, [true; 2])?;
+            let drive = crate::run::stepper::PassiveDrive::new(ctl, spec, [true; 2])?;
             simulate_sampled(s, arm, env, true, drive, progress)
         }
     }
 }
 
-/// The planar arm's surroundings for the generic loops ([`crate::run_loop`]): an
+/// The planar arm's surroundings for the generic loops ([`crate::run::loops`]): an
 /// [`Environment`], and the arm's kinematics for the tool's position in the log.
 struct Planar<'a, E: ?Sized> {
     env: &'a mut E,
@@ -183,7 +134,7 @@ impl<E: Environment + ?Sized> Surroundings<Torus<f64, 2>, 2> for Planar<'_, E> {
     }
 }
 
-/// The SCARA's sampled-data loop ([`run_loop::sampled`]) with the controller `ctl`.
+/// The SCARA's sampled-data loop ([`loops::sampled`]) with the controller `ctl`.
 fn simulate_sampled<E: Environment + ?Sized, S: Stepper<Torus<f64, 2>, 2>>(
     s: &Scenario,
     arm: Scara<f64>,
@@ -198,7 +149,7 @@ fn simulate_sampled<E: Environment + ?Sized, S: Stepper<Torus<f64, 2>, 2>>(
         env,
         kin: PlanarArm::from(arm),
     };
-    run_loop::sampled(
+    loops::sampled(
         s,
         &arm,
         ctl,
@@ -209,7 +160,7 @@ fn simulate_sampled<E: Environment + ?Sized, S: Stepper<Torus<f64, 2>, 2>>(
     )
 }
 
-/// The SCARA's continuous-time loop ([`run_loop::continuous`]).
+/// The SCARA's continuous-time loop ([`loops::continuous`]).
 fn simulate_continuous<E: Environment + ?Sized>(
     s: &Scenario,
     arm: Scara<f64>,
@@ -234,7 +185,7 @@ fn simulate_continuous<E: Environment + ?Sized>(
         env,
         kin: PlanarArm::from(arm),
     };
-    run_loop::continuous(s, sys, st, &mut planar, with_contact.then_some(2), progress)
+    loops::continuous(s, sys, st, &mut planar, with_contact.then_some(2), progress)
 }
 
 /// The timed-trajectory baseline of Fig. 1: computed torque + PD tracking `x_d(τ(t))` with
@@ -250,9 +201,6 @@ pub fn simulate_timed(
     tau_rate: f64,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    if s.is_chain() {
-        return crate::chain_run::simulate_timed_chain(s, b, tau_rate, progress);
-    }
     let arm = Scara::new(s.arm()?)?;
     match environment_with(s, &arm)? {
         Some(mut env) => timed_in(s, arm, b, tau_rate, Some(&mut *env), progress),
@@ -320,7 +268,7 @@ fn timed_in(
         Ok((u, nav.value(&err)))
     };
     let columns = with_contact.then_some(2);
-    run_loop::timed(
+    loops::timed(
         s,
         &arm,
         &mut planar,
@@ -330,49 +278,4 @@ fn timed_in(
         law,
         progress,
     )
-}
-
-/// Runs one scenario: the PVFC loop, and the timed baseline if the scenario asks for one
-/// (at PVFC's mean `τ̇` over its last 12 s unless the scenario fixes the rate).
-pub fn run_scenario(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Vec<Trace>> {
-    let system = if s.is_chain() {
-        Some(ArmSystem::build(s)?)
-    } else {
-        None
-    };
-    run_scenario_with(s, system.as_ref(), progress)
-}
-
-/// [`run_scenario`] with a URDF arm's system already built (`None` for the SCARA): the URDF
-/// is read and a Cartesian path solved once for both runs.
-pub fn run_scenario_with(
-    s: &Scenario,
-    system: Option<&ArmSystem>,
-    progress: &mut dyn FnMut(f64),
-) -> Result<Vec<Trace>> {
-    let pvfc = match system {
-        Some(sys) => crate::chain_run::simulate_chain_with(s, sys, progress)?,
-        None => simulate(s, progress)?,
-    };
-    let mut out = vec![];
-    if let Some(b) = &s.baseline {
-        let rate = match b.tau_rate {
-            Some(r) => r,
-            None => {
-                let n = pvfc.len() - 1;
-                let from = pvfc
-                    .t
-                    .iter()
-                    .position(|&t| t >= pvfc.t[n] - 12.0)
-                    .unwrap_or(0);
-                (pvfc.tau[n] - pvfc.tau[from]) / (pvfc.t[n] - pvfc.t[from]).max(f64::EPSILON)
-            }
-        };
-        out.push(match system {
-            Some(sys) => crate::chain_run::simulate_timed_chain_with(s, sys, b, rate, &mut |_| {})?,
-            None => simulate_timed(s, b, rate, &mut |_| {})?,
-        });
-    }
-    out.insert(0, pvfc);
-    Ok(out)
 }

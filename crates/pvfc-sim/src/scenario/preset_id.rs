@@ -1,4 +1,4 @@
-//! Typed names of the built-in scenarios ([`crate::presets`]): the presets take their names
+//! Typed names of the built-in scenarios ([`crate::scenario::presets`]): the presets take their names
 //! from here, and the report and the figures find their runs by these ids, so that a run's
 //! name is spelled in one place.
 
@@ -200,8 +200,8 @@ impl PresetId {
     }
 
     /// Every preset, in the order `pvfc reproduce` runs them (the planar ones of
-    /// [`presets::all`](crate::presets::all), then the UR5's of
-    /// [`presets::arms_3d`](crate::presets::arms_3d)).
+    /// [`presets::all`](crate::scenario::presets::all), then the UR5's of
+    /// [`presets::arms_3d`](crate::scenario::presets::arms_3d)).
     pub fn all() -> Vec<PresetId> {
         let mut v = vec![
             PresetId::Fig6,

@@ -4,13 +4,14 @@
 //! through the same generic loops as the SCARA (the crate-private `run_loop`); and the timed
 //! baseline.
 
-use crate::arm::{arm_controller, ArmControllerN, ArmSystem};
 use crate::contact::spatial::SpatialContact;
 use crate::error::{Result, SimError};
-use crate::integrate::ClosedLoop;
-use crate::run_loop::{self, Surroundings};
+use crate::model::arm::{arm_controller, ArmControllerN};
+use crate::run::integrate::ClosedLoop;
+use crate::run::loops::{self, Surroundings};
+use crate::run::stepper::PassiveDrive;
+use crate::scenario::ArmSystem;
 use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
-use crate::stepper::PassiveDrive;
 use crate::trace::{ContactSample, ContactTrace, Trace, Work};
 use crate::with_dof;
 use nalgebra::SVector;
@@ -59,11 +60,11 @@ fn run<const N: usize>(
     let columns = env.columns();
     match s.simulation.mode {
         Mode::Sampled => match &s.controller.passive {
-            None => run_loop::sampled(s, &chain, ctl, (q, v), &mut env, columns, progress),
+            None => loops::sampled(s, &chain, ctl, (q, v), &mut env, columns, progress),
             Some(spec) => {
                 let circular = chain.kinds().map(|k| k == JointKind::Circular);
                 let drive = PassiveDrive::new(ctl, spec, circular)?;
-                run_loop::sampled(s, &chain, drive, (q, v), &mut env, columns, progress)
+                loops::sampled(s, &chain, drive, (q, v), &mut env, columns, progress)
             }
         },
         Mode::Continuous => {
@@ -76,7 +77,7 @@ fn run<const N: usize>(
                 tau_dot: i.tau_dot,
                 flywheel_speed: i.flywheel_speed,
             };
-            run_loop::continuous(s, sys, st, &mut env, columns, progress)
+            loops::continuous(s, sys, st, &mut env, columns, progress)
         }
     }
 }
@@ -157,7 +158,7 @@ fn timed<const N: usize>(
         let err = q.compose(&xd.point.inverse());
         Ok((u, field.navigation().value(&err)))
     };
-    run_loop::timed(
+    loops::timed(
         s,
         &chain,
         &mut env,
@@ -188,7 +189,7 @@ struct Contact {
 }
 
 impl Contact {
-    fn of(s: &Scenario, robot: &crate::robot::Robot) -> Result<Option<Self>> {
+    fn of(s: &Scenario, robot: &crate::model::robot::Robot) -> Result<Option<Self>> {
         match &s.contact_3d {
             None => Ok(None),
             #[cfg(feature = "contact")]
@@ -257,7 +258,7 @@ impl Contact {
     }
 }
 
-/// A URDF arm's surroundings for the generic loops ([`crate::run_loop`]): its 3-D contact
+/// A URDF arm's surroundings for the generic loops ([`crate::run::loops`]): its 3-D contact
 /// world, if any, and the chain for the tool's position in the log.
 struct Spatial<'a, const N: usize> {
     world: Option<Contact>,

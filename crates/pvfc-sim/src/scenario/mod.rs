@@ -1,13 +1,18 @@
-//! Scenarios: everything one run needs, as data (a TOML file) or built in ([`presets`](crate::presets)).
+//! Scenarios: everything one run needs, as plain data (a TOML file, a Python dict) or built
+//! in ([`presets`]). Nothing here reads a URDF or builds a model: [`build`] does, once.
 
-use crate::arm::JointContourSpec;
 use crate::contact::ContactSpec;
 use crate::error::{Result, SimError};
-use crate::friction::JointFriction;
-use nalgebra::Vector2;
+use crate::model::friction::JointFriction;
 use pvfc_core::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
+
+pub mod build;
+pub mod preset_id;
+pub mod presets;
+
+pub use build::ArmSystem;
 
 /// The default arm of the experiments (the numbers of `models/scara.urdf`): a direct-drive
 /// two-link SCARA heavier than the Pelican, so that at the paper's energy (50) and friction
@@ -158,9 +163,9 @@ pub struct ContourSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spacing: Option<f64>,
     /// A tool path in Cartesian space (URDF arms), turned into the joint waypoints by
-    /// inverse kinematics (`crate::cartesian`); replaces `waypoints`.
+    /// inverse kinematics (`crate::model::cartesian`); replaces `waypoints`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub cartesian: Option<crate::cartesian::CartesianSpec>,
+    pub cartesian: Option<crate::model::cartesian::CartesianSpec>,
     /// For a URDF arm: a Lissajous curve in its joint space (`[contour.lissajous]`, one entry
     /// per joint); replaces `waypoints`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -509,7 +514,7 @@ pub fn joint_vector<const N: usize>(x: &[f64], field: &str) -> Result<nalgebra::
     if x.is_empty() {
         return Ok(nalgebra::SVector::zeros());
     }
-    crate::arm::fixed::<N>(x, field)
+    crate::model::fixed::<N>(x, field)
 }
 
 /// The largest controller rate a scenario may ask for (Hz).
@@ -592,91 +597,9 @@ impl Scenario {
         toml::to_string(self).map_err(|e| SimError::Setting(e.to_string()))
     }
 
-    /// Checks the settings that the types alone do not (and builds the models once).
-    pub fn validate(&self) -> Result<()> {
-        let bad = |what: &str| Err(SimError::Setting(what.to_string()));
-        if !(self.duration.is_finite() && self.duration > 0.0) {
-            return bad("duration must be finite and > 0");
-        }
-        if !(self.controller.rate.is_finite() && self.controller.rate > 0.0) {
-            return bad("controller.rate must be finite and > 0");
-        }
-        // Every number that sizes work or memory is checked before anything is allocated.
-        run_size(
-            self.duration,
-            self.controller.rate,
-            self.simulation.plant_substeps,
-        )?;
-        self.plant.friction.validate()?;
-        let init = &self.initial;
-        if !init
-            .q
-            .iter()
-            .chain(init.v.iter())
-            .chain([init.tau, init.tau_dot].iter())
-            .all(|x| x.is_finite())
-        {
-            return bad("initial state must be finite");
-        }
-        if let Some(b) = &self.baseline {
-            if !b
-                .kp
-                .iter()
-                .chain(b.kd.iter())
-                .all(|x| x.is_finite() && *x > 0.0)
-            {
-                return bad("baseline gains must be finite and > 0");
-            }
-        }
-        if let Some(c) = &self.contact {
-            c.validate()?;
-            if c.force_schedule.is_some() && self.controller.nominal_speed.is_none() {
-                return bad("contact.force_schedule needs controller.nominal_speed (eq. 36)");
-            }
-        }
-        if self.controller.passive.is_some() && self.simulation.mode != Mode::Sampled {
-            return bad(
-                "controller.passive: the passive digital controller runs in the sampled mode",
-            );
-        }
-        if self.is_chain() {
-            // A URDF arm is validated by building its system: the same code path as a run's,
-            // the URDF read once.
-            return crate::arm::ArmSystem::build(self).map(drop);
-        }
-        if let Some(p) = &self.controller.passive {
-            p.validate_for(2)?;
-        }
-        if self.contact_3d.is_some() {
-            return bad("contact_3d: 3-D contact is for URDF arms; the SCARA's is [contact]");
-        }
-        for (x, field) in [
-            (&self.initial.q, "initial.q"),
-            (&self.initial.v, "initial.v"),
-        ] {
-            joint_vector::<2>(x, field)?;
-        }
-        if let Some(b) = &self.baseline {
-            joint_vector::<2>(&b.kp, "baseline.kp")?;
-            joint_vector::<2>(&b.kd, "baseline.kd")?;
-        }
-        self.plant.friction.validate_for(2)?;
-        self.controller()?;
-        Ok(())
-    }
-
     /// `true` for a serial arm read from a URDF (`[plant] urdf = …`).
     pub fn is_chain(&self) -> bool {
         self.plant.urdf.is_some()
-    }
-
-    /// The number of joints: the URDF's, or 2 for the planar arm.
-    pub fn dof(&self) -> Result<usize> {
-        Ok(if self.is_chain() {
-            self.robot()?.dof()
-        } else {
-            2
-        })
     }
 
     /// The contour's period in `τ`: for a URDF arm `spacing × waypoints` (or × the Cartesian
@@ -700,211 +623,5 @@ impl Scenario {
             (_, _, _, _, Some(e)) => e.period,
             _ => c.period,
         }
-    }
-
-    /// The URDF arm (`[plant] urdf`, `tip`, `base`, `gravity`).
-    pub fn robot(&self) -> Result<crate::robot::Robot> {
-        let path = self
-            .plant
-            .urdf
-            .as_ref()
-            .ok_or_else(|| SimError::Setting("plant.urdf is not set".into()))?;
-        let robot = crate::robot::Robot::from_urdf(
-            &self.base_dir.join(path),
-            self.plant.base.as_deref(),
-            self.plant.tip.as_deref(),
-        )?;
-        match self.plant.gravity {
-            Some(g) => robot.with_gravity(nalgebra::Vector3::from(g)),
-            None => Ok(robot),
-        }
-    }
-
-    /// The settings of a URDF arm's controller (reads the URDF; with a robot at hand, or
-    /// for a whole run, see [`arm_settings_for`](Self::arm_settings_for) and
-    /// [`ArmSystem`](crate::arm::ArmSystem)).
-    pub fn arm_settings(&self) -> Result<crate::arm::ArmSettings> {
-        self.arm_settings_for(&self.robot()?)
-    }
-
-    /// The settings of the controller of `robot`, this scenario's arm: a Cartesian path's
-    /// inverse kinematics is solved on it.
-    pub fn arm_settings_for(&self, robot: &crate::robot::Robot) -> Result<crate::arm::ArmSettings> {
-        let c = &self.controller;
-        let k = &self.contour;
-        let spacing = || {
-            k.spacing
-                .ok_or_else(|| SimError::Setting("contour.spacing is needed with waypoints".into()))
-        };
-        let n = robot.dof();
-        let or_zeros = |x: &Vec<f64>| {
-            if x.is_empty() {
-                vec![0.0; n]
-            } else {
-                x.clone()
-            }
-        };
-        let contour =
-            match (&k.waypoints, &k.cartesian, &k.lissajous, &k.ellipse) {
-                (Some(w), None, None, None) => JointContourSpec::Waypoints {
-                    points: w.clone(),
-                    spacing: spacing()?,
-                },
-                (None, Some(p), None, None) => JointContourSpec::Waypoints {
-                    points: p.joint_waypoints(robot, &self.base_dir)?,
-                    spacing: spacing()?,
-                },
-                (None, None, Some(l), None) => JointContourSpec::Lissajous {
-                    amplitude: l.amplitude.clone(),
-                    periods: l.periods.clone(),
-                    phase: or_zeros(&l.phase),
-                    offset: or_zeros(&l.offset),
-                    period: Some(l.period),
-                },
-                (None, None, None, Some(e)) => JointContourSpec::Ellipse {
-                    center: e.center.clone(),
-                    u: e.u.clone(),
-                    w: e.w.clone(),
-                    period: e.period,
-                },
-                _ => return Err(SimError::Setting(
-                    "contour: a URDF arm follows exactly one of waypoints, cartesian, lissajous \
-                     or ellipse"
-                        .into(),
-                )),
-            };
-        Ok(crate::arm::ArmSettings {
-            contour,
-            h: c.h.clone(),
-            self_pacing: c.self_pacing,
-            energy: c.energy,
-            flywheel_inertia: c.flywheel_inertia,
-            gamma: c.gamma,
-            gravity_compensation: c.gravity_compensation.unwrap_or(true),
-            friction_compensation: c.friction_compensation.clone(),
-            friction_band: c.friction_band.unwrap_or(0.0),
-            nominal_speed: c.nominal_speed.map(|n| (n.c, n.r)),
-            tau0: self.initial.tau,
-        })
-    }
-
-    /// The checks of a URDF arm's scenario against its robot (the lengths of the per-joint
-    /// lists, the 3-D contact, the baseline, the passive drive), for
-    /// [`ArmSystem::build`](crate::arm::ArmSystem::build).
-    pub(crate) fn check_chain(&self, robot: &crate::robot::Robot) -> Result<()> {
-        let bad = |what: &str| Err(SimError::Setting(what.to_string()));
-        if self.contact.is_some() {
-            return bad(
-                "contact: the planar contact is for the SCARA; a URDF arm's is [contact_3d]",
-            );
-        }
-        let n = robot.dof();
-        for (x, field) in [
-            (&self.initial.q, "initial.q"),
-            (&self.initial.v, "initial.v"),
-        ] {
-            if !x.is_empty() && x.len() != n {
-                return Err(SimError::Setting(format!(
-                    "{field}: {} entries for the {n}-joint robot {}",
-                    x.len(),
-                    robot.description().name
-                )));
-            }
-        }
-        self.plant.friction.validate_for(n)?;
-        if let Some(c) = &self.contact_3d {
-            c.validate(n)?;
-            if c.force_schedule.is_some() && self.controller.nominal_speed.is_none() {
-                return Err(SimError::Setting(
-                    "contact_3d.force_schedule needs controller.nominal_speed (eq. 36)".into(),
-                ));
-            }
-        }
-        if let Some(b) = &self.baseline {
-            if b.kp.len() != n || b.kd.len() != n {
-                return Err(SimError::Setting(format!(
-                    "baseline.kp, baseline.kd: one gain per joint ({n})"
-                )));
-            }
-        }
-        if let Some(p) = &self.controller.passive {
-            p.validate_for(n)?;
-        }
-        Ok(())
-    }
-
-    /// The arm's parameters.
-    pub fn arm(&self) -> Result<ScaraParameters<f64>> {
-        Ok(match &self.plant.arm {
-            ArmSpec::DirectDrive => direct_drive_arm(),
-            ArmSpec::Pelican => ScaraParameters::pelican(),
-            ArmSpec::Urdf(p) => crate::urdf::scara_from_urdf(&self.base_dir.join(p))?,
-            ArmSpec::Parameters(a) => (*a).into(),
-        })
-    }
-
-    /// The contour.
-    pub fn contour(&self) -> Result<Lissajous<f64, 2>> {
-        let c = &self.contour;
-        Ok(Lissajous::new(
-            Vector2::from(c.amplitude),
-            Vector2::from(c.periods),
-            Vector2::from(c.phase),
-            Vector2::from(c.offset),
-        )?
-        .with_period(c.period)?)
-    }
-
-    /// The field.
-    pub fn field(&self) -> Result<PaperField> {
-        Ok(SuspendedField::new(
-            self.contour()?,
-            TorusNavigation::paper(joint_vector::<2>(&self.controller.h, "controller.h")?)?,
-            ExponentialPacing::new(self.controller.self_pacing)?,
-        ))
-    }
-
-    /// The controller, with its add-ons and initial internal states. The controller's model
-    /// of the arm is the plant's (no model mismatch).
-    pub fn controller(&self) -> Result<PaperController> {
-        self.controller_with(Scara::new(self.arm()?)?)
-    }
-
-    /// [`controller`](Self::controller) with the arm's model already built (a run reads the
-    /// arm once).
-    pub fn controller_with(&self, arm: Scara<f64>) -> Result<PaperController> {
-        let c = &self.controller;
-        let flywheel = Flywheel::new(c.flywheel_inertia, c.energy)?;
-        let law = PvfcLaw::new(arm, self.field()?, flywheel, c.gamma)?;
-        let mut ctl = Controller::new(law).with_state(InternalState {
-            tau: self.initial.tau,
-            tau_dot: self.initial.tau_dot,
-            flywheel_speed: self
-                .initial
-                .flywheel_speed
-                .unwrap_or_else(|| flywheel.speed_for_unit_beta()),
-            laps: 0,
-        });
-        if let Some(f) = &c.friction_compensation {
-            let f = joint_vector::<2>(f, "controller.friction_compensation")?;
-            let mut comp = FrictionCompensation::new(f)?;
-            if let Some(band) = c.friction_band {
-                comp = comp.with_band(band)?;
-            }
-            ctl = ctl.with_friction_compensation(comp);
-        }
-        if let Some(n) = c.nominal_speed {
-            ctl = ctl.with_nominal_speed(NominalSpeed::new(n.c, n.r)?);
-        }
-        Ok(ctl)
-    }
-
-    /// The passive digital controller of `[controller.passive]` around
-    /// [`controller`](Self::controller), if the scenario has one.
-    pub fn passive_controller(&self) -> Result<Option<PaperPassiveController>> {
-        let Some(p) = &self.controller.passive else {
-            return Ok(None);
-        };
-        Ok(Some(p.controller(self.controller()?, [true; 2])?))
     }
 }

@@ -1,6 +1,6 @@
 //! Numbers computed from traces: the measures behind the paper's claims.
 
-use crate::simulate::Trace;
+use crate::trace::Trace;
 use nalgebra::Vector2;
 use pvfc_core::contour::Lissajous;
 
@@ -194,7 +194,7 @@ pub fn contact_summary(trace: &Trace) -> Option<ContactSummary> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CartesianTracking {
     /// The tool's distance to the path (m): mean, largest, and where along the path.
-    pub error: crate::cartesian::PathError,
+    pub error: crate::model::cartesian::PathError,
     /// The time of the largest distance (s).
     pub when: f64,
     /// The tool's mean speed over the pass (m/s): the length it travelled over the time.
@@ -206,7 +206,7 @@ pub struct CartesianTracking {
 /// shorter than a pass.
 pub fn cartesian_tracking(
     s: &crate::scenario::Scenario,
-    robot: &crate::robot::Robot,
+    robot: &crate::model::robot::Robot,
     t: &Trace,
 ) -> crate::error::Result<Option<CartesianTracking>> {
     let Some(c) = &s.contour.cartesian else {

@@ -13,7 +13,7 @@
 //! at the waypoints and through the joint spline in between (the distance is reported).
 
 use crate::error::{Result, SimError, WaypointProblem};
-use crate::robot::Robot;
+use crate::model::robot::Robot;
 use crate::with_dof;
 use nalgebra::{SVector, Vector3};
 use pvfc_core::mechanics::{IkSettings, IkTarget, SerialChain};
@@ -21,7 +21,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// The most waypoints a Cartesian path is sampled into (the joint spline's capacity).
-pub const MAX_SAMPLES: usize = crate::arm::MAX_WAYPOINTS;
+pub const MAX_SAMPLES: usize = super::MAX_WAYPOINTS;
 
 /// `[contour.cartesian]`: a closed tool path and how to turn it into joint waypoints.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]

@@ -10,11 +10,10 @@
 
 use crate::contact::ForceSchedule;
 use crate::error::{Result, SimError};
-use crate::friction::JointFriction;
-use crate::integrate::{ClosedLoop, Derivative};
+use crate::model::friction::JointFriction;
+use crate::run::integrate::{ClosedLoop, Derivative};
+use crate::run::stepper::Stepper;
 use crate::scenario::Scenario;
-use crate::simulate::{plant_rk4, timing};
-use crate::stepper::Stepper;
 use crate::trace::{ContactTrace, Row, Trace, Work};
 use nalgebra::SVector;
 use pvfc_core::augmented::AugmentedState;
@@ -393,4 +392,51 @@ where
     trace.contact = contact;
     progress(1.0);
     Ok(trace)
+}
+
+/// One RK4 step of the arm alone under the generalized force `force(i, c, q, q̇)` at the
+/// stages `i = 0..4` (time offsets `c = 0, h/2, h/2, h`): motor torque, friction, contact.
+/// The step is the simulation's one integrator, [`crate::run::integrate::rkmk4`], on `(q, q̇)`
+/// with the controller's internal states held (their rates zero).
+pub(crate) fn plant_rk4<G, Sys, const N: usize>(
+    arm: &Sys,
+    q: &G,
+    v: &SVector<f64, N>,
+    h: f64,
+    mut force: impl FnMut(usize, f64, &G, &SVector<f64, N>) -> Result<SVector<f64, N>>,
+) -> Result<(G, SVector<f64, N>)>
+where
+    G: LieGroup<f64, N>,
+    Sys: MechanicalSystem<f64, G, N>,
+{
+    let mut rate =
+        |i: usize, c: f64, x: &AugmentedState<f64, G, N>| -> Result<Derivative<f64, N>> {
+            let u = force(i, c, &x.q, &x.v)?;
+            Ok(Derivative {
+                q: x.v,
+                v: arm.acceleration(&x.q, &x.v, &u)?,
+                tau: 0.0,
+                tau_dot: 0.0,
+                flywheel_speed: 0.0,
+            })
+        };
+    let s = AugmentedState {
+        q: *q,
+        v: *v,
+        tau: 0.0,
+        tau_dot: 0.0,
+        flywheel_speed: 0.0,
+    };
+    let k1 = rate(0, 0.0, &s)?;
+    let next = crate::run::integrate::rkmk4(&s, &k1, h, rate)?;
+    Ok((next.q, next.v))
+}
+
+/// Timing of a run: controller period, plant step, number of controller periods.
+pub(crate) fn timing(s: &Scenario) -> Result<(f64, f64, usize)> {
+    // Checked again here: a Scenario's fields are public and may have changed since it was
+    // validated, and the trace is sized from them.
+    let n = crate::scenario::run_size(s.duration, s.controller.rate, s.simulation.plant_substeps)?;
+    let dt = 1.0 / s.controller.rate;
+    Ok((dt, dt / s.simulation.plant_substeps as f64, n))
 }

@@ -1,0 +1,192 @@
+//! The drawing primitives of every figure: panels of curves (linear or logarithmic axes, a
+//! legend, a reference curve dashed grey) stacked in a PNG, with the bundled DejaVu font.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use pvfc_sim::error::{Result, SimError};
+use std::path::Path;
+use std::sync::Once;
+
+static FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
+static REGISTER: Once = Once::new();
+
+fn register_font() {
+    REGISTER.call_once(|| {
+        // The bytes are a valid TTF shipped with the crate; if registering ever failed, text
+        // would be missing from the figures, which the figure tests would show.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+}
+
+const COLORS: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(140, 86, 75),
+    RGBColor(23, 190, 207),
+    RGBColor(188, 189, 34),
+];
+
+/// One curve of a panel.
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// The points.
+    pub points: Vec<(f64, f64)>,
+    /// Drawn dashed-grey as a reference (the desired contour).
+    pub reference: bool,
+}
+
+fn bounds(series: &[Series], log_y: bool) -> ((f64, f64), (f64, f64)) {
+    let pts = series.iter().flat_map(|s| s.points.iter());
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for &(x, y) in pts {
+        if !(x.is_finite() && y.is_finite()) || (log_y && y <= 0.0) {
+            continue;
+        }
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if !x0.is_finite() {
+        return ((0.0, 1.0), (if log_y { 1e-9 } else { 0.0 }, 1.0));
+    }
+    let pad = |a: f64, b: f64| {
+        let d = (b - a).abs().max(1e-9) * 0.05;
+        (a - d, b + d)
+    };
+    let y = if log_y {
+        (y0 * 0.7, y1 * 1.4)
+    } else {
+        pad(y0, y1)
+    };
+    (pad(x0, x1), y)
+}
+
+type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+
+fn err(path: &Path, e: impl std::fmt::Display) -> SimError {
+    SimError::Plot {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    }
+}
+
+/// Draws one panel.
+pub fn panel(
+    area: &Area<'_>,
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    log_y: bool,
+) -> Result<()> {
+    let ((x0, x1), (y0, y1)) = bounds(series, log_y);
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .caption(title, ("sans-serif", 18))
+        .margin(8)
+        .x_label_area_size(38)
+        .y_label_area_size(70);
+    let mut k = 0;
+    macro_rules! draw {
+        ($chart:expr) => {{
+            let mut chart = $chart;
+            let log_fmt = |y: &f64| format!("{y:.0e}");
+            // A range under 0.01 (an audit residual of 1e-14 J) in scientific notation: three
+            // decimals would print every tick as "0".
+            let tiny = (y1 - y0).abs() < 1e-2;
+            let lin_fmt = |y: &f64| {
+                if tiny && *y != 0.0 {
+                    format!("{y:.1e}")
+                } else {
+                    format!("{y:.3}")
+                        .trim_end_matches('0')
+                        .trim_end_matches('.')
+                        .to_string()
+                }
+            };
+            chart
+                .configure_mesh()
+                .x_desc(x_label)
+                .y_desc(y_label)
+                .y_label_formatter(if log_y { &log_fmt } else { &lin_fmt })
+                .label_style(("sans-serif", 13))
+                .draw()
+                .map_err(|e| err(path, e))?;
+            for s in series {
+                let pts = s
+                    .points
+                    .iter()
+                    .cloned()
+                    .filter(|(x, y)| x.is_finite() && y.is_finite() && (!log_y || *y > 0.0));
+                if s.reference {
+                    let style = ShapeStyle::from(&RGBColor(120, 120, 120)).stroke_width(1);
+                    let drawn = chart
+                        .draw_series(DashedLineSeries::new(pts, 6, 4, style))
+                        .map_err(|e| err(path, e))?;
+                    if !s.label.is_empty() {
+                        drawn.label(s.label.clone()).legend(|(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 18, y)], RGBColor(120, 120, 120))
+                        });
+                    }
+                } else {
+                    let c = COLORS[k % COLORS.len()];
+                    k += 1;
+                    chart
+                        .draw_series(LineSeries::new(pts, c.stroke_width(2)))
+                        .map_err(|e| err(path, e))?
+                        .label(s.label.clone())
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
+                        });
+                }
+            }
+            if series.len() > 1 {
+                chart
+                    .configure_series_labels()
+                    .label_font(("sans-serif", 13))
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(BLACK)
+                    .position(SeriesLabelPosition::UpperRight)
+                    .draw()
+                    .map_err(|e| err(path, e))?;
+            }
+        }};
+    }
+    if log_y {
+        draw!(builder
+            .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+            .map_err(|e| err(path, e))?);
+    } else {
+        draw!(builder
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|e| err(path, e))?);
+    }
+    Ok(())
+}
+
+/// A figure of `rows` panels stacked vertically, drawn by `draw(panel_index, area)`.
+pub fn figure(
+    path: &Path,
+    rows: usize,
+    draw: impl Fn(usize, &Area<'_>) -> Result<()>,
+) -> Result<()> {
+    register_font();
+    let root = BitMapBackend::new(path, (900, 330 * rows as u32)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(path, e))?;
+    for (i, a) in root.split_evenly((rows, 1)).iter().enumerate() {
+        draw(i, a)?;
+    }
+    root.present().map_err(|e| err(path, e))?;
+    Ok(())
+}

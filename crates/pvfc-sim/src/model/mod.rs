@@ -1,0 +1,30 @@
+//! Robot models with a number of joints known at run time, over the const-generic core: a
+//! serial chain read from a URDF ([`robot`], dispatched onto `SerialChain<N>` by
+//! [`with_dof!`](crate::with_dof)), the PVFC controller of any chain and its joint-space
+//! contours ([`arm`]), tool paths in Cartesian space and their inverse kinematics
+//! ([`cartesian`]), and joint friction ([`friction`]).
+
+pub mod arm;
+pub mod cartesian;
+pub mod friction;
+pub mod robot;
+
+use crate::error::{Result, SimError};
+use nalgebra::SVector;
+
+/// The largest number of joints (and of contour coordinates) dispatched at run time.
+pub use crate::urdf::chain::MAX_JOINTS;
+
+/// The most waypoints a joint-space contour may have (the spline's capacity; no allocation).
+pub const MAX_WAYPOINTS: usize = 32;
+
+/// A per-joint list as a vector of the robot's dimension, or an error naming it.
+pub(crate) fn fixed<const N: usize>(x: &[f64], name: &str) -> Result<SVector<f64, N>> {
+    if x.len() != N {
+        return Err(SimError::Setting(format!(
+            "{name}: {} entries for a {N}-joint robot",
+            x.len()
+        )));
+    }
+    Ok(SVector::from_column_slice(x))
+}

@@ -1,0 +1,89 @@
+//! Running a scenario's system: PVFC in the sampled-data or continuous-time loop, and the
+//! timed baseline, for every robot. The paper's SCARA ([`planar`]) and any URDF arm
+//! ([`chain`]) differ only in their model and in what they touch; both run through the same
+//! loops (`loops`), steppers (`stepper`) and integrator ([`integrate`]).
+
+pub mod chain;
+pub mod integrate;
+pub(crate) mod loops;
+pub mod planar;
+pub(crate) mod stepper;
+
+use crate::error::Result;
+use crate::scenario::{ArmSystem, BaselineSpec, Scenario};
+use crate::trace::Trace;
+
+pub use chain::{
+    simulate_chain, simulate_chain_with, simulate_timed_chain, simulate_timed_chain_with,
+};
+pub use planar::{environment, simulate_in, simulate_timed_in};
+
+/// Runs the PVFC loop of a scenario (with its contact world, if it has one): the SCARA's or a
+/// URDF arm's. `progress` is called with the fraction done.
+pub fn simulate(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
+    if s.is_chain() {
+        chain::simulate_chain(s, progress)
+    } else {
+        planar::simulate(s, progress)
+    }
+}
+
+/// The timed-trajectory baseline of Fig. 1 (computed torque + PD tracking `x_d(τ(t))` with
+/// `τ(t) = τ₀ + tau_rate·t`) on the scenario's plant and contact world.
+pub fn simulate_timed(
+    s: &Scenario,
+    b: &BaselineSpec,
+    tau_rate: f64,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
+    if s.is_chain() {
+        chain::simulate_timed_chain(s, b, tau_rate, progress)
+    } else {
+        planar::simulate_timed(s, b, tau_rate, progress)
+    }
+}
+
+/// Runs one scenario: the PVFC loop, and the timed baseline if the scenario asks for one
+/// (at PVFC's mean `τ̇` over its last 12 s unless the scenario fixes the rate).
+pub fn run_scenario(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Vec<Trace>> {
+    let system = if s.is_chain() {
+        Some(ArmSystem::build(s)?)
+    } else {
+        None
+    };
+    run_scenario_with(s, system.as_ref(), progress)
+}
+
+/// [`run_scenario`] with a URDF arm's system already built (`None` for the SCARA): the URDF
+/// is read and a Cartesian path solved once for both runs.
+pub fn run_scenario_with(
+    s: &Scenario,
+    system: Option<&ArmSystem>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Vec<Trace>> {
+    let pvfc = match system {
+        Some(sys) => chain::simulate_chain_with(s, sys, progress)?,
+        None => planar::simulate(s, progress)?,
+    };
+    let mut out = vec![];
+    if let Some(b) = &s.baseline {
+        let rate = match b.tau_rate {
+            Some(r) => r,
+            None => {
+                let n = pvfc.len() - 1;
+                let from = pvfc
+                    .t
+                    .iter()
+                    .position(|&t| t >= pvfc.t[n] - 12.0)
+                    .unwrap_or(0);
+                (pvfc.tau[n] - pvfc.tau[from]) / (pvfc.t[n] - pvfc.t[from]).max(f64::EPSILON)
+            }
+        };
+        out.push(match system {
+            Some(sys) => chain::simulate_timed_chain_with(s, sys, b, rate, &mut |_| {})?,
+            None => planar::simulate_timed(s, b, rate, &mut |_| {})?,
+        });
+    }
+    out.insert(0, pvfc);
+    Ok(out)
+}

@@ -1,0 +1,338 @@
+//! The one builder of a scenario's system, as the data flows (file → spec → system → run): it
+//! reads the URDF, solves a Cartesian path's inverse kinematics, and builds the robot model,
+//! the contour, the field and the controller from the plain data of a [`Scenario`]. Validating
+//! a scenario is building its system, so a scenario is checked by the same code that a run
+//! builds it with.
+
+use super::{
+    direct_drive_arm, joint_vector, run_size, ArmSpec, Mode, PaperController, PaperField,
+    PaperPassiveController, Scenario,
+};
+use crate::error::{Result, SimError};
+use crate::model::arm::{ArmController, ArmSettings, JointContourSpec};
+use crate::model::robot::Robot;
+use nalgebra::Vector2;
+use pvfc_core::prelude::*;
+
+/// A URDF arm's scenario built once, as the data flows (file → system → run): the robot (its
+/// URDF read once, with the scenario's gravity), the controller's settings (a Cartesian
+/// path's inverse kinematics solved once) and the controller built from them. The runs, the
+/// logs' 3-D scenes, the figures and the Cartesian metrics all take it instead of reading
+/// the scenario's files again.
+#[derive(Clone, Debug)]
+pub struct ArmSystem {
+    /// The robot model.
+    pub robot: Robot,
+    /// The controller's settings.
+    pub settings: ArmSettings,
+    /// The controller, at its initial state.
+    pub controller: ArmController,
+}
+
+impl ArmSystem {
+    /// Builds the system of a URDF arm's scenario (`[plant] urdf`), checking the scenario
+    /// against the robot on the way: this is also how [`Scenario::validate`] checks a URDF
+    /// arm's scenario.
+    ///
+    pub fn build(s: &Scenario) -> Result<Self> {
+        let robot = s.robot()?;
+        s.check_chain(&robot)?;
+        let settings = s.arm_settings_for(&robot)?;
+        let controller = ArmController::new(&robot, &settings)?;
+        Ok(ArmSystem {
+            robot,
+            settings,
+            controller,
+        })
+    }
+}
+
+impl Scenario {
+    /// Checks the settings that the types alone do not (and builds the models once).
+    pub fn validate(&self) -> Result<()> {
+        let bad = |what: &str| Err(SimError::Setting(what.to_string()));
+        if !(self.duration.is_finite() && self.duration > 0.0) {
+            return bad("duration must be finite and > 0");
+        }
+        if !(self.controller.rate.is_finite() && self.controller.rate > 0.0) {
+            return bad("controller.rate must be finite and > 0");
+        }
+        // Every number that sizes work or memory is checked before anything is allocated.
+        run_size(
+            self.duration,
+            self.controller.rate,
+            self.simulation.plant_substeps,
+        )?;
+        self.plant.friction.validate()?;
+        let init = &self.initial;
+        if !init
+            .q
+            .iter()
+            .chain(init.v.iter())
+            .chain([init.tau, init.tau_dot].iter())
+            .all(|x| x.is_finite())
+        {
+            return bad("initial state must be finite");
+        }
+        if let Some(b) = &self.baseline {
+            if !b
+                .kp
+                .iter()
+                .chain(b.kd.iter())
+                .all(|x| x.is_finite() && *x > 0.0)
+            {
+                return bad("baseline gains must be finite and > 0");
+            }
+        }
+        if let Some(c) = &self.contact {
+            c.validate()?;
+            if c.force_schedule.is_some() && self.controller.nominal_speed.is_none() {
+                return bad("contact.force_schedule needs controller.nominal_speed (eq. 36)");
+            }
+        }
+        if self.controller.passive.is_some() && self.simulation.mode != Mode::Sampled {
+            return bad(
+                "controller.passive: the passive digital controller runs in the sampled mode",
+            );
+        }
+        if self.is_chain() {
+            // A URDF arm is validated by building its system: the same code path as a run's,
+            // the URDF read once.
+            return ArmSystem::build(self).map(drop);
+        }
+        if let Some(p) = &self.controller.passive {
+            p.validate_for(2)?;
+        }
+        if self.contact_3d.is_some() {
+            return bad("contact_3d: 3-D contact is for URDF arms; the SCARA's is [contact]");
+        }
+        for (x, field) in [
+            (&self.initial.q, "initial.q"),
+            (&self.initial.v, "initial.v"),
+        ] {
+            joint_vector::<2>(x, field)?;
+        }
+        if let Some(b) = &self.baseline {
+            joint_vector::<2>(&b.kp, "baseline.kp")?;
+            joint_vector::<2>(&b.kd, "baseline.kd")?;
+        }
+        self.plant.friction.validate_for(2)?;
+        self.controller()?;
+        Ok(())
+    }
+
+    /// The number of joints: the URDF's, or 2 for the planar arm.
+    pub fn dof(&self) -> Result<usize> {
+        Ok(if self.is_chain() {
+            self.robot()?.dof()
+        } else {
+            2
+        })
+    }
+
+    /// The URDF arm (`[plant] urdf`, `tip`, `base`, `gravity`).
+    pub fn robot(&self) -> Result<Robot> {
+        let path = self
+            .plant
+            .urdf
+            .as_ref()
+            .ok_or_else(|| SimError::Setting("plant.urdf is not set".into()))?;
+        let robot = Robot::from_urdf(
+            &self.base_dir.join(path),
+            self.plant.base.as_deref(),
+            self.plant.tip.as_deref(),
+        )?;
+        match self.plant.gravity {
+            Some(g) => robot.with_gravity(nalgebra::Vector3::from(g)),
+            None => Ok(robot),
+        }
+    }
+
+    /// The settings of a URDF arm's controller (reads the URDF; with a robot at hand, or
+    /// for a whole run, see [`arm_settings_for`](Self::arm_settings_for) and
+    /// [`ArmSystem`]).
+    pub fn arm_settings(&self) -> Result<ArmSettings> {
+        self.arm_settings_for(&self.robot()?)
+    }
+
+    /// The settings of the controller of `robot`, this scenario's arm: a Cartesian path's
+    /// inverse kinematics is solved on it.
+    pub fn arm_settings_for(&self, robot: &Robot) -> Result<ArmSettings> {
+        let c = &self.controller;
+        let k = &self.contour;
+        let spacing = || {
+            k.spacing
+                .ok_or_else(|| SimError::Setting("contour.spacing is needed with waypoints".into()))
+        };
+        let n = robot.dof();
+        let or_zeros = |x: &Vec<f64>| {
+            if x.is_empty() {
+                vec![0.0; n]
+            } else {
+                x.clone()
+            }
+        };
+        let contour =
+            match (&k.waypoints, &k.cartesian, &k.lissajous, &k.ellipse) {
+                (Some(w), None, None, None) => JointContourSpec::Waypoints {
+                    points: w.clone(),
+                    spacing: spacing()?,
+                },
+                (None, Some(p), None, None) => JointContourSpec::Waypoints {
+                    points: p.joint_waypoints(robot, &self.base_dir)?,
+                    spacing: spacing()?,
+                },
+                (None, None, Some(l), None) => JointContourSpec::Lissajous {
+                    amplitude: l.amplitude.clone(),
+                    periods: l.periods.clone(),
+                    phase: or_zeros(&l.phase),
+                    offset: or_zeros(&l.offset),
+                    period: Some(l.period),
+                },
+                (None, None, None, Some(e)) => JointContourSpec::Ellipse {
+                    center: e.center.clone(),
+                    u: e.u.clone(),
+                    w: e.w.clone(),
+                    period: e.period,
+                },
+                _ => return Err(SimError::Setting(
+                    "contour: a URDF arm follows exactly one of waypoints, cartesian, lissajous \
+                     or ellipse"
+                        .into(),
+                )),
+            };
+        Ok(ArmSettings {
+            contour,
+            h: c.h.clone(),
+            self_pacing: c.self_pacing,
+            energy: c.energy,
+            flywheel_inertia: c.flywheel_inertia,
+            gamma: c.gamma,
+            gravity_compensation: c.gravity_compensation.unwrap_or(true),
+            friction_compensation: c.friction_compensation.clone(),
+            friction_band: c.friction_band.unwrap_or(0.0),
+            nominal_speed: c.nominal_speed.map(|n| (n.c, n.r)),
+            tau0: self.initial.tau,
+        })
+    }
+
+    /// The checks of a URDF arm's scenario against its robot (the lengths of the per-joint
+    /// lists, the 3-D contact, the baseline, the passive drive), for
+    /// [`ArmSystem::build`](crate::scenario::ArmSystem::build).
+    pub(crate) fn check_chain(&self, robot: &Robot) -> Result<()> {
+        let bad = |what: &str| Err(SimError::Setting(what.to_string()));
+        if self.contact.is_some() {
+            return bad(
+                "contact: the planar contact is for the SCARA; a URDF arm's is [contact_3d]",
+            );
+        }
+        let n = robot.dof();
+        for (x, field) in [
+            (&self.initial.q, "initial.q"),
+            (&self.initial.v, "initial.v"),
+        ] {
+            if !x.is_empty() && x.len() != n {
+                return Err(SimError::Setting(format!(
+                    "{field}: {} entries for the {n}-joint robot {}",
+                    x.len(),
+                    robot.description().name
+                )));
+            }
+        }
+        self.plant.friction.validate_for(n)?;
+        if let Some(c) = &self.contact_3d {
+            c.validate(n)?;
+            if c.force_schedule.is_some() && self.controller.nominal_speed.is_none() {
+                return Err(SimError::Setting(
+                    "contact_3d.force_schedule needs controller.nominal_speed (eq. 36)".into(),
+                ));
+            }
+        }
+        if let Some(b) = &self.baseline {
+            if b.kp.len() != n || b.kd.len() != n {
+                return Err(SimError::Setting(format!(
+                    "baseline.kp, baseline.kd: one gain per joint ({n})"
+                )));
+            }
+        }
+        if let Some(p) = &self.controller.passive {
+            p.validate_for(n)?;
+        }
+        Ok(())
+    }
+
+    /// The arm's parameters.
+    pub fn arm(&self) -> Result<ScaraParameters<f64>> {
+        Ok(match &self.plant.arm {
+            ArmSpec::DirectDrive => direct_drive_arm(),
+            ArmSpec::Pelican => ScaraParameters::pelican(),
+            ArmSpec::Urdf(p) => crate::urdf::scara_from_urdf(&self.base_dir.join(p))?,
+            ArmSpec::Parameters(a) => (*a).into(),
+        })
+    }
+
+    /// The contour.
+    pub fn contour(&self) -> Result<Lissajous<f64, 2>> {
+        let c = &self.contour;
+        Ok(Lissajous::new(
+            Vector2::from(c.amplitude),
+            Vector2::from(c.periods),
+            Vector2::from(c.phase),
+            Vector2::from(c.offset),
+        )?
+        .with_period(c.period)?)
+    }
+
+    /// The field.
+    pub fn field(&self) -> Result<PaperField> {
+        Ok(SuspendedField::new(
+            self.contour()?,
+            TorusNavigation::paper(joint_vector::<2>(&self.controller.h, "controller.h")?)?,
+            ExponentialPacing::new(self.controller.self_pacing)?,
+        ))
+    }
+
+    /// The controller, with its add-ons and initial internal states. The controller's model
+    /// of the arm is the plant's (no model mismatch).
+    pub fn controller(&self) -> Result<PaperController> {
+        self.controller_with(Scara::new(self.arm()?)?)
+    }
+
+    /// [`controller`](Self::controller) with the arm's model already built (a run reads the
+    /// arm once).
+    pub fn controller_with(&self, arm: Scara<f64>) -> Result<PaperController> {
+        let c = &self.controller;
+        let flywheel = Flywheel::new(c.flywheel_inertia, c.energy)?;
+        let law = PvfcLaw::new(arm, self.field()?, flywheel, c.gamma)?;
+        let mut ctl = Controller::new(law).with_state(InternalState {
+            tau: self.initial.tau,
+            tau_dot: self.initial.tau_dot,
+            flywheel_speed: self
+                .initial
+                .flywheel_speed
+                .unwrap_or_else(|| flywheel.speed_for_unit_beta()),
+            laps: 0,
+        });
+        if let Some(f) = &c.friction_compensation {
+            let f = joint_vector::<2>(f, "controller.friction_compensation")?;
+            let mut comp = FrictionCompensation::new(f)?;
+            if let Some(band) = c.friction_band {
+                comp = comp.with_band(band)?;
+            }
+            ctl = ctl.with_friction_compensation(comp);
+        }
+        if let Some(n) = c.nominal_speed {
+            ctl = ctl.with_nominal_speed(NominalSpeed::new(n.c, n.r)?);
+        }
+        Ok(ctl)
+    }
+
+    /// The passive digital controller of `[controller.passive]` around
+    /// [`controller`](Self::controller), if the scenario has one.
+    pub fn passive_controller(&self) -> Result<Option<PaperPassiveController>> {
+        let Some(p) = &self.controller.passive else {
+            return Ok(None);
+        };
+        Ok(Some(p.controller(self.controller()?, [true; 2])?))
+    }
+}
