@@ -201,42 +201,15 @@ pub struct ArmStep {
     pub internal: (f64, f64, f64),
 }
 
-/// An arm controller for 1 to 8 joints.
-#[derive(Clone, Debug)]
-#[allow(missing_docs)]
-// One per controller, built once: boxing the larger variants would buy nothing.
-#[allow(clippy::large_enum_variant)]
-pub enum ArmController {
-    J1(ArmControllerN<1>),
-    J2(ArmControllerN<2>),
-    J3(ArmControllerN<3>),
-    J4(ArmControllerN<4>),
-    J5(ArmControllerN<5>),
-    J6(ArmControllerN<6>),
-    J7(ArmControllerN<7>),
-    J8(ArmControllerN<8>),
-}
-
-/// Runs `$body` on the variant of an enum with variants `J1 … J8` (one per number of joints),
-/// with `$N` the number of joints as a constant.
-macro_rules! on_joints {
-    ($enum:ident, $self:expr, $c:ident, $N:ident => $body:expr) => {
-        on_joints!(@arms $enum, $self, $c, $N, $body, J1 1, J2 2, J3 3, J4 4, J5 5, J6 6, J7 7, J8 8)
-    };
-    (@arms $enum:ident, $self:expr, $c:ident, $N:ident, $body:expr, $($v:ident $n:literal),*) => {
-        match $self {
-            $($enum::$v($c) => {
-                #[allow(dead_code)]
-                const $N: usize = $n;
-                $body
-            })*
-        }
-    };
+crate::dof_enum! {
+    /// An arm controller for 1 to 8 joints.
+    #[derive(Clone, Debug)]
+    pub enum ArmController of ArmControllerN
 }
 
 macro_rules! on_arm {
     ($self:expr, $c:ident, $N:ident => $body:expr) => {
-        on_joints!(ArmController, $self, $c, $N => $body)
+        crate::on_joints!(ArmController, $self, $c, $N => $body)
     };
 }
 
@@ -277,14 +250,9 @@ pub fn arm_controller<const N: usize>(
 impl ArmController {
     /// The controller of `robot` with the given settings.
     pub fn new(robot: &Robot, s: &ArmSettings) -> Result<Self> {
-        macro_rules! build {
-            ($($v:ident),*) => {
-                match robot.model() {
-                    $(ChainModel::$v(c) => ArmController::$v(arm_controller(*c, s)?),)*
-                }
-            };
-        }
-        Ok(build!(J1, J2, J3, J4, J5, J6, J7, J8))
+        Ok(crate::on_joints!(ChainModel, robot.model(), c, N => {
+            ArmController::from(arm_controller::<N>(*c, s)?)
+        }))
     }
 
     /// The number of joints.
@@ -346,14 +314,7 @@ impl ArmController {
     /// This controller in the passive digital mode ([`pvfc_core::passive`]), with its
     /// internal states as they are now.
     pub fn passive(&self, o: &PassiveOptions) -> Result<PassiveArm> {
-        macro_rules! wrap {
-            ($($v:ident),*) => {
-                match self {
-                    $(ArmController::$v(c) => PassiveArm::$v(o.build(*c)?),)*
-                }
-            };
-        }
-        Ok(wrap!(J1, J2, J3, J4, J5, J6, J7, J8))
+        Ok(on_arm!(self, c, N => PassiveArm::from(o.build::<N>(*c)?)))
     }
 }
 
@@ -404,25 +365,16 @@ pub struct PassiveArmStep {
     pub energy: EnergyAccount<f64>,
 }
 
-/// A passive arm controller for 1 to 8 joints ([`ArmController::passive`]).
-#[derive(Clone, Debug)]
-#[allow(missing_docs)]
-#[allow(clippy::large_enum_variant)]
-pub enum PassiveArm {
-    J1(PassiveArmN<1>),
-    J2(PassiveArmN<2>),
-    J3(PassiveArmN<3>),
-    J4(PassiveArmN<4>),
-    J5(PassiveArmN<5>),
-    J6(PassiveArmN<6>),
-    J7(PassiveArmN<7>),
-    J8(PassiveArmN<8>),
+crate::dof_enum! {
+    /// A passive arm controller for 1 to 8 joints ([`ArmController::passive`]).
+    #[derive(Clone, Debug)]
+    pub enum PassiveArm of PassiveArmN
 }
 
 impl PassiveArm {
     /// The number of joints.
     pub fn dof(&self) -> usize {
-        on_joints!(PassiveArm, self, _c, N => N)
+        crate::on_joints!(PassiveArm, self, _c, N => N)
     }
 
     /// One step at the measured positions `q` (and velocities `v`, if measured), with
@@ -435,7 +387,7 @@ impl PassiveArm {
         applied: Option<&[f64]>,
         dt: f64,
     ) -> Result<PassiveArmStep> {
-        on_joints!(PassiveArm, self, c, N => {
+        crate::on_joints!(PassiveArm, self, c, N => {
             let kinds = c.controller().law().system().kinds();
             let q = JointSpace::new(fixed::<N>(q, "q")?, kinds);
             let v = v.map(|v| fixed::<N>(v, "v")).transpose()?;
@@ -452,12 +404,12 @@ impl PassiveArm {
 
     /// The storage `½τ̇² + ½M_F q̇_F²` as accounted (J).
     pub fn storage(&self) -> f64 {
-        on_joints!(PassiveArm, self, c, N => c.storage())
+        crate::on_joints!(PassiveArm, self, c, N => c.storage())
     }
 
     /// The internal states `(τ, τ̇, q̇_F, laps)`.
     pub fn state(&self) -> (f64, f64, f64, i64) {
-        on_joints!(PassiveArm, self, c, N => {
+        crate::on_joints!(PassiveArm, self, c, N => {
             let s = c.controller().state();
             (s.tau, s.tau_dot, s.flywheel_speed, s.laps)
         })
@@ -475,21 +427,12 @@ impl JointContourSpec {
     }
 }
 
-/// A joint-space contour of 1 to [`MAX_JOINTS`] coordinates, built once, for callers whose
-/// dimension is known at run time only (the Python contours): sampled with every coordinate
-/// circular unless told otherwise.
-#[derive(Clone, Debug)]
-#[allow(missing_docs)]
-#[allow(clippy::large_enum_variant)]
-pub enum DynJointContour {
-    J1(JointContour<1>),
-    J2(JointContour<2>),
-    J3(JointContour<3>),
-    J4(JointContour<4>),
-    J5(JointContour<5>),
-    J6(JointContour<6>),
-    J7(JointContour<7>),
-    J8(JointContour<8>),
+crate::dof_enum! {
+    /// A joint-space contour of 1 to [`MAX_JOINTS`] coordinates, built once, for callers whose
+    /// dimension is known at run time only (the Python contours): sampled with every coordinate
+    /// circular unless told otherwise.
+    #[derive(Clone, Debug)]
+    pub enum DynJointContour of JointContour
 }
 
 impl DynJointContour {
@@ -505,36 +448,28 @@ impl DynJointContour {
                 )));
             }
         }
-        macro_rules! build {
-            ($($v:ident $n:literal),*) => {
-                match n {
-                    $($n => {
-                        let mut ks = [JointKind::Circular; $n];
-                        if let Some(k) = kinds {
-                            ks.copy_from_slice(k);
-                        }
-                        DynJointContour::$v(spec.build::<$n>(ks)?)
-                    })*
-                    _ => {
-                        return Err(setting(format!(
-                            "contour: 1 to {MAX_JOINTS} coordinates are supported, got {n}"
-                        )))
-                    }
-                }
-            };
-        }
-        Ok(build!(J1 1, J2 2, J3 3, J4 4, J5 5, J6 6, J7 7, J8 8))
+        Ok(crate::with_dof!(n, N => {
+            let mut ks = [JointKind::Circular; N];
+            if let Some(k) = kinds {
+                ks.copy_from_slice(k);
+            }
+            DynJointContour::from(spec.build::<N>(ks)?)
+        }, otherwise {
+            return Err(setting(format!(
+                "contour: 1 to {MAX_JOINTS} coordinates are supported, got {n}"
+            )));
+        }))
     }
 
     /// The number of coordinates.
     pub fn dim(&self) -> usize {
-        on_joints!(DynJointContour, self, _c, N => N)
+        crate::on_joints!(DynJointContour, self, _c, N => N)
     }
 
     /// `x_d(τ)`, `dx_d/dτ` and `d²x_d/dτ²` (coordinates, with circular ones unwrapped as the
     /// contour gives them).
     pub fn sample(&self, tau: f64) -> [Vec<f64>; 3] {
-        on_joints!(DynJointContour, self, c, N => {
+        crate::on_joints!(DynJointContour, self, c, N => {
             let s = c.sample(tau);
             [
                 s.point.coords().as_slice().to_vec(),
@@ -546,6 +481,6 @@ impl DynJointContour {
 
     /// The period in `τ`.
     pub fn period(&self) -> Option<f64> {
-        on_joints!(DynJointContour, self, c, N => c.period())
+        crate::on_joints!(DynJointContour, self, c, N => c.period())
     }
 }

@@ -6,6 +6,7 @@
 
 pub mod arm;
 pub mod cartesian;
+pub mod dispatch;
 pub mod friction;
 pub mod robot;
 

@@ -3,121 +3,23 @@
 
 use crate::error::{Result, SimError};
 use crate::urdf::chain::{ChainDescription, MAX_JOINTS};
+use crate::with_dof;
 use nalgebra::{DMatrix, DVector, Matrix3, SVector, Vector3};
 use pvfc_core::mechanics::{Pose, SerialChain};
 use std::path::Path;
 
-/// Runs `$body` with `$n` (a run-time number of joints, 1…8) as the const generic `$N`;
-/// evaluates `$otherwise` for any other number.
-#[macro_export]
-macro_rules! with_dof {
-    ($n:expr, $N:ident => $body:expr, otherwise $otherwise:expr) => {
-        match $n {
-            1 => {
-                #[allow(dead_code)]
-                const $N: usize = 1;
-                $body
-            }
-            2 => {
-                #[allow(dead_code)]
-                const $N: usize = 2;
-                $body
-            }
-            3 => {
-                #[allow(dead_code)]
-                const $N: usize = 3;
-                $body
-            }
-            4 => {
-                #[allow(dead_code)]
-                const $N: usize = 4;
-                $body
-            }
-            5 => {
-                #[allow(dead_code)]
-                const $N: usize = 5;
-                $body
-            }
-            6 => {
-                #[allow(dead_code)]
-                const $N: usize = 6;
-                $body
-            }
-            7 => {
-                #[allow(dead_code)]
-                const $N: usize = 7;
-                $body
-            }
-            8 => {
-                #[allow(dead_code)]
-                const $N: usize = 8;
-                $body
-            }
-            _ => $otherwise,
-        }
-    };
-}
+/// A serial chain of `N` joints, in f64.
+pub type ChainN<const N: usize> = SerialChain<f64, N>;
 
-/// A serial chain of 1 to 8 joints.
-#[derive(Clone, Debug, PartialEq)]
-#[allow(missing_docs)]
-// One per robot, built once: boxing the larger chains would buy nothing.
-#[allow(clippy::large_enum_variant)]
-pub enum ChainModel {
-    J1(SerialChain<f64, 1>),
-    J2(SerialChain<f64, 2>),
-    J3(SerialChain<f64, 3>),
-    J4(SerialChain<f64, 4>),
-    J5(SerialChain<f64, 5>),
-    J6(SerialChain<f64, 6>),
-    J7(SerialChain<f64, 7>),
-    J8(SerialChain<f64, 8>),
+crate::dof_enum! {
+    /// A serial chain of 1 to 8 joints.
+    #[derive(Clone, Debug, PartialEq)]
+    pub enum ChainModel of ChainN
 }
 
 macro_rules! on_chain {
     ($self:expr, $c:ident, $N:ident => $body:expr) => {
-        match $self {
-            ChainModel::J1($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 1;
-                $body
-            }
-            ChainModel::J2($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 2;
-                $body
-            }
-            ChainModel::J3($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 3;
-                $body
-            }
-            ChainModel::J4($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 4;
-                $body
-            }
-            ChainModel::J5($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 5;
-                $body
-            }
-            ChainModel::J6($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 6;
-                $body
-            }
-            ChainModel::J7($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 7;
-                $body
-            }
-            ChainModel::J8($c) => {
-                #[allow(dead_code)]
-                const $N: usize = 8;
-                $body
-            }
-        }
+        crate::on_joints!(ChainModel, $self, $c, $N => $body)
     };
 }
 
@@ -271,34 +173,6 @@ impl Robot {
         })
     }
 }
-
-macro_rules! from_chain {
-    ($($v:ident $n:literal),*) => {$(
-        impl From<SerialChain<f64, $n>> for ChainModel {
-            fn from(c: SerialChain<f64, $n>) -> Self {
-                ChainModel::$v(c)
-            }
-        }
-
-        /// The chain, when it has this number of joints.
-        impl TryFrom<&ChainModel> for SerialChain<f64, $n> {
-            type Error = SimError;
-            fn try_from(m: &ChainModel) -> Result<Self> {
-                match m {
-                    ChainModel::$v(c) => Ok(*c),
-                    _ => Err(SimError::Core(
-                        pvfc_core::Error::new(
-                            pvfc_core::ErrorKind::DimensionMismatch,
-                            "ChainModel: the chain has another number of joints",
-                        )
-                        .with_value($n as f64),
-                    )),
-                }
-            }
-        }
-    )*};
-}
-from_chain!(J1 1, J2 2, J3 3, J4 4, J5 5, J6 6, J7 7, J8 8);
 
 fn dm<const R: usize, const C: usize>(m: &nalgebra::SMatrix<f64, R, C>) -> DMatrix<f64> {
     DMatrix::from_column_slice(R, C, m.as_slice())
