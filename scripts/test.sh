@@ -4,11 +4,12 @@
 # Needs Rust (rustup) and Python ≥ 3.9 with venv; installs the rest itself.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+stage() { echo "=== $* (${SECONDS} s so far)"; }
 
-echo "=== cargo test"
+stage "cargo test"
 cargo test --locked
 
-echo "=== Python: build the wheel into a fresh virtual environment"
+stage "Python: build the wheel into a fresh virtual environment"
 venv="${PVFC_VENV:-target/py-venv}"
 rm -rf "$venv"
 python3 -m venv "$venv"
@@ -17,8 +18,9 @@ py="$venv/bin/python"
 "$py" -m pip install --quiet "./crates/pvfc-py[test,reference]"
 "$py" -c "import pvfc, numpy; print('pvfc', pvfc.__version__, 'numpy', numpy.__version__)"
 
-echo "=== pytest"
+stage "pytest"
 (cd crates/pvfc-py && "../../$py" -m pytest -q -p no:cacheprovider --durations=10)
 
-echo "=== stubtest"
+stage "stubtest"
 "$py" -m mypy.stubtest pvfc
+stage "done"

@@ -1,0 +1,3 @@
+//! Empty: the build-dependencies only unify the features of the host's proc-macro crates.
+
+fn main() {}
