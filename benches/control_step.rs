@@ -223,7 +223,7 @@ fn interleaved(rounds: usize, mut a: impl FnMut(), mut b: impl FnMut()) -> [f64;
     ]
 }
 
-/// The passive step over `Controller::step` (issue 11's budget: ≤ 15 %), SCARA f64 and
+/// The passive step over `Controller::step` (the budget: ≤ 15 %), SCARA f64 and
 /// f32, 1,000 recorded steps per call, measured interleaved (see the header).
 fn passive_overhead() {
     const ROUNDS: usize = 2000;

@@ -242,7 +242,7 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     Ok(out)
 }
 
-/// The claims of the contact scenarios (issue 4).
+/// The claims of the contact scenarios.
 fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool)) -> Result<()> {
     use ContactCase::*;
     let short = |c: ContactCase| PresetId::Contact(c).name().replacen("contact_", "", 1);

@@ -1,5 +1,5 @@
-//! The claims of the 3-D contact scenarios of a URDF arm ([`presets::arms_3d`]
-//! (pvfc_sim::scenario::presets::arms_3d), issue 12): a UR5 deburring a box's top, at a wall it cannot
+//! The claims of the 3-D contact scenarios of a URDF arm
+//! ([`arms_3d`](pvfc_sim::scenario::presets::arms_3d)): a UR5 deburring a box's top, at a wall it cannot
 //! pass and pushed on the forearm, each beside the timed tracker; the audit, the passivity
 //! margins, the forces and the Cartesian path error in millimetres.
 

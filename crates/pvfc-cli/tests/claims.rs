@@ -131,7 +131,7 @@ fn every_claim_is_evaluated_and_the_table_renders() {
     assert_eq!(csv.lines().count(), 1 + c.len());
 }
 
-// Contact (issue 4): the claims of `pvfc reproduce` about the contact scenarios.
+// Contact: the claims of `pvfc reproduce` about the contact scenarios.
 
 #[test]
 fn contact_energy_audit_is_integration_error_only() {

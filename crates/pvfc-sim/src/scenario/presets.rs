@@ -491,7 +491,7 @@ pub fn contact() -> Vec<Scenario> {
     ]
 }
 
-/// The 3-D contact scenarios of a UR5 (issue 12), read from the workspace's `scenarios/`
+/// The 3-D contact scenarios of a UR5, read from the workspace's `scenarios/`
 /// (`ur5_deburr.toml`, `ur5_wall.toml`, `ur5_push.toml`; their URDF is `models/ur5`), each
 /// beside its timed baseline, and the deburring run again in continuous time
 /// (`ur5_deburr_continuous`: the closed loop's own audit, without sampling).
