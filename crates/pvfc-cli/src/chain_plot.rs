@@ -76,7 +76,7 @@ pub fn chain_figure(
                 .zip(&d)
                 .map(|(&i, d)| (t.t[i], (d * 1e3).max(1e-3)))
                 .collect();
-            (c.polyline(&s.base_dir)?, Some(pts))
+            (c.path(&s.base_dir)?.sample(512), Some(pts))
         }
         None => (Vec::new(), None),
     };

@@ -171,20 +171,12 @@ fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
                 .map(|u| format!("{u:.3e}"))
                 .unwrap_or_else(|| "(no complete pass)".into())
         );
-        let tracking = match runs.arm_system(s)? {
-            Some(sys) => pvfc_sim::trace::metrics::cartesian_tracking(s, &sys.robot, t)?,
+        let budget = match runs.arm_system(s)? {
+            Some(sys) => pvfc_sim::trace::path_budget::path_budget(s, &sys.robot, t)?,
             None => None,
         };
-        if let Some(c) = tracking {
-            println!(
-                "{name}: tool to the Cartesian path over the last pass: mean {:.2} mm, max {:.2} mm (at t = {:.2} s, {:.0} mm along the {:.0} mm path); tool speed {:.0} mm/s",
-                c.error.mean * 1e3,
-                c.error.max * 1e3,
-                c.when,
-                c.error.along * 1e3,
-                c.error.length * 1e3,
-                c.speed * 1e3,
-            );
+        if let Some(b) = budget {
+            println!("{name}: tool path: {b}");
         }
         if let Some(c) = pvfc_sim::trace::metrics::contact_summary(t) {
             println!(

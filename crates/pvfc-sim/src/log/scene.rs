@@ -76,7 +76,8 @@ impl ArmScene {
             .collect::<Result<Vec<_>>>()?;
         let cartesian = match &s.contour.cartesian {
             Some(c) => c
-                .polyline(&s.base_dir)?
+                .path(&s.base_dir)?
+                .sample(512)
                 .iter()
                 .map(|p| [p.x, p.y, p.z])
                 .collect(),

@@ -69,14 +69,12 @@ impl JointContourSpec {
                         points.len()
                     )));
                 }
-                let mut pts = [JointSpace::<f64, N>::identity(); MAX_WAYPOINTS];
-                for (k, w) in points.iter().enumerate() {
-                    pts[k] = JointSpace::new(fixed::<N>(w, &format!("waypoint {k}"))?, kinds);
-                }
-                JointContour::Spline(PeriodicBSpline::through_slice(
-                    &pts[..points.len()],
-                    *spacing,
-                )?)
+                let pts = points
+                    .iter()
+                    .enumerate()
+                    .map(|(k, w)| Ok(JointSpace::new(fixed::<N>(w, &format!("waypoint {k}"))?, kinds)))
+                    .collect::<Result<Vec<_>>>()?;
+                JointContour::Spline(Box::new(PeriodicBSpline::through_slice(&pts, *spacing)?))
             }
             JointContourSpec::Lissajous {
                 amplitude,
@@ -113,12 +111,11 @@ impl JointContourSpec {
 
 /// The closed joint-space contour of an `N`-joint arm: one of the core's contours, chosen at
 /// run time.
-#[derive(Clone, Copy, Debug, PartialEq)]
-// One per controller, built once; the spline is the large one and the usual one.
-#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum JointContour<const N: usize> {
-    /// A periodic C² spline through waypoints.
-    Spline(PeriodicBSpline<f64, JointSpace<f64, N>, N, MAX_WAYPOINTS>),
+    /// A periodic C² spline through waypoints (on the heap: up to [`MAX_WAYPOINTS`] of them;
+    /// evaluating it costs the same for any number).
+    Spline(Box<PeriodicBSpline<f64, JointSpace<f64, N>, N, MAX_WAYPOINTS>>),
     /// A Lissajous curve.
     Lissajous(Lissajous<f64, N>),
     /// An ellipse.
@@ -314,7 +311,7 @@ impl ArmController {
     /// This controller in the passive digital mode ([`pvfc_core::passive`]), with its
     /// internal states as they are now.
     pub fn passive(&self, o: &PassiveOptions) -> Result<PassiveArm> {
-        Ok(on_arm!(self, c, N => PassiveArm::from(o.build::<N>(*c)?)))
+        Ok(on_arm!(self, c, N => PassiveArm::from(o.build::<N>(c.clone())?)))
     }
 }
 

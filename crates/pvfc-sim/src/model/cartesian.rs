@@ -13,9 +13,12 @@
 //! at the waypoints and through the joint spline in between (the distance is reported).
 
 use crate::error::{Result, SimError, WaypointProblem};
+use crate::model::arm::JointContourSpec;
 use crate::model::robot::Robot;
+use crate::model::tool_path::ToolPath;
 use crate::with_dof;
 use nalgebra::{SVector, Vector3};
+use pvfc_core::contour::Contour;
 use pvfc_core::mechanics::{IkSettings, IkTarget, SerialChain};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -38,8 +41,14 @@ pub struct CartesianSpec {
     /// relative to the scenario file.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub csv: Option<PathBuf>,
-    /// How many joint waypoints the path is sampled into (equal arc length; 4 to 32).
+    /// How many joint waypoints the path is sampled into (equal arc length; 4 to
+    /// [`MAX_SAMPLES`]); 0: as many as it takes for the joint contour to stay within
+    /// `tolerance` of the path.
     pub samples: usize,
+    /// The largest distance (m) allowed between the path and the joint contour's tool
+    /// position (its forward kinematics) when `samples` is 0; default 10 µm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
     /// The joint posture the inverse kinematics starts from at the first waypoint.
     pub seed: Vec<f64>,
     /// Hold the tool's orientation at the seed's (else it is free).
@@ -90,40 +99,135 @@ fn bad(what: impl Into<String>) -> SimError {
 }
 
 impl CartesianSpec {
-    /// The path sampled at `samples` points of equal arc length, starting at its first point.
+    /// The path sampled at `samples` points of equal arc length, starting at its first point
+    /// (with `samples = 0`, at the number the adaptive sampling starts from).
     pub fn sample(&self, base_dir: &Path) -> Result<Vec<Vector3<f64>>> {
-        if !(4..=MAX_SAMPLES).contains(&self.samples) {
-            return Err(bad(format!("samples: 4 to {MAX_SAMPLES}")));
+        Ok(self.path(base_dir)?.sample(self.first_count()?))
+    }
+
+    /// The number of samples fixed by the spec, or the adaptive sampling's first.
+    fn first_count(&self) -> Result<usize> {
+        match self.samples {
+            0 => Ok(ADAPTIVE_START),
+            n if (4..=MAX_SAMPLES).contains(&n) => Ok(n),
+            _ => Err(bad(format!("samples: 4 to {MAX_SAMPLES}, or 0 (adaptive)"))),
         }
-        Ok(resample(&self.polyline(base_dir)?, self.samples))
     }
 
-    /// The path as a dense closed polyline (m, base frame).
-    pub fn polyline(&self, base_dir: &Path) -> Result<Vec<Vector3<f64>>> {
-        Ok(match (&self.circle, &self.csv, self.points.is_empty()) {
-            (Some(c), None, true) => circle(c)?,
-            (None, Some(f), true) => polyline(&read_csv(&base_dir.join(f))?, self.corner_radius)?,
-            (None, None, false) => polyline(
-                &self
-                    .points
-                    .iter()
-                    .map(|p| Vector3::from(*p))
-                    .collect::<Vec<_>>(),
-                self.corner_radius,
-            )?,
-            _ => return Err(bad("give exactly one of points, circle or csv")),
-        })
+    /// The tolerance of the adaptive sampling (m).
+    pub fn tolerance(&self) -> Result<f64> {
+        match self.tolerance {
+            None => Ok(DEFAULT_TOLERANCE),
+            Some(t) if t.is_finite() && t > 0.0 => Ok(t),
+            Some(t) => Err(bad(format!("tolerance: a length > 0 (m), got {t}"))),
+        }
     }
 
-    /// The joint waypoints of the path for `robot`: inverse kinematics at every sample,
-    /// warm-started from the previous one (the first from `seed`), each checked for reach,
-    /// manipulability, joint limits and jumps; errors name the waypoint.
+    /// The path's exact geometry (m, base frame).
+    pub fn path(&self, base_dir: &Path) -> Result<ToolPath> {
+        let corners = |p: &[[f64; 3]]| p.iter().map(|p| Vector3::from(*p)).collect::<Vec<_>>();
+        match (&self.circle, &self.csv, self.points.is_empty()) {
+            (Some(c), None, true) => circle(c),
+            (None, Some(f), true) => {
+                ToolPath::rounded_polygon(&read_csv(&base_dir.join(f))?, self.corner_radius)
+                    .map_err(bad)
+            }
+            (None, None, false) => {
+                ToolPath::rounded_polygon(&corners(&self.points), self.corner_radius).map_err(bad)
+            }
+            _ => Err(bad("give exactly one of points, circle or csv")),
+        }
+    }
+
+    /// The joint waypoints of the path for `robot` (those of [`joint_path`](Self::joint_path)).
     pub fn joint_waypoints(&self, robot: &Robot, base_dir: &Path) -> Result<Vec<Vec<f64>>> {
-        let points = self.sample(base_dir)?;
+        Ok(self.joint_path(robot, base_dir)?.waypoints)
+    }
+
+    /// The joint waypoints of the path for `robot`, and how far the joint contour through
+    /// them is from the path: inverse kinematics at every sample, warm-started from the
+    /// previous one (the first from `seed`), each checked for reach, manipulability, joint
+    /// limits and jumps (errors name the waypoint). With `samples = 0` the number of samples
+    /// grows until the contour's tool position is within `tolerance` of the path everywhere
+    /// (an error if [`MAX_SAMPLES`] are not enough).
+    pub fn joint_path(&self, robot: &Robot, base_dir: &Path) -> Result<JointPath> {
+        let path = self.path(base_dir)?;
+        let tolerance = self.tolerance()?;
+        let mut n = self.first_count()?;
         with_dof!(robot.dof(), N => {
             let chain = SerialChain::<f64, N>::try_from(robot.model())?;
-            self.solve::<N>(robot, &chain, &points)
+            loop {
+                let points = path.sample(n);
+                let joints = self.solve::<N>(robot, &chain, &points)?;
+                let geometry = self.geometry::<N>(&chain, &path, &joints)?;
+                if self.samples != 0 || geometry.max <= tolerance {
+                    let waypoints = joints.iter().map(|q| q.as_slice().to_vec()).collect();
+                    return Ok(JointPath { waypoints, geometry });
+                }
+                if n == MAX_SAMPLES {
+                    return Err(bad(format!(
+                        "the joint contour stays {:.1} µm from the path with {MAX_SAMPLES} samples, more than the tolerance of {:.1} µm (raise tolerance)",
+                        geometry.max * 1e6,
+                        tolerance * 1e6
+                    )));
+                }
+                // The largest distance falls as 1/n² where the path's curvature jumps (a
+                // straight side meeting a rounded corner): aim there with 10 % to spare.
+                let aim = (n as f64 * (geometry.max / tolerance).sqrt() * 1.1).ceil() as usize;
+                n = aim.clamp(n + n / 4, MAX_SAMPLES);
+            }
         }, otherwise Err(bad("the robot has more joints than pvfc supports")))
+    }
+
+    /// How far the tool position of the joint contour through `waypoints` (forward kinematics
+    /// at [`GEOMETRY_STEPS`] values of `τ` per waypoint) is from the path, and, for a path
+    /// with an orientation, how far its orientation is from the path's.
+    fn geometry<const N: usize>(
+        &self,
+        chain: &SerialChain<f64, N>,
+        path: &ToolPath,
+        waypoints: &[SVector<f64, N>],
+    ) -> Result<ContourGeometry> {
+        let spec = JointContourSpec::Waypoints {
+            points: waypoints.iter().map(|q| q.as_slice().to_vec()).collect(),
+            spacing: 1.0,
+        };
+        let contour = spec.build::<N>(chain.kinds())?;
+        let m = waypoints.len() * GEOMETRY_STEPS;
+        let poses: Vec<_> = (0..m)
+            .map(|k| {
+                let q = contour.sample(k as f64 / GEOMETRY_STEPS as f64).point;
+                chain.tool_pose(q.coords())
+            })
+            .collect();
+        let closest: Vec<_> = poses.iter().map(|p| path.closest(&p.translation)).collect();
+        let desired = match (&self.orientations.is_empty(), self.fixed_orientation) {
+            (false, _) => self.sampled_orientations(
+                &closest.iter().map(|c| c.point).collect::<Vec<_>>(),
+            )?,
+            (true, true) => {
+                let seed = SVector::<f64, N>::from_column_slice(&self.seed);
+                Some(vec![chain.tool_pose(&seed).rotation; m])
+            }
+            (true, false) => None,
+        };
+        let angle = desired.map(|r| {
+            poses
+                .iter()
+                .zip(&r)
+                .map(|(p, r)| {
+                    let c = ((r.transpose() * p.rotation).trace() - 1.0) / 2.0;
+                    c.clamp(-1.0, 1.0).acos()
+                })
+                .fold(0.0, f64::max)
+        });
+        Ok(ContourGeometry {
+            samples: waypoints.len(),
+            mean: closest.iter().map(|c| c.distance).sum::<f64>() / m as f64,
+            max: closest.iter().map(|c| c.distance).fold(0.0, f64::max),
+            max_angle: angle,
+            length: path.length(),
+        })
     }
 
     fn solve<const N: usize>(
@@ -131,7 +235,7 @@ impl CartesianSpec {
         robot: &Robot,
         chain: &SerialChain<f64, N>,
         points: &[Vector3<f64>],
-    ) -> Result<Vec<Vec<f64>>> {
+    ) -> Result<Vec<SVector<f64, N>>> {
         if self.seed.len() != N || !self.seed.iter().all(|x| x.is_finite()) {
             return Err(bad(format!("seed: {N} finite joint coordinates")));
         }
@@ -233,8 +337,43 @@ impl CartesianSpec {
                 });
             }
         }
-        Ok(out.iter().map(|q| q.as_slice().to_vec()).collect())
+        Ok(out)
     }
+}
+
+/// The samples the adaptive sampling starts from.
+const ADAPTIVE_START: usize = 32;
+
+/// The default tolerance of the adaptive sampling: 10 µm.
+pub const DEFAULT_TOLERANCE: f64 = 1e-5;
+
+/// Values of `τ` per waypoint at which the joint contour's geometry is measured.
+pub const GEOMETRY_STEPS: usize = 16;
+
+/// The geometry part of a Cartesian path's error budget: how far the joint contour itself
+/// (the forward kinematics of `x_d(τ)`) is from the path, before any tracking error.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContourGeometry {
+    /// The number of joint waypoints.
+    pub samples: usize,
+    /// The mean distance (m) of the contour's tool position to the path.
+    pub mean: f64,
+    /// The largest distance (m).
+    pub max: f64,
+    /// The largest angle (rad) between the contour's tool orientation and the path's, for a
+    /// path with an orientation (`orientations` or `fixed_orientation`).
+    pub max_angle: Option<f64>,
+    /// The path's length (m).
+    pub length: f64,
+}
+
+/// A Cartesian path turned into joint waypoints, with its geometry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointPath {
+    /// The joint waypoints, one row of joint coordinates each.
+    pub waypoints: Vec<Vec<f64>>,
+    /// How far the joint contour through them is from the path.
+    pub geometry: ContourGeometry,
 }
 
 /// How closely a run's tool followed the Cartesian path: the distance from the tool to the
@@ -255,41 +394,29 @@ pub struct PathError {
 }
 
 impl CartesianSpec {
-    /// The distance (m) of every tool position in `tool` to the path (its dense polyline).
+    /// The distance (m) of every tool position in `tool` to the path.
     pub fn distances(&self, base_dir: &Path, tool: &[Vector3<f64>]) -> Result<Vec<f64>> {
-        Ok(distances_to(&self.polyline(base_dir)?, tool))
+        let path = self.path(base_dir)?;
+        Ok(tool.iter().map(|p| path.closest(p).distance).collect())
     }
 
     /// The distance of every tool position in `tool` to the path, summarised.
     pub fn path_error(&self, base_dir: &Path, tool: &[Vector3<f64>]) -> Result<PathError> {
-        let dense = self.polyline(base_dir)?;
-        let d = distances_to(&dense, tool);
-        let (worst, max) =
-            d.iter().enumerate().fold(
-                (0, 0.0f64),
-                |(wi, wm), (i, x)| if *x > wm { (i, *x) } else { (wi, wm) },
-            );
-        // Where along the path: the arc length to the worst sample's closest path point.
-        let n = dense.len();
-        let (mut along, mut length, mut best) = (0.0, 0.0, f64::INFINITY);
-        for i in 0..n {
-            let (a, b) = (&dense[i], &dense[(i + 1) % n]);
-            let segment = (b - a).norm();
-            if let Some(p) = tool.get(worst) {
-                let (t, dist) = closest_on_segment(p, a, b);
-                if dist < best {
-                    best = dist;
-                    along = length + t * segment;
-                }
+        let path = self.path(base_dir)?;
+        let closest: Vec<_> = tool.iter().map(|p| path.closest(p)).collect();
+        let (worst, max) = closest.iter().enumerate().fold((0, 0.0f64), |(wi, wm), (i, c)| {
+            if c.distance > wm {
+                (i, c.distance)
+            } else {
+                (wi, wm)
             }
-            length += segment;
-        }
+        });
         Ok(PathError {
-            mean: d.iter().sum::<f64>() / d.len().max(1) as f64,
+            mean: closest.iter().map(|c| c.distance).sum::<f64>() / closest.len().max(1) as f64,
             max,
             worst,
-            along,
-            length,
+            along: closest.get(worst).map_or(0.0, |c| c.along),
+            length: path.length(),
         })
     }
 }
@@ -349,22 +476,6 @@ impl CartesianSpec {
     }
 }
 
-/// The distance of every point of `tool` to the closed polyline `dense`.
-fn distances_to(dense: &[Vector3<f64>], tool: &[Vector3<f64>]) -> Vec<f64> {
-    let n = dense.len();
-    let dist = |p: &Vector3<f64>| {
-        (0..n)
-            .map(|i| segment_distance(p, &dense[i], &dense[(i + 1) % n]))
-            .fold(f64::INFINITY, f64::min)
-    };
-    tool.iter().map(dist).collect()
-}
-
-/// The distance from `p` to the segment `ab`.
-fn segment_distance(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
-    closest_on_segment(p, a, b).1
-}
-
 /// The closest point of segment `ab` to `p`, as its fraction `t ∈ [0, 1]` along `ab`, and the
 /// distance to it.
 fn closest_on_segment(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> (f64, f64) {
@@ -378,8 +489,8 @@ fn closest_on_segment(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> (
     (t, (p - (a + ab * t)).norm())
 }
 
-/// A dense closed polyline of the circle or ellipse (256 points, equal angles).
-fn circle(c: &CircleSpec) -> Result<Vec<Vector3<f64>>> {
+/// The circle or ellipse.
+fn circle(c: &CircleSpec) -> Result<ToolPath> {
     let n = Vector3::from(c.normal);
     let positive = |x: f64| x.is_finite() && x > 0.0;
     let valid = positive(c.radius)
@@ -412,94 +523,8 @@ fn circle(c: &CircleSpec) -> Result<Vec<Vector3<f64>>> {
     };
     let w = n.cross(&u);
     let center = Vector3::from(c.center);
-    Ok((0..256)
-        .map(|k| {
-            let a = std::f64::consts::TAU * k as f64 / 256.0;
-            match c.semi_minor {
-                None => center + (u * a.cos() + w * a.sin()) * c.radius,
-                Some(b) => center + u * (a.cos() * c.radius) + w * (a.sin() * b),
-            }
-        })
-        .collect())
-}
-
-/// A dense closed polyline through `corners`, each corner rounded by a circular arc of
-/// `radius` (the tangent length clipped to half the shorter neighbouring segment).
-fn polyline(corners: &[Vector3<f64>], radius: f64) -> Result<Vec<Vector3<f64>>> {
-    let n = corners.len();
-    if n < 3 {
-        return Err(bad("points: at least 3"));
-    }
-    let finite = corners.iter().all(|p| p.iter().all(|x| x.is_finite()));
-    if !(finite && radius.is_finite() && radius >= 0.0) {
-        return Err(bad("points and corner_radius must be finite (radius ≥ 0)"));
-    }
-    let mut out = Vec::new();
-    for i in 0..n {
-        let (prev, here, next) = (corners[(i + n - 1) % n], corners[i], corners[(i + 1) % n]);
-        let (la, lb) = ((here - prev).norm(), (next - here).norm());
-        if la == 0.0 || lb == 0.0 {
-            return Err(bad(format!("points: point {i} repeats its neighbour")));
-        }
-        let (a, b) = ((here - prev) / la, (next - here) / lb);
-        let turn = a.dot(&b).clamp(-1.0, 1.0).acos();
-        let tangent = (radius * (turn / 2.0).tan()).min(0.5 * la.min(lb));
-        if radius == 0.0 || turn < 1e-6 || tangent <= 0.0 {
-            out.push(here);
-            continue;
-        }
-        // The arc from here − a·t to here + b·t, tangent to both segments.
-        let (start, end) = (here - a * tangent, here + b * tangent);
-        let r = tangent / (turn / 2.0).tan();
-        let inward = (b - a).normalize();
-        let center = here + inward * (r / (turn / 2.0).cos());
-        let s0 = start - center;
-        let axis = s0.cross(&(end - center));
-        let axis = if axis.norm() > 0.0 {
-            axis.normalize()
-        } else {
-            a.cross(&b).normalize()
-        };
-        for k in 0..=16 {
-            let ang = turn * k as f64 / 16.0;
-            let rot =
-                nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_unchecked(axis), ang);
-            out.push(center + rot * s0);
-        }
-    }
-    // Densify the straight pieces.
-    let mut dense = Vec::with_capacity(out.len() * 8);
-    for i in 0..out.len() {
-        let (p, q) = (out[i], out[(i + 1) % out.len()]);
-        for k in 0..8 {
-            dense.push(p + (q - p) * (k as f64 / 8.0));
-        }
-    }
-    Ok(dense)
-}
-
-/// `m` points at equal arc length along the closed polyline `dense`, from its first point.
-fn resample(dense: &[Vector3<f64>], m: usize) -> Vec<Vector3<f64>> {
-    let n = dense.len();
-    let mut cum = Vec::with_capacity(n + 1);
-    cum.push(0.0);
-    for i in 0..n {
-        let d = (dense[(i + 1) % n] - dense[i]).norm();
-        cum.push(cum[i] + d);
-    }
-    let total = cum[n];
-    let mut out = Vec::with_capacity(m);
-    let mut seg = 0;
-    for k in 0..m {
-        let s = total * k as f64 / m as f64;
-        while seg + 1 < n && cum[seg + 1] < s {
-            seg += 1;
-        }
-        let len = cum[seg + 1] - cum[seg];
-        let f = if len > 0.0 { (s - cum[seg]) / len } else { 0.0 };
-        out.push(dense[seg] + (dense[(seg + 1) % n] - dense[seg]) * f);
-    }
-    out
+    let b = c.semi_minor.unwrap_or(c.radius);
+    Ok(ToolPath::ellipse(center, u * c.radius, w * b))
 }
 
 /// Points `x,y,z` from a CSV file (a first line that is not numbers is a header).

@@ -9,6 +9,7 @@ pub mod cartesian;
 pub mod dispatch;
 pub mod friction;
 pub mod robot;
+pub mod tool_path;
 
 use crate::error::{Result, SimError};
 use nalgebra::SVector;
@@ -17,7 +18,7 @@ use nalgebra::SVector;
 pub use crate::urdf::chain::MAX_JOINTS;
 
 /// The most waypoints a joint-space contour may have (the spline's capacity; no allocation).
-pub const MAX_WAYPOINTS: usize = 32;
+pub const MAX_WAYPOINTS: usize = 1024;
 
 /// A per-joint list as a vector of the robot's dimension, or an error naming it.
 pub(crate) fn fixed<const N: usize>(x: &[f64], name: &str) -> Result<SVector<f64, N>> {

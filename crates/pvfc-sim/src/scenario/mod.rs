@@ -603,8 +603,9 @@ impl Scenario {
     }
 
     /// The contour's period in `τ`: for a URDF arm `spacing × waypoints` (or × the Cartesian
-    /// path's samples) or the joint-space Lissajous curve's or ellipse's period;
-    /// `contour.period` for the planar arm's Lissajous curve.
+    /// path's fixed samples) or the joint-space Lissajous curve's or ellipse's period;
+    /// `contour.period` for the planar arm's Lissajous curve and an adaptively sampled
+    /// Cartesian path.
     pub fn period(&self) -> f64 {
         let c = &self.contour;
         if !self.is_chain() {
@@ -618,7 +619,7 @@ impl Scenario {
             &c.ellipse,
         ) {
             (Some(w), _, Some(h), _, _) => h * w.len() as f64,
-            (None, Some(p), Some(h), _, _) => h * p.samples as f64,
+            (None, Some(p), Some(h), _, _) if p.samples > 0 => h * p.samples as f64,
             (_, _, _, Some(l), _) => l.period,
             (_, _, _, _, Some(e)) => e.period,
             _ => c.period,

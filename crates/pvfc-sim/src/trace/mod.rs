@@ -7,6 +7,7 @@
 //! list). A column added to the list appears in all of them.
 
 pub mod metrics;
+pub mod path_budget;
 pub mod series;
 
 use crate::contact::ContactForces;

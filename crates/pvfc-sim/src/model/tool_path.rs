@@ -1,0 +1,372 @@
+//! The exact geometry of a closed tool path: straight pieces, circular arcs (rounded corners,
+//! circles) and ellipses, parameterised by arc length. It gives a point at any arc length
+//! (what the inverse kinematics is sampled from) and the exact closest point of the path to
+//! any point (what the tool's error is measured against), so that neither the samples nor the
+//! measured distances carry a chord's error.
+
+use nalgebra::{Unit, UnitQuaternion, Vector3};
+
+/// One piece of a closed path.
+#[derive(Clone, Debug, PartialEq)]
+enum Piece {
+    /// The segment from `a` to `b`.
+    Line { a: Vector3<f64>, b: Vector3<f64> },
+    /// The arc about `center` from `center + start`, turning by `angle` (rad, > 0) about
+    /// `axis` (right-handed).
+    Arc {
+        center: Vector3<f64>,
+        start: Vector3<f64>,
+        axis: Unit<Vector3<f64>>,
+        angle: f64,
+    },
+    /// The whole ellipse `center + u cos θ + w sin θ` (`u ⟂ w`), with its arc length tabulated
+    /// at `TABLE + 1` equal steps of `θ`.
+    Ellipse {
+        center: Vector3<f64>,
+        u: Vector3<f64>,
+        w: Vector3<f64>,
+        table: Vec<f64>,
+    },
+}
+
+/// Steps of `θ` in an ellipse's arc-length table.
+const TABLE: usize = 4096;
+
+impl Piece {
+    fn length(&self) -> f64 {
+        match self {
+            Piece::Line { a, b } => (b - a).norm(),
+            Piece::Arc { start, angle, .. } => start.norm() * angle,
+            Piece::Ellipse { table, .. } => table[TABLE],
+        }
+    }
+
+    /// The point and unit tangent at arc length `s ∈ [0, length]` along the piece.
+    fn at(&self, s: f64) -> (Vector3<f64>, Vector3<f64>) {
+        match self {
+            Piece::Line { a, b } => {
+                let l = (b - a).norm();
+                let t = (b - a) / l;
+                (a + t * s.clamp(0.0, l), t)
+            }
+            Piece::Arc {
+                center,
+                start,
+                axis,
+                ..
+            } => {
+                let phi = s / start.norm();
+                let r = UnitQuaternion::from_axis_angle(axis, phi);
+                let v = r * start;
+                (center + v, axis.cross(&v).normalize())
+            }
+            Piece::Ellipse {
+                center, u, w, table, ..
+            } => {
+                let theta = ellipse_angle(table, u, w, s);
+                let (sn, cs) = theta.sin_cos();
+                (center + u * cs + w * sn, (w * cs - u * sn).normalize())
+            }
+        }
+    }
+
+    /// The closest point of the piece to `p`: its arc length along the piece and the point.
+    fn closest(&self, p: &Vector3<f64>) -> (f64, Vector3<f64>) {
+        match self {
+            Piece::Line { a, b } => {
+                let ab = b - a;
+                let l = ab.norm();
+                let t = ((p - a).dot(&ab) / (l * l)).clamp(0.0, 1.0);
+                (t * l, a + ab * t)
+            }
+            Piece::Arc {
+                center,
+                start,
+                axis,
+                angle,
+            } => {
+                let r = start.norm();
+                let x = start / r;
+                let y = axis.cross(&x);
+                let d = p - center;
+                let phi = d.dot(&y).atan2(d.dot(&x)).rem_euclid(std::f64::consts::TAU);
+                let phi = if phi <= *angle {
+                    phi
+                } else {
+                    // Outside the arc's angles: the nearer end (in angle, both ways round).
+                    let past_end = phi - angle;
+                    let before_start = std::f64::consts::TAU - phi;
+                    if past_end < before_start {
+                        *angle
+                    } else {
+                        0.0
+                    }
+                };
+                (r * phi, self.at(r * phi).0)
+            }
+            Piece::Ellipse {
+                center, u, w, table,
+            } => {
+                let d = p - center;
+                // The best of 64 angles, then Newton on f(θ) = (x(θ) − p)·x'(θ).
+                let at = |t: f64| center + u * t.cos() + w * t.sin();
+                let mut theta = (0..64)
+                    .map(|k| std::f64::consts::TAU * k as f64 / 64.0)
+                    .min_by(|a, b| (at(*a) - p).norm().total_cmp(&(at(*b) - p).norm()))
+                    .unwrap_or(0.0);
+                for _ in 0..30 {
+                    let (sn, cs) = theta.sin_cos();
+                    let x = u * cs + w * sn - d;
+                    let dx = w * cs - u * sn;
+                    let ddx = -(u * cs + w * sn);
+                    let f = x.dot(&dx);
+                    let df = dx.dot(&dx) + x.dot(&ddx);
+                    if df.abs() < f64::MIN_POSITIVE {
+                        break;
+                    }
+                    let step = (f / df).clamp(-0.2, 0.2);
+                    theta -= step;
+                    if step.abs() < 1e-15 {
+                        break;
+                    }
+                }
+                let theta = theta.rem_euclid(std::f64::consts::TAU);
+                (ellipse_length(table, theta), at(theta))
+            }
+        }
+    }
+}
+
+/// The arc length of an ellipse from `θ = 0` to `theta ∈ [0, 2π)`, from its table.
+fn ellipse_length(table: &[f64], theta: f64) -> f64 {
+    let x = theta / std::f64::consts::TAU * TABLE as f64;
+    let k = (x.floor() as usize).min(TABLE - 1);
+    table[k] + (table[k + 1] - table[k]) * (x - k as f64)
+}
+
+/// The angle `θ` of an ellipse at arc length `s`: the table's interval, then Newton on
+/// `L(θ) = s` with `L' = |x'(θ)|`.
+fn ellipse_angle(table: &[f64], u: &Vector3<f64>, w: &Vector3<f64>, s: f64) -> f64 {
+    let s = s.clamp(0.0, table[TABLE]);
+    let k = table.partition_point(|&x| x <= s).clamp(1, TABLE) - 1;
+    let step = std::f64::consts::TAU / TABLE as f64;
+    let frac = (s - table[k]) / (table[k + 1] - table[k]).max(f64::MIN_POSITIVE);
+    let mut theta = (k as f64 + frac) * step;
+    // Newton against the exact integral over the interval (Simpson on a short span).
+    let speed = |t: f64| (w * t.cos() - u * t.sin()).norm();
+    for _ in 0..3 {
+        let t0 = k as f64 * step;
+        let mid = 0.5 * (t0 + theta);
+        let l = table[k] + (theta - t0) / 6.0 * (speed(t0) + 4.0 * speed(mid) + speed(theta));
+        theta -= (l - s) / speed(theta).max(f64::MIN_POSITIVE);
+    }
+    theta
+}
+
+/// Where a point is closest to a path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Closest {
+    /// The arc length (m) from the path's start to the closest point.
+    pub along: f64,
+    /// The closest point of the path.
+    pub point: Vector3<f64>,
+    /// The distance (m).
+    pub distance: f64,
+}
+
+/// A closed tool path with its exact geometry, parameterised by arc length from its start.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolPath {
+    pieces: Vec<Piece>,
+    /// Arc length at the start of each piece, and the total last.
+    starts: Vec<f64>,
+    /// The unit normal of the path's plane (Newell's normal: right-handed with the path's
+    /// direction), `None` if the path is not planar.
+    normal: Option<Vector3<f64>>,
+}
+
+impl ToolPath {
+    fn from_pieces(pieces: Vec<Piece>) -> Self {
+        let mut starts = Vec::with_capacity(pieces.len() + 1);
+        let mut s = 0.0;
+        for p in &pieces {
+            starts.push(s);
+            s += p.length();
+        }
+        starts.push(s);
+        let mut path = ToolPath {
+            pieces,
+            starts,
+            normal: None,
+        };
+        path.normal = path.plane_normal();
+        path
+    }
+
+    /// A closed polyline through `corners`, each corner rounded by a circular arc of `radius`
+    /// (its tangent length clipped to half the shorter neighbouring side). The path starts at
+    /// the first corner (or, if it is rounded, where its arc ends).
+    pub fn rounded_polygon(corners: &[Vector3<f64>], radius: f64) -> Result<Self, String> {
+        let n = corners.len();
+        if n < 3 {
+            return Err("points: at least 3".into());
+        }
+        let finite = corners.iter().all(|p| p.iter().all(|x| x.is_finite()));
+        if !(finite && radius.is_finite() && radius >= 0.0) {
+            return Err("points and corner_radius must be finite (radius ≥ 0)".into());
+        }
+        // Each corner: where its arc starts and ends (equal to the corner when sharp), and
+        // the arc between.
+        let mut ends = Vec::with_capacity(n);
+        for i in 0..n {
+            let (prev, here, next) = (corners[(i + n - 1) % n], corners[i], corners[(i + 1) % n]);
+            let (la, lb) = ((here - prev).norm(), (next - here).norm());
+            if la == 0.0 || lb == 0.0 {
+                return Err(format!("points: point {i} repeats its neighbour"));
+            }
+            let (a, b) = ((here - prev) / la, (next - here) / lb);
+            let turn = a.dot(&b).clamp(-1.0, 1.0).acos();
+            let tangent = (radius * (turn / 2.0).tan()).min(0.5 * la.min(lb));
+            if radius == 0.0 || turn < 1e-6 || tangent <= 0.0 || turn > std::f64::consts::PI - 1e-6
+            {
+                ends.push((here, here, None));
+                continue;
+            }
+            let (start, end) = (here - a * tangent, here + b * tangent);
+            let r = tangent / (turn / 2.0).tan();
+            let center = here + (b - a).normalize() * (r / (turn / 2.0).cos());
+            let axis = Unit::new_normalize(a.cross(&b));
+            let arc = Piece::Arc {
+                center,
+                start: start - center,
+                axis,
+                angle: turn,
+            };
+            ends.push((start, end, Some(arc)));
+        }
+        // From the first corner's arc (where the path starts), then its side to the next.
+        let mut pieces = Vec::with_capacity(2 * n);
+        for i in 0..n {
+            let (_, end, arc) = &ends[i];
+            if let Some(arc) = arc {
+                pieces.push(arc.clone());
+            }
+            let next_start = ends[(i + 1) % n].0;
+            if (next_start - end).norm() > 0.0 {
+                pieces.push(Piece::Line {
+                    a: *end,
+                    b: next_start,
+                });
+            }
+        }
+        Ok(Self::from_pieces(pieces))
+    }
+
+    /// The ellipse `center + u cos θ + w sin θ` (`u`, `w` perpendicular; a circle when of equal
+    /// length), starting at `center + u`.
+    pub fn ellipse(center: Vector3<f64>, u: Vector3<f64>, w: Vector3<f64>) -> Self {
+        if (u.norm() - w.norm()).abs() <= 1e-12 * u.norm() {
+            let axis = Unit::new_normalize(u.cross(&w));
+            return Self::from_pieces(vec![Piece::Arc {
+                center,
+                start: u,
+                axis,
+                angle: std::f64::consts::TAU,
+            }]);
+        }
+        // Arc length by Simpson's rule on each of TABLE steps.
+        let speed = |t: f64| (w * t.cos() - u * t.sin()).norm();
+        let step = std::f64::consts::TAU / TABLE as f64;
+        let mut table = Vec::with_capacity(TABLE + 1);
+        table.push(0.0);
+        for k in 0..TABLE {
+            let t0 = k as f64 * step;
+            let l = step / 6.0 * (speed(t0) + 4.0 * speed(t0 + 0.5 * step) + speed(t0 + step));
+            table.push(table[k] + l);
+        }
+        Self::from_pieces(vec![Piece::Ellipse {
+            center,
+            u,
+            w,
+            table,
+        }])
+    }
+
+    /// The path's length (m).
+    pub fn length(&self) -> f64 {
+        self.starts[self.pieces.len()]
+    }
+
+    /// The unit normal of the path's plane, right-handed with its direction; `None` if the
+    /// path is not planar (within 1 µm).
+    pub fn normal(&self) -> Option<Vector3<f64>> {
+        self.normal
+    }
+
+    fn piece_at(&self, s: f64) -> (usize, f64) {
+        let s = s.rem_euclid(self.length());
+        let k = self.starts.partition_point(|&x| x <= s).clamp(1, self.pieces.len()) - 1;
+        (k, s - self.starts[k])
+    }
+
+    /// The point at arc length `s` (m, modulo the length) from the start.
+    pub fn point(&self, s: f64) -> Vector3<f64> {
+        let (k, r) = self.piece_at(s);
+        self.pieces[k].at(r).0
+    }
+
+    /// The unit tangent at arc length `s`.
+    pub fn tangent(&self, s: f64) -> Vector3<f64> {
+        let (k, r) = self.piece_at(s);
+        self.pieces[k].at(r).1
+    }
+
+    /// `m` points at equal arc length, from the start.
+    pub fn sample(&self, m: usize) -> Vec<Vector3<f64>> {
+        (0..m)
+            .map(|k| self.point(self.length() * k as f64 / m as f64))
+            .collect()
+    }
+
+    /// The closest point of the path to `p`.
+    pub fn closest(&self, p: &Vector3<f64>) -> Closest {
+        let mut best = Closest {
+            along: 0.0,
+            point: self.point(0.0),
+            distance: f64::INFINITY,
+        };
+        for (k, piece) in self.pieces.iter().enumerate() {
+            let (s, q) = piece.closest(p);
+            let d = (p - q).norm();
+            if d < best.distance {
+                best = Closest {
+                    along: self.starts[k] + s,
+                    point: q,
+                    distance: d,
+                };
+            }
+        }
+        best
+    }
+
+    /// Newell's normal of points along the path, if every point lies within 1 µm of the plane.
+    fn plane_normal(&self) -> Option<Vector3<f64>> {
+        let pts = self.sample(256);
+        let centroid = pts.iter().sum::<Vector3<f64>>() / pts.len() as f64;
+        let mut n = Vector3::zeros();
+        for i in 0..pts.len() {
+            let (a, b) = (pts[i] - centroid, pts[(i + 1) % pts.len()] - centroid);
+            n += a.cross(&b);
+        }
+        let n = n.try_normalize(f64::MIN_POSITIVE)?;
+        let flat = self
+            .pieces
+            .iter()
+            .flat_map(|p| {
+                let l = p.length();
+                (0..=8).map(move |k| p.at(l * k as f64 / 8.0).0)
+            })
+            .all(|p| (p - centroid).dot(&n).abs() < 1e-6);
+        flat.then_some(n)
+    }
+}
