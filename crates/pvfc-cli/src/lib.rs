@@ -19,5 +19,6 @@ mod plot_digital;
 pub mod report;
 mod report_arms;
 mod report_digital;
+mod report_paths;
 pub mod reproduce;
 pub mod runs;

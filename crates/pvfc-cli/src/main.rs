@@ -121,6 +121,7 @@ fn reproduce(out: &Path, log_rate_hz: Option<f64>) -> Result<(), SimError> {
     mkdir(out)?;
     let mut scenarios = presets::all();
     scenarios.extend(presets::arms_3d()?);
+    scenarios.extend(presets::tool_paths()?);
     let runs = run_all(&scenarios, bar)?;
     if let Some(rate) = log_rate_hz {
         let files = write_logs(&runs, out, rate)?;

@@ -3,7 +3,7 @@
 
 use crate::runs::Runs;
 use pvfc_sim::error::{Result, SimError};
-use pvfc_sim::scenario::preset_id::{Arm3dCase, ContactCase, PresetId};
+use pvfc_sim::scenario::preset_id::{Arm3dCase, ContactCase, PresetId, ToolPathCase};
 use pvfc_sim::scenario::Mode;
 use pvfc_sim::trace::metrics::*;
 use pvfc_sim::trace::Trace;
@@ -238,6 +238,9 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     // The 3-D arm runs are part of `pvfc reproduce`, not of every set of runs.
     if r.run(PresetId::Arm3d(Arm3dCase::Deburr)).is_ok() {
         crate::report_arms::arm_claims(r, &mut push)?;
+    }
+    if r.run(PresetId::ToolPath(ToolPathCase::Free)).is_ok() {
+        crate::report_paths::tool_path_claims(r, &mut push)?;
     }
     Ok(out)
 }

@@ -42,6 +42,7 @@ fn shipped_scenarios_are_the_presets() {
 fn the_presets_are_named_by_their_typed_ids() {
     let mut scenarios = presets::all();
     scenarios.extend(presets::arms_3d().unwrap());
+    scenarios.extend(presets::tool_paths().unwrap());
     let names: Vec<String> = scenarios.iter().map(|s| s.name.clone()).collect();
     let ids = PresetId::all();
     let from_ids: Vec<String> = ids.iter().map(PresetId::name).collect();

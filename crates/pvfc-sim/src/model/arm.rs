@@ -72,7 +72,12 @@ impl JointContourSpec {
                 let pts = points
                     .iter()
                     .enumerate()
-                    .map(|(k, w)| Ok(JointSpace::new(fixed::<N>(w, &format!("waypoint {k}"))?, kinds)))
+                    .map(|(k, w)| {
+                        Ok(JointSpace::new(
+                            fixed::<N>(w, &format!("waypoint {k}"))?,
+                            kinds,
+                        ))
+                    })
                     .collect::<Result<Vec<_>>>()?;
                 JointContour::Spline(Box::new(PeriodicBSpline::through_slice(&pts, *spacing)?))
             }

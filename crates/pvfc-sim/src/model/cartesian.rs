@@ -59,8 +59,10 @@ pub struct CartesianSpec {
     /// position only (with `fixed_orientation` or free).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub orientations: Vec<[f64; 3]>,
-    /// A rest posture for redundant arms (7 joints): each inverse-kinematics iteration pulls
-    /// towards it in the null space of the task, with `rest_gain`.
+    /// A rest posture for redundant tasks (more joints than the path fixes coordinates: 3 for
+    /// a position, 6 with an orientation): each inverse-kinematics iteration pulls towards it
+    /// in the null space of the task, with `rest_gain`. Default for a redundant task: the
+    /// seed (the waypoints then lie on one smooth branch).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rest: Option<Vec<f64>>,
     /// The gain (0 to 1) of the pull towards `rest`; default 0.1.
@@ -174,7 +176,7 @@ impl CartesianSpec {
                 // The largest distance falls as 1/n² where the path's curvature jumps (a
                 // straight side meeting a rounded corner): aim there with 10 % to spare.
                 let aim = (n as f64 * (geometry.max / tolerance).sqrt() * 1.1).ceil() as usize;
-                n = aim.clamp(n + n / 4, MAX_SAMPLES);
+                n = aim.max(n + n / 4).min(MAX_SAMPLES);
             }
         }, otherwise Err(bad("the robot has more joints than pvfc supports")))
     }
@@ -202,9 +204,9 @@ impl CartesianSpec {
             .collect();
         let closest: Vec<_> = poses.iter().map(|p| path.closest(&p.translation)).collect();
         let desired = match (&self.orientations.is_empty(), self.fixed_orientation) {
-            (false, _) => self.sampled_orientations(
-                &closest.iter().map(|c| c.point).collect::<Vec<_>>(),
-            )?,
+            (false, _) => {
+                self.sampled_orientations(&closest.iter().map(|c| c.point).collect::<Vec<_>>())?
+            }
             (true, true) => {
                 let seed = SVector::<f64, N>::from_column_slice(&self.seed);
                 Some(vec![chain.tool_pose(&seed).rotation; m])
@@ -243,7 +245,18 @@ impl CartesianSpec {
         let min_w = self.min_manipulability.unwrap_or(1e-4);
         let seed = SVector::<f64, N>::from_column_slice(&self.seed);
         let rotation = chain.tool_pose(&seed).rotation;
+        let orientations = self.sampled_orientations(points)?;
+        // A task of fewer coordinates than joints leaves a null space: without a rest posture
+        // the solutions drift in it from waypoint to waypoint, and the joint contour through
+        // them leaves the path between waypoints however many there are. The seed is then the
+        // rest posture, so that the waypoints lie on one smooth branch.
+        let task = if orientations.is_some() || self.fixed_orientation {
+            6
+        } else {
+            3
+        };
         let rest = match &self.rest {
+            None if N > task => Some((seed, self.rest_gain.unwrap_or(0.1))),
             None => None,
             Some(r) if r.len() == N && r.iter().all(|x| x.is_finite()) => {
                 let gain = self.rest_gain.unwrap_or(0.1);
@@ -254,7 +267,6 @@ impl CartesianSpec {
             }
             Some(_) => return Err(bad(format!("rest: {N} finite joint coordinates"))),
         };
-        let orientations = self.sampled_orientations(points)?;
         if orientations.is_some() && self.fixed_orientation {
             return Err(bad("give orientations or fixed_orientation, not both"));
         }
@@ -404,13 +416,16 @@ impl CartesianSpec {
     pub fn path_error(&self, base_dir: &Path, tool: &[Vector3<f64>]) -> Result<PathError> {
         let path = self.path(base_dir)?;
         let closest: Vec<_> = tool.iter().map(|p| path.closest(p)).collect();
-        let (worst, max) = closest.iter().enumerate().fold((0, 0.0f64), |(wi, wm), (i, c)| {
-            if c.distance > wm {
-                (i, c.distance)
-            } else {
-                (wi, wm)
-            }
-        });
+        let (worst, max) = closest
+            .iter()
+            .enumerate()
+            .fold((0, 0.0f64), |(wi, wm), (i, c)| {
+                if c.distance > wm {
+                    (i, c.distance)
+                } else {
+                    (wi, wm)
+                }
+            });
         Ok(PathError {
             mean: closest.iter().map(|c| c.distance).sum::<f64>() / closest.len().max(1) as f64,
             max,

@@ -61,7 +61,11 @@ impl Piece {
                 (center + v, axis.cross(&v).normalize())
             }
             Piece::Ellipse {
-                center, u, w, table, ..
+                center,
+                u,
+                w,
+                table,
+                ..
             } => {
                 let theta = ellipse_angle(table, u, w, s);
                 let (sn, cs) = theta.sin_cos();
@@ -105,7 +109,10 @@ impl Piece {
                 (r * phi, self.at(r * phi).0)
             }
             Piece::Ellipse {
-                center, u, w, table,
+                center,
+                u,
+                w,
+                table,
             } => {
                 let d = p - center;
                 // The best of 64 angles, then Newton on f(θ) = (x(θ) − p)·x'(θ).
@@ -131,17 +138,21 @@ impl Piece {
                     }
                 }
                 let theta = theta.rem_euclid(std::f64::consts::TAU);
-                (ellipse_length(table, theta), at(theta))
+                (ellipse_length(table, u, w, theta), at(theta))
             }
         }
     }
 }
 
-/// The arc length of an ellipse from `θ = 0` to `theta ∈ [0, 2π)`, from its table.
-fn ellipse_length(table: &[f64], theta: f64) -> f64 {
-    let x = theta / std::f64::consts::TAU * TABLE as f64;
-    let k = (x.floor() as usize).min(TABLE - 1);
-    table[k] + (table[k + 1] - table[k]) * (x - k as f64)
+/// The arc length of an ellipse from `θ = 0` to `theta ∈ [0, 2π)`: its table to the step
+/// below, then Simpson's rule over the rest.
+fn ellipse_length(table: &[f64], u: &Vector3<f64>, w: &Vector3<f64>, theta: f64) -> f64 {
+    let step = std::f64::consts::TAU / TABLE as f64;
+    let k = ((theta / step).floor() as usize).min(TABLE - 1);
+    let t0 = k as f64 * step;
+    let speed = |t: f64| (w * t.cos() - u * t.sin()).norm();
+    let mid = 0.5 * (t0 + theta);
+    table[k] + (theta - t0) / 6.0 * (speed(t0) + 4.0 * speed(mid) + speed(theta))
 }
 
 /// The angle `θ` of an ellipse at arc length `s`: the table's interval, then Newton on
@@ -152,12 +163,10 @@ fn ellipse_angle(table: &[f64], u: &Vector3<f64>, w: &Vector3<f64>, s: f64) -> f
     let step = std::f64::consts::TAU / TABLE as f64;
     let frac = (s - table[k]) / (table[k + 1] - table[k]).max(f64::MIN_POSITIVE);
     let mut theta = (k as f64 + frac) * step;
-    // Newton against the exact integral over the interval (Simpson on a short span).
+    // Newton on the arc length (Simpson's rule within the step).
     let speed = |t: f64| (w * t.cos() - u * t.sin()).norm();
     for _ in 0..3 {
-        let t0 = k as f64 * step;
-        let mid = 0.5 * (t0 + theta);
-        let l = table[k] + (theta - t0) / 6.0 * (speed(t0) + 4.0 * speed(mid) + speed(theta));
+        let l = ellipse_length(table, u, w, theta.clamp(0.0, std::f64::consts::TAU));
         theta -= (l - s) / speed(theta).max(f64::MIN_POSITIVE);
     }
     theta
@@ -305,7 +314,11 @@ impl ToolPath {
 
     fn piece_at(&self, s: f64) -> (usize, f64) {
         let s = s.rem_euclid(self.length());
-        let k = self.starts.partition_point(|&x| x <= s).clamp(1, self.pieces.len()) - 1;
+        let k = self
+            .starts
+            .partition_point(|&x| x <= s)
+            .clamp(1, self.pieces.len())
+            - 1;
         (k, s - self.starts[k])
     }
 

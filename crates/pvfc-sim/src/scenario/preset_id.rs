@@ -106,6 +106,30 @@ impl Arm3dCase {
     }
 }
 
+/// The UR5's tool paths at machining accuracy (`scenarios/ur5_cartesian.toml`,
+/// `scenarios/ur5_deburr_fine.toml`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum ToolPathCase {
+    /// `ur5_cartesian`: the rounded rectangle in free space, with joint friction.
+    Free,
+    /// `ur5_deburr_fine`: the rounded rectangle pressed into a workpiece.
+    Deburr,
+}
+
+impl ToolPathCase {
+    /// Every case, in the report's order.
+    pub const ALL: [ToolPathCase; 2] = [ToolPathCase::Free, ToolPathCase::Deburr];
+
+    /// Its short name (`free`, `deburr`).
+    pub fn label(self) -> &'static str {
+        match self {
+            ToolPathCase::Free => "free",
+            ToolPathCase::Deburr => "deburr",
+        }
+    }
+}
+
 /// A built-in scenario. [`name`](Self::name) is the scenario's (and its run's, log's and
 /// figure's) name; its timed baseline's run is `NAME-timed`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -156,6 +180,8 @@ pub enum PresetId {
     Fig8Continuous,
     /// A UR5 3-D contact scenario.
     Arm3d(Arm3dCase),
+    /// A UR5 tool path at machining accuracy.
+    ToolPath(ToolPathCase),
 }
 
 /// The rates of the digital comparison (Hz).
@@ -191,6 +217,8 @@ impl PresetId {
             PresetId::Fig8Passive => "fig8_R100_passive".into(),
             PresetId::Fig8Continuous => "fig8_R100_continuous".into(),
             PresetId::Arm3d(a) => format!("ur5_{}", a.label()),
+            PresetId::ToolPath(ToolPathCase::Free) => "ur5_cartesian".into(),
+            PresetId::ToolPath(ToolPathCase::Deburr) => "ur5_deburr_fine".into(),
         }
     }
 
@@ -201,7 +229,8 @@ impl PresetId {
 
     /// Every preset, in the order `pvfc reproduce` runs them (the planar ones of
     /// [`presets::all`](crate::scenario::presets::all), then the UR5's of
-    /// [`presets::arms_3d`](crate::scenario::presets::arms_3d)).
+    /// [`presets::arms_3d`](crate::scenario::presets::arms_3d) and
+    /// [`presets::tool_paths`](crate::scenario::presets::tool_paths)).
     pub fn all() -> Vec<PresetId> {
         let mut v = vec![
             PresetId::Fig6,
@@ -243,6 +272,7 @@ impl PresetId {
         ]);
         v.extend(Arm3dCase::FILES.map(PresetId::Arm3d));
         v.push(PresetId::Arm3d(Arm3dCase::DeburrContinuous));
+        v.extend(ToolPathCase::ALL.map(PresetId::ToolPath));
         v
     }
 

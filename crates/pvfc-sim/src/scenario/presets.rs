@@ -15,7 +15,7 @@
 use crate::contact::{ContactLaw, ContactSpec, ForceSchedule, Keyframe, ObstacleSpec, ShapeSpec};
 use crate::model::friction::JointFriction;
 use crate::scenario::preset_id::{
-    Arm3dCase, ContactCase, Digital, DigitalCase, PresetId, DIGITAL_RATES,
+    Arm3dCase, ContactCase, Digital, DigitalCase, PresetId, ToolPathCase, DIGITAL_RATES,
 };
 use crate::scenario::*;
 
@@ -511,4 +511,16 @@ pub fn arms_3d() -> crate::error::Result<Vec<Scenario>> {
     continuous.baseline = None;
     v.push(continuous);
     Ok(v)
+}
+
+/// The UR5's tool paths at machining accuracy, read from the workspace's `scenarios/`
+/// (`ur5_cartesian.toml`, `ur5_deburr_fine.toml`), each beside its timed baseline.
+pub fn tool_paths() -> crate::error::Result<Vec<Scenario>> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    ToolPathCase::ALL
+        .iter()
+        .map(|&case| {
+            Scenario::from_file(&dir.join(format!("{}.toml", PresetId::ToolPath(case).name())))
+        })
+        .collect()
 }

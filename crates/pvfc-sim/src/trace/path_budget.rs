@@ -109,13 +109,17 @@ pub fn path_budget(s: &Scenario, robot: &Robot, t: &Trace) -> Result<Option<Path
             .collect::<Result<Vec<_>>>()?;
     let closest: Vec<_> = tool.iter().map(|p| path.closest(p)).collect();
     let d: Vec<f64> = closest.iter().map(|c| c.distance).collect();
-    let (worst, max) = d.iter().enumerate().fold((0, 0.0f64), |(wi, wm), (i, &x)| {
-        if x > wm {
-            (i, x)
-        } else {
-            (wi, wm)
-        }
-    });
+    let (worst, max) =
+        d.iter().enumerate().fold(
+            (0, 0.0f64),
+            |(wi, wm), (i, &x)| {
+                if x > wm {
+                    (i, x)
+                } else {
+                    (wi, wm)
+                }
+            },
+        );
     let length = path.length();
     let (surface, normal) = match path.normal() {
         None => (None, None),
