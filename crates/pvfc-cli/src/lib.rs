@@ -22,3 +22,4 @@ mod report_digital;
 mod report_paths;
 pub mod reproduce;
 pub mod runs;
+pub mod speed_sweep;

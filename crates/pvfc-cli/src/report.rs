@@ -233,6 +233,9 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
         format!("PVFC: mean {ep:.2e} rad, max {mp:.2e}; timed tracker: mean {et:.2e} rad, max {mt:.2e}"),
         et > ep,
     );
+    if r.run(PresetId::Fig1Saturated { speed: 100 }).is_ok() {
+        crate::speed_sweep::fig1_saturated_claim(r, &mut push)?;
+    }
     contact_claims(r, &mut push)?;
     crate::report_digital::digital_claims(r, &mut push)?;
     // The 3-D arm runs are part of `pvfc reproduce`, not of every set of runs.

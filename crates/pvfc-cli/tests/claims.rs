@@ -118,12 +118,17 @@ fn the_passive_controller_tracks_as_the_continuous_one() {
 }
 
 #[test]
+fn on_saturating_drives_the_timed_tracker_leaves_the_contour_and_pvfc_slows_down() {
+    assert_holds("fig1.saturated");
+}
+
+#[test]
 fn every_claim_is_evaluated_and_the_table_renders() {
     let c = &all_claims().1;
     assert_eq!(
         c.len(),
-        22,
-        "12 claims of section V, 6 of contact, 4 of the digital controller"
+        23,
+        "13 claims of section V (Fig. 1 on saturating drives among them), 6 of contact, 4 of the digital controller"
     );
     let md = pvfc_cli::report::markdown(c);
     assert_eq!(md.lines().count(), 2 + c.len());

@@ -7,9 +7,10 @@ use crate::errors::sim_err;
 use crate::robots::Robot;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2};
-use pvfc_sim::model::cartesian::{CartesianSpec, CircleSpec};
+use pvfc_sim::model::cartesian::{CartesianSpec, CircleSpec, ContourGeometry};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use std::path::PathBuf;
 
 /// A closed tool path: give `points` (an `(n, 3)` polyline, corners rounded to
@@ -24,8 +25,8 @@ pub(crate) struct CartesianPath {
 #[pymethods]
 impl CartesianPath {
     #[new]
-    #[pyo3(signature = (points=None, corner_radius=0.0, circle=None, csv=None, samples=24, orientations=None, ellipse=None))]
-    #[allow(clippy::type_complexity)]
+    #[pyo3(signature = (points=None, corner_radius=0.0, circle=None, csv=None, samples=24, orientations=None, ellipse=None, tolerance=None))]
+    #[allow(clippy::type_complexity, clippy::too_many_arguments)]
     fn new(
         points: Option<&Bound<'_, PyAny>>,
         corner_radius: f64,
@@ -40,6 +41,7 @@ impl CartesianPath {
             Bound<'_, PyAny>,
             Bound<'_, PyAny>,
         )>,
+        tolerance: Option<f64>,
     ) -> PyResult<Self> {
         let triples = |p: Option<&Bound<'_, PyAny>>, name: &str| -> PyResult<Vec<[f64; 3]>> {
             match p {
@@ -91,9 +93,11 @@ impl CartesianPath {
             circle: circle.or(ellipse),
             csv,
             samples,
+            tolerance,
             orientations,
             ..CartesianSpec::default()
         };
+        spec.tolerance().map_err(sim_err)?;
         // Checked now (shape, counts, geometry, orientations), not at first use.
         let sampled = spec.sample(std::path::Path::new(".")).map_err(sim_err)?;
         spec.sampled_orientations(&sampled).map_err(sim_err)?;
@@ -131,16 +135,16 @@ impl CartesianPath {
         rest: Option<&Bound<'_, PyAny>>,
         rest_gain: f64,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let dof = robot.robot.dof();
-        let spec = CartesianSpec {
-            seed: array(seed, "seed", &[dof])?,
+        let spec = self.with_ik(
+            robot,
+            seed,
             fixed_orientation,
-            max_jump: Some(max_jump),
-            min_manipulability: Some(min_manipulability),
-            rest: rest.map(|r| array(r, "rest", &[dof])).transpose()?,
-            rest_gain: Some(rest_gain),
-            ..self.spec.clone()
-        };
+            max_jump,
+            min_manipulability,
+            rest,
+            rest_gain,
+        )?;
+        let dof = robot.robot.dof();
         let q = spec
             .joint_waypoints(&robot.robot, std::path::Path::new("."))
             .map_err(sim_err)?;
@@ -148,6 +152,80 @@ impl CartesianPath {
         Array2::from_shape_vec((q.len(), dof), flat)
             .map(|a| a.into_pyarray(py))
             .map_err(|e| PyValueError::new_err(e.to_string()))
+    }
+
+    /// How far the joint contour through the waypoints of
+    /// [`joint_waypoints`](Self::joint_waypoints) (same arguments) is from the path, by
+    /// forward kinematics at 16 values of τ per waypoint: a dict `samples`, `mean` and `max`
+    /// (m), `max_angle` (rad, for a path with an orientation, else None) and `length` (m).
+    /// With `samples=0` the samples are as many as `tolerance` needs.
+    #[pyo3(signature = (robot, seed, fixed_orientation=false, max_jump=0.6, min_manipulability=1e-4, rest=None, rest_gain=0.1))]
+    #[allow(clippy::too_many_arguments)]
+    fn geometry<'py>(
+        &self,
+        py: Python<'py>,
+        robot: &Robot,
+        seed: &Bound<'_, PyAny>,
+        fixed_orientation: bool,
+        max_jump: f64,
+        min_manipulability: f64,
+        rest: Option<&Bound<'_, PyAny>>,
+        rest_gain: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let spec = self.with_ik(
+            robot,
+            seed,
+            fixed_orientation,
+            max_jump,
+            min_manipulability,
+            rest,
+            rest_gain,
+        )?;
+        let g = spec
+            .joint_path(&robot.robot, std::path::Path::new("."))
+            .map_err(sim_err)?
+            .geometry;
+        geometry_dict(py, &g)
+    }
+
+    /// The path's length (m).
+    #[getter]
+    fn length(&self) -> PyResult<f64> {
+        Ok(self
+            .spec
+            .path(std::path::Path::new("."))
+            .map_err(sim_err)?
+            .length())
+    }
+
+    /// The closest points of the path to tool positions `(n, 3)`: a dict of `along` (the arc
+    /// length from the path's start, m), `point` `(n, 3)` and `distance` (m).
+    fn closest<'py>(
+        &self,
+        py: Python<'py>,
+        tool: &Bound<'_, PyAny>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let n = tool.len()?;
+        let flat = array(tool, "tool", &[n, 3])?;
+        let path = self.spec.path(std::path::Path::new(".")).map_err(sim_err)?;
+        let c: Vec<_> = flat
+            .chunks(3)
+            .map(|c| path.closest(&nalgebra::Vector3::new(c[0], c[1], c[2])))
+            .collect();
+        let d = PyDict::new(py);
+        d.set_item("along", out1(py, c.iter().map(|c| c.along).collect()))?;
+        let pts: Vec<f64> = c
+            .iter()
+            .flat_map(|c| [c.point.x, c.point.y, c.point.z])
+            .collect();
+        d.set_item(
+            "point",
+            Array2::from_shape_vec((n, 3), pts)
+                .map_err(|e| PyValueError::new_err(e.to_string()))?
+                .into_pyarray(py),
+        )?;
+        d.set_item("distance", out1(py, c.iter().map(|c| c.distance).collect()))?;
+        Ok(d)
     }
 
     /// The distance (m) of each tool position `(n, 3)` to the path.
@@ -168,4 +246,44 @@ impl CartesianPath {
             .map_err(sim_err)?;
         Ok(out1(py, d))
     }
+}
+
+impl CartesianPath {
+    /// The spec with the inverse kinematics' settings for `robot`.
+    #[allow(clippy::too_many_arguments)]
+    fn with_ik(
+        &self,
+        robot: &Robot,
+        seed: &Bound<'_, PyAny>,
+        fixed_orientation: bool,
+        max_jump: f64,
+        min_manipulability: f64,
+        rest: Option<&Bound<'_, PyAny>>,
+        rest_gain: f64,
+    ) -> PyResult<CartesianSpec> {
+        let dof = robot.robot.dof();
+        Ok(CartesianSpec {
+            seed: array(seed, "seed", &[dof])?,
+            fixed_orientation,
+            max_jump: Some(max_jump),
+            min_manipulability: Some(min_manipulability),
+            rest: rest.map(|r| array(r, "rest", &[dof])).transpose()?,
+            rest_gain: Some(rest_gain),
+            ..self.spec.clone()
+        })
+    }
+}
+
+/// A [`ContourGeometry`] as a dict.
+pub(crate) fn geometry_dict<'py>(
+    py: Python<'py>,
+    g: &ContourGeometry,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("samples", g.samples)?;
+    d.set_item("mean", g.mean)?;
+    d.set_item("max", g.max)?;
+    d.set_item("max_angle", g.max_angle)?;
+    d.set_item("length", g.length)?;
+    Ok(d)
 }

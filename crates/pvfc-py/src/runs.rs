@@ -190,6 +190,64 @@ impl SimulationResult {
         Ok(Some(d))
     }
 
+    /// The error budget of a run on a Cartesian path (`[contour.cartesian]`), given its
+    /// scenario: a dict of `geometry` (the joint contour's own distance to the path, see
+    /// `CartesianPath.geometry`), the tool's distance to the path over the steady passes
+    /// (every complete pass after the first) as `distance` (3-D), `surface` (in the path's
+    /// plane, along the surface it lies on) each a dict `mean`, `p95`, `max` (m), `normal`
+    /// (the offset normal to the plane, a dict `mean`, `min`, `max` (m) and the unit
+    /// `normal`: in contact, the press-in, not an error), `speed` (m/s along the path),
+    /// `tool_speed` (m/s), `when` (s, the largest distance's time), `along` (m, where along
+    /// the path) and `window` (s, the times covered). None for another contour or a run
+    /// shorter than a pass.
+    fn path_budget<'py>(
+        &self,
+        py: Python<'py>,
+        scenario: &Scenario,
+    ) -> PyResult<Option<Bound<'py, PyDict>>> {
+        if scenario.s.contour.cartesian.is_none() {
+            return Ok(None);
+        }
+        let robot = scenario.s.robot().map_err(sim_err)?;
+        let Some(b) = pvfc_sim::trace::path_budget::path_budget(&scenario.s, &robot, &self.t)
+            .map_err(sim_err)?
+        else {
+            return Ok(None);
+        };
+        let spread = |s: pvfc_sim::trace::path_budget::Spread| -> PyResult<Bound<'py, PyDict>> {
+            let d = PyDict::new(py);
+            d.set_item("mean", s.mean)?;
+            d.set_item("p95", s.p95)?;
+            d.set_item("max", s.max)?;
+            Ok(d)
+        };
+        let d = PyDict::new(py);
+        d.set_item(
+            "geometry",
+            crate::cartesian::geometry_dict(py, &b.geometry)?,
+        )?;
+        d.set_item("distance", spread(b.spread)?)?;
+        d.set_item("surface", b.surface.map(spread).transpose()?)?;
+        let normal = match b.normal {
+            Some(n) => {
+                let nd = PyDict::new(py);
+                nd.set_item("mean", n.mean)?;
+                nd.set_item("min", n.min)?;
+                nd.set_item("max", n.max)?;
+                nd.set_item("normal", out1(py, n.normal.as_slice().to_vec()))?;
+                Some(nd)
+            }
+            None => None,
+        };
+        d.set_item("normal", normal)?;
+        d.set_item("speed", b.speed)?;
+        d.set_item("tool_speed", b.tool_speed)?;
+        d.set_item("when", b.when)?;
+        d.set_item("along", b.distance.along)?;
+        d.set_item("window", b.window)?;
+        Ok(Some(d))
+    }
+
     /// The mean of U over the last complete pass of the contour, or None.
     fn mean_potential_over_pass(&self) -> Option<f64> {
         pvfc_sim::trace::metrics::mean_potential_over_pass(&self.t, self.period)
@@ -294,6 +352,7 @@ pub(crate) fn simulate_timed(
         kp: dyn_vector(kp, "kp", n)?,
         kd: dyn_vector(kd, "kd", n)?,
         tau_rate: Some(tau_rate),
+        torque_limit: Vec::new(),
     };
     let s = scenario.s.clone();
     let t = py

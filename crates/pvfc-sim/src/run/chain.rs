@@ -138,6 +138,7 @@ fn timed<const N: usize>(
         joint_vector::<N>(&b.kp, "baseline.kp")?,
         joint_vector::<N>(&b.kd, "baseline.kd")?,
     );
+    let limits = b.limits::<N>()?;
     let (q, v) = initial_state(s, &chain)?;
     let mut env = Spatial::of(s, system, &chain)?;
     let columns = env.columns();
@@ -156,7 +157,10 @@ fn timed<const N: usize>(
             u += fc.torque(v);
         }
         let err = q.compose(&xd.point.inverse());
-        Ok((u, field.navigation().value(&err)))
+        Ok((
+            BaselineSpec::saturate(u, &limits),
+            field.navigation().value(&err),
+        ))
     };
     loops::timed(
         s,

@@ -249,6 +249,7 @@ fn timed_in(
         joint_vector::<2>(&b.kp, "baseline.kp")?,
         joint_vector::<2>(&b.kd, "baseline.kd")?,
     );
+    let limits = b.limits::<2>()?;
     let q = Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?);
     let v = joint_vector::<2>(&s.initial.v, "initial.v")?;
     let mut planar = Planar {
@@ -265,7 +266,7 @@ fn timed_in(
             u += fc.torque(v);
         }
         let err = q.compose(&Torus::new(xd).inverse());
-        Ok((u, nav.value(&err)))
+        Ok((BaselineSpec::saturate(u, &limits), nav.value(&err)))
     };
     let columns = with_contact.then_some(2);
     loops::timed(

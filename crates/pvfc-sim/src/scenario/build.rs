@@ -115,6 +115,7 @@ impl Scenario {
         if let Some(b) = &self.baseline {
             joint_vector::<2>(&b.kp, "baseline.kp")?;
             joint_vector::<2>(&b.kd, "baseline.kd")?;
+            b.limits::<2>()?;
         }
         self.plant.friction.validate_for(2)?;
         self.controller()?;
@@ -266,6 +267,7 @@ impl Scenario {
                     "baseline.kp, baseline.kd: one gain per joint ({n})"
                 )));
             }
+            crate::with_dof!(n, N => { b.limits::<N>()?; }, otherwise ());
         }
         if let Some(p) = &self.controller.passive {
             p.validate_for(n)?;

@@ -466,6 +466,39 @@ pub struct BaselineSpec {
     /// `dτ/dt`; default: the mean `τ̇` of the PVFC run of the same scenario.
     #[serde(default)]
     pub tau_rate: Option<f64>,
+    /// The drives' torque limits (N·m or N, one per joint): the tracker's command is clamped
+    /// to them, as a drive saturates. Empty: no limit.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub torque_limit: Vec<f64>,
+}
+
+impl BaselineSpec {
+    /// The torque limits as a vector of the robot's size, `None` without limits.
+    pub fn limits<const N: usize>(
+        &self,
+    ) -> crate::error::Result<Option<nalgebra::SVector<f64, N>>> {
+        if self.torque_limit.is_empty() {
+            return Ok(None);
+        }
+        let l = crate::model::fixed::<N>(&self.torque_limit, "baseline.torque_limit")?;
+        if !l.iter().all(|x| x.is_finite() && *x > 0.0) {
+            return Err(crate::error::SimError::Setting(
+                "baseline.torque_limit: each limit finite and > 0".into(),
+            ));
+        }
+        Ok(Some(l))
+    }
+
+    /// `u` clamped to the limits.
+    pub fn saturate<const N: usize>(
+        u: nalgebra::SVector<f64, N>,
+        limits: &Option<nalgebra::SVector<f64, N>>,
+    ) -> nalgebra::SVector<f64, N> {
+        match limits {
+            Some(l) => u.zip_map(l, |u, l| u.clamp(-l, l)),
+            None => u,
+        }
+    }
 }
 
 /// One run: plant, contour, controller, initial state, duration, rates.

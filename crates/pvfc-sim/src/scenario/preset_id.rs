@@ -178,11 +178,20 @@ pub enum PresetId {
     Fig8Passive,
     /// Fig. 8 (`R = 100`) with the continuous-time controller.
     Fig8Continuous,
+    /// Fig. 1 on drives that saturate: PVFC asked for the nominal speed `r` and the timed
+    /// tracker running at `τ̇ = r`, on a circle.
+    Fig1Saturated {
+        /// The demanded speed `r`, in hundredths.
+        speed: u32,
+    },
     /// A UR5 3-D contact scenario.
     Arm3d(Arm3dCase),
     /// A UR5 tool path at machining accuracy.
     ToolPath(ToolPathCase),
 }
+
+/// The demanded speeds of Fig. 1 on saturating drives (`r`, in hundredths).
+pub const FIG1_SATURATED_SPEEDS: [u32; 6] = [50, 100, 150, 200, 300, 400];
 
 /// The rates of the digital comparison (Hz).
 pub const DIGITAL_RATES: [u32; 3] = [1000, 250, 100];
@@ -216,6 +225,9 @@ impl PresetId {
             PresetId::DigitalDrive => "digital_wall_1000hz_drive".into(),
             PresetId::Fig8Passive => "fig8_R100_passive".into(),
             PresetId::Fig8Continuous => "fig8_R100_continuous".into(),
+            PresetId::Fig1Saturated { speed } => {
+                format!("fig1_saturated_r{}", f64::from(speed) / 100.0)
+            }
             PresetId::Arm3d(a) => format!("ur5_{}", a.label()),
             PresetId::ToolPath(ToolPathCase::Free) => "ur5_cartesian".into(),
             PresetId::ToolPath(ToolPathCase::Deburr) => "ur5_deburr_fine".into(),
@@ -270,6 +282,7 @@ impl PresetId {
             PresetId::Fig8Passive,
             PresetId::Fig8Continuous,
         ]);
+        v.extend(FIG1_SATURATED_SPEEDS.map(|speed| PresetId::Fig1Saturated { speed }));
         v.extend(Arm3dCase::FILES.map(PresetId::Arm3d));
         v.push(PresetId::Arm3d(Arm3dCase::DeburrContinuous));
         v.extend(ToolPathCase::ALL.map(PresetId::ToolPath));

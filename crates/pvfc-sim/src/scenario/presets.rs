@@ -16,6 +16,7 @@ use crate::contact::{ContactLaw, ContactSpec, ForceSchedule, Keyframe, ObstacleS
 use crate::model::friction::JointFriction;
 use crate::scenario::preset_id::{
     Arm3dCase, ContactCase, Digital, DigitalCase, PresetId, ToolPathCase, DIGITAL_RATES,
+    FIG1_SATURATED_SPEEDS,
 };
 use crate::scenario::*;
 
@@ -178,6 +179,7 @@ pub fn fig1() -> Scenario {
         kp: vec![400.0, 400.0],
         kd: vec![40.0, 40.0],
         tau_rate: None,
+        torque_limit: Vec::new(),
     });
     s
 }
@@ -301,7 +303,47 @@ pub fn all() -> Vec<Scenario> {
     v.push(energy_check(Mode::Sampled));
     v.extend(contact());
     v.extend(digital());
+    v.extend(FIG1_SATURATED_SPEEDS.map(fig1_saturated));
     v
+}
+
+/// The torque limits of Fig. 1 on saturating drives (N·m).
+pub const FIG1_TORQUE_LIMITS: [f64; 2] = [15.0, 5.0];
+
+/// Fig. 1 as the paper means it: drives that saturate at [`FIG1_TORQUE_LIMITS`], a circle of
+/// radius 1 rad in joint space (the Lissajous curve with equal periods), and a demanded speed
+/// `r` (in hundredths). PVFC (Fig. 8's `R = 100` run, the passive digital controller at 1 kHz
+/// with the limits) has the energy level of `β = r` (`Ē` × r², as `κ_a ∝ β²`) held by the
+/// nominal-speed control (36) at `r`, and `γ / r³` so that its rate `γβĒ` stays Fig. 8's;
+/// the timed tracker (computed torque + PD at 20 rad/s,
+/// its command clamped to the same limits) runs at `τ̇ = r`.
+pub fn fig1_saturated(speed: u32) -> Scenario {
+    let r = f64::from(speed) / 100.0;
+    let mut s = fig1();
+    s.name = PresetId::Fig1Saturated { speed }.name();
+    s.description = format!(
+        "Fig. 1 on drives limited to {FIG1_TORQUE_LIMITS:?} N·m: a circle at the demanded speed r = {r}"
+    );
+    s.contour.amplitude = [1.0, 1.0];
+    s.contour.periods = [6.0, 6.0];
+    s.contour.offset = [0.0, 0.0];
+    s.initial.q = vec![0.0, 1.0];
+    s.controller.energy *= r * r;
+    // The velocity error converges at γβĒ (Remark 1), which grows as r³: γ / r³ keeps that
+    // rate at Fig. 8's (50/s), which a 1 kHz controller samples well.
+    s.controller.gamma /= r * r * r;
+    s.controller.nominal_speed = Some(NominalSpeedSpec { c: 0.01, r });
+    s.controller.passive = Some(PassiveSpec {
+        torque_limit: FIG1_TORQUE_LIMITS.to_vec(),
+        ..PassiveSpec::default()
+    });
+    s.baseline = Some(BaselineSpec {
+        kp: vec![400.0, 400.0],
+        kd: vec![40.0, 40.0],
+        tau_rate: Some(r),
+        torque_limit: FIG1_TORQUE_LIMITS.to_vec(),
+    });
+    s
 }
 
 /// The controller and plant of the contact scenarios: Fig. 6's energy (`Ē = 50`, `γ = 1`,
@@ -323,6 +365,7 @@ fn contact_base(case: ContactCase, description: &str, contact: ContactSpec) -> S
         kp: vec![400.0, 400.0],
         kd: vec![40.0, 40.0],
         tau_rate: Some(1.0),
+        torque_limit: Vec::new(),
     });
     s.contact = Some(contact);
     s

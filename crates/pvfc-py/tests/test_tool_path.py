@@ -1,0 +1,110 @@
+"""The tool path's error budget from Python: the joint contour of an adaptively sampled
+Cartesian path is within its tolerance of the path, checked with Pinocchio's forward
+kinematics and the path's closed-form distance (a UR5 rounded rectangle, a Panda circle in a
+tilted plane); the budget of a run splits the distance along the surface from the normal
+offset."""
+
+import numpy as np
+import pytest
+
+import pvfc
+from test_pinocchio import models, pin
+
+RECTANGLE = [[0.45, -0.15, 0.30], [0.65, -0.15, 0.30], [0.65, 0.20, 0.30], [0.45, 0.20, 0.30]]
+UR5_SEED = [0.0, -1.2, 1.4, -1.8, -1.57, 0.0]
+PANDA_SEED = [0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8]
+
+
+def rounded_rectangle_distance(p: np.ndarray) -> np.ndarray:
+    """The distance of points (n, 3) to the rounded rectangle's boundary (its signed distance
+    function in the plane z = 0.3, and the height above it)."""
+    centre, half, r = np.array([0.55, 0.025]), np.array([0.1, 0.175]), 0.03
+    q = np.abs(p[:, :2] - centre) - (half - r)
+    outside = np.linalg.norm(np.maximum(q, 0.0), axis=1)
+    inside = np.minimum(np.max(q, axis=1), 0.0)
+    in_plane = np.abs(outside + inside - r)
+    return np.hypot(in_plane, p[:, 2] - 0.3)
+
+
+def circle_distance(p, centre, radius, normal):
+    n = np.asarray(normal) / np.linalg.norm(normal)
+    d = p - centre
+    h = d @ n
+    rho = np.linalg.norm(d - np.outer(h, n), axis=1)
+    return np.hypot(rho - radius, h)
+
+
+def contour_tool(name, waypoints, samples_per_waypoint=24):
+    """Pinocchio's tool positions along the joint contour a controller follows."""
+    robot, model, frame = models(name)
+    data = model.createData()
+    k = len(waypoints)
+    arm = pvfc.ArmController(robot, waypoints, 1.0, h=[4.0] * robot.dof, energy=40.0)
+    out = []
+    for i in range(k * samples_per_waypoint):
+        q = arm.contour_point((i + 0.5) / samples_per_waypoint)
+        pin.framesForwardKinematics(model, data, q)
+        out.append(data.oMf[frame].translation.copy())
+    return np.array(out)
+
+
+def test_a_ur5_rectangle_is_sampled_to_its_tolerance():
+    robot, _, _ = models("ur5")
+    coarse = pvfc.CartesianPath(points=RECTANGLE, corner_radius=0.03, samples=24)
+    fine = pvfc.CartesianPath(points=RECTANGLE, corner_radius=0.03, samples=0, tolerance=1e-5)
+    assert abs(fine.length - (2 * 0.55 - 8 * 0.03 + 2 * np.pi * 0.03)) < 1e-12
+    g24 = coarse.geometry(robot, UR5_SEED, fixed_orientation=True)
+    g = fine.geometry(robot, UR5_SEED, fixed_orientation=True)
+    assert g24["samples"] == 24 and g24["max"] > 1e-3
+    assert g["samples"] > 24 and g["max"] <= 1e-5 and g["max_angle"] < 1e-3
+    q = fine.joint_waypoints(robot, UR5_SEED, fixed_orientation=True)
+    assert q.shape == (g["samples"], 6)
+    tool = contour_tool("ur5", q)
+    d = rounded_rectangle_distance(tool)
+    assert d.max() <= 1e-5, d.max()
+    # The check can fail: the 24-sample contour is millimetres off.
+    d24 = rounded_rectangle_distance(
+        contour_tool("ur5", coarse.joint_waypoints(robot, UR5_SEED, fixed_orientation=True))
+    )
+    assert d24.max() > 1e-3
+    # Our closest points agree with the closed form.
+    np.testing.assert_allclose(fine.closest(tool)["distance"], d, atol=1e-9)
+
+
+def test_a_panda_circle_in_a_tilted_plane_is_sampled_to_its_tolerance():
+    robot, _, _ = models("panda")
+    p0 = robot.tool_pose(PANDA_SEED)[:3, 3]
+    centre, normal = p0 + [0.0, 0.1, 0.0], [0.0, 0.3, 1.0]
+    path = pvfc.CartesianPath(circle=(centre, 0.1, normal), samples=0)
+    g = path.geometry(robot, PANDA_SEED)
+    assert g["max"] <= 1e-5 and g["max_angle"] is None
+    tool = contour_tool("panda", path.joint_waypoints(robot, PANDA_SEED))
+    d = circle_distance(tool, centre, 0.1, normal)
+    assert d.max() <= 1e-5, d.max()
+
+
+def test_a_bad_tolerance_is_an_error():
+    with pytest.raises(pvfc.PvfcError, match="tolerance"):
+        pvfc.CartesianPath(points=RECTANGLE, samples=0, tolerance=-1.0)
+
+
+def test_the_budget_of_a_run_splits_the_surface_from_the_normal(repo):
+    s = pvfc.Scenario.from_file(repo / "scenarios" / "ur5_deburr_fine.toml")
+    d = s.to_dict()
+    d["plant"]["urdf"] = str(repo / "models" / "ur5" / "ur5_robot.urdf")
+    d["contour"]["cartesian"]["tolerance"] = 1e-4  # fewer samples: a quicker test
+    d.pop("baseline")
+    s = pvfc.Scenario.from_dict(d)
+    r = pvfc.simulate(s)
+    b = r.path_budget(s)
+    assert b is not None
+    assert b["geometry"]["max"] <= 1e-4
+    surface, normal, distance = b["surface"], b["normal"], b["distance"]
+    # The tool rides on the workpiece, pushed up from the path: the normal offset is positive
+    # and nearly constant, and the 3-D distance is the two together.
+    np.testing.assert_allclose(normal["normal"], [0.0, 0.0, 1.0], atol=1e-12)
+    assert 0.0 < normal["min"] <= normal["mean"] <= normal["max"] < 1e-3
+    assert distance["max"] <= np.hypot(surface["max"], max(-normal["min"], normal["max"])) + 1e-12
+    assert surface["mean"] <= surface["p95"] <= surface["max"]
+    assert 0.05 < b["speed"] < 0.2
+    assert r.path_budget(pvfc.Scenario.preset("fig6_unforced")) is None
