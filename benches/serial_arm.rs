@@ -9,6 +9,8 @@ use pvfc::prelude::*;
 use pvfc::sim::model::arm::{
     arm_controller, ArmControllerN, ArmSettings, JointContour, JointContourSpec,
 };
+use pvfc::sim::model::cartesian::{CartesianSpec, CircleSpec};
+use pvfc::sim::model::robot::Robot;
 use pvfc::sim::scenario::presets::pelican_example;
 use pvfc::sim::urdf::ChainDescription;
 use pvfc::sim::ClosedLoop;
@@ -149,6 +151,62 @@ fn serial_arm(c: &mut Criterion) {
         ],
     );
     bench_arm::<7>(&mut g, "panda_f64", &panda, &panda_samples);
+
+    // A Cartesian path's contour: the UR5 rounded rectangle with 24 waypoints and sampled to
+    // 10 µm, and a Panda circle sampled to 10 µm. The spline is evaluated in constant time,
+    // so the step should cost the same whatever the number of waypoints.
+    let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("models");
+    let ur5_robot = Robot::from_urdf(&models.join("ur5/ur5_robot.urdf"), None, Some("tool0"))
+        .expect("shipped URDF");
+    let rectangle = |samples| CartesianSpec {
+        points: vec![
+            [0.45, -0.15, 0.30],
+            [0.65, -0.15, 0.30],
+            [0.65, 0.20, 0.30],
+            [0.45, 0.20, 0.30],
+        ],
+        corner_radius: 0.03,
+        samples,
+        seed: vec![0.0, -1.2, 1.4, -1.8, -1.57, 0.0],
+        fixed_orientation: true,
+        ..CartesianSpec::default()
+    };
+    for (name, samples) in [("ur5_rectangle_24_f64", 24), ("ur5_rectangle_10um_f64", 0)] {
+        let path = rectangle(samples)
+            .joint_path(&ur5_robot, Path::new("."))
+            .expect("the rectangle is reachable");
+        println!("{name}: {} waypoints", path.geometry.samples);
+        let (ctl, samples) = arm::<6>("ur5/ur5_robot.urdf", "tool0", path.waypoints);
+        bench_arm::<6>(&mut g, name, &ctl, &samples);
+    }
+    let panda_robot = Robot::from_urdf(
+        &models.join("panda/panda.urdf"),
+        None,
+        Some("panda_hand_tcp"),
+    )
+    .expect("shipped URDF");
+    let seed = [0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8];
+    let (_, p0) = panda_robot.tool_pose(&seed).expect("7 joints");
+    let circle = CartesianSpec {
+        circle: Some(CircleSpec {
+            center: [p0.x, p0.y + 0.1, p0.z],
+            radius: 0.1,
+            normal: [0.0, 0.3, 1.0],
+            semi_minor: None,
+            major_axis: Some([0.0, -1.0, 0.0]),
+        }),
+        samples: 0,
+        seed: seed.to_vec(),
+        ..CartesianSpec::default()
+    }
+    .joint_path(&panda_robot, Path::new("."))
+    .expect("the circle is reachable");
+    println!(
+        "panda_circle_10um_f64: {} waypoints",
+        circle.geometry.samples
+    );
+    let (ctl, samples) = arm::<7>("panda/panda.urdf", "panda_hand_tcp", circle.waypoints);
+    bench_arm::<7>(&mut g, "panda_circle_10um_f64", &ctl, &samples);
 
     // f32: the same chains and contours in single precision.
     f32_arm(&mut g, "ur5_f32", &ur5, &ur5_samples);
