@@ -244,6 +244,7 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     }
     if r.run(PresetId::ToolPath(ToolPathCase::Free)).is_ok() {
         crate::report_paths::tool_path_claims(r, &mut push)?;
+        crate::speed_sweep::ur5_saturated_claim(r, &mut push)?;
     }
     Ok(out)
 }

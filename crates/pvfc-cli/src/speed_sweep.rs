@@ -6,10 +6,12 @@
 use crate::canvas::{figure, panel, Series};
 use crate::runs::Runs;
 use pvfc_sim::error::Result;
-use pvfc_sim::scenario::preset_id::{PresetId, FIG1_SATURATED_SPEEDS};
-use pvfc_sim::scenario::presets::FIG1_TORQUE_LIMITS;
+use pvfc_sim::error::SimError;
+use pvfc_sim::scenario::preset_id::{PresetId, FIG1_SATURATED_SPEEDS, UR5_SATURATED_SPEEDS};
+use pvfc_sim::scenario::presets::{FIG1_TORQUE_LIMITS, UR5_TORQUE_LIMITS};
 use pvfc_sim::scenario::Scenario;
 use pvfc_sim::trace::metrics::contour_error;
+use pvfc_sim::trace::path_budget::path_budget;
 use pvfc_sim::trace::Trace;
 use std::path::{Path, PathBuf};
 
@@ -32,6 +34,56 @@ pub struct SpeedPoint {
     pub saturated: f64,
 }
 
+/// The fraction of the samples in `range` with a joint's torque at its limit.
+fn at_limit(t: &Trace, range: std::ops::Range<usize>, limits: &[f64]) -> f64 {
+    let n = range.len().max(1);
+    let hits = t
+        .torque
+        .rows(range)
+        .filter(|u| {
+            u.iter()
+                .zip(limits)
+                .any(|(u, l)| u.abs() >= l * (1.0 - 1e-9))
+        })
+        .count();
+    hits as f64 / n as f64
+}
+
+/// The figures of one UR5 run over its steady passes: the tool's speed along the path (m/s)
+/// and its distance to the path along the surface (m).
+pub fn ur5_point(r: &Runs, name: &str, demanded: f64) -> Result<SpeedPoint> {
+    let (s, t) = r.named(name)?;
+    let system = r
+        .arm_system(s)?
+        .ok_or_else(|| SimError::Setting(format!("run `{name}` is not a URDF arm's")))?;
+    let b = path_budget(s, &system.robot, t)?
+        .ok_or_else(|| SimError::Setting(format!("run `{name}` has no steady pass")))?;
+    let start = t.t.iter().position(|&x| x >= b.window.0).unwrap_or(0);
+    let stop =
+        t.t.iter()
+            .position(|&x| x >= b.window.1)
+            .unwrap_or(t.len() - 1);
+    let surface = b.surface.unwrap_or(b.spread);
+    Ok(SpeedPoint {
+        demanded,
+        tau_rate: (t.tau[stop] - t.tau[start]) / (b.window.1 - b.window.0).max(f64::MIN_POSITIVE),
+        speed: b.speed,
+        error: (surface.mean, surface.max),
+        saturated: at_limit(t, start..stop + 1, &UR5_TORQUE_LIMITS),
+    })
+}
+
+/// The UR5's PVFC and timed points, by demanded speed.
+pub fn ur5_sweep(r: &Runs) -> Result<(Vec<SpeedPoint>, Vec<SpeedPoint>)> {
+    let (mut pvfc, mut timed) = (Vec::new(), Vec::new());
+    for speed in UR5_SATURATED_SPEEDS {
+        let id = PresetId::Ur5Saturated { speed };
+        pvfc.push(ur5_point(r, &id.name(), f64::from(speed))?);
+        timed.push(ur5_point(r, &id.timed_name(), f64::from(speed))?);
+    }
+    Ok((pvfc, timed))
+}
+
 /// The figures of one run over its last [`WINDOW`] seconds.
 pub fn speed_point(s: &Scenario, t: &Trace, demanded: f64) -> Result<SpeedPoint> {
     let contour = s.contour()?;
@@ -43,21 +95,12 @@ pub fn speed_point(s: &Scenario, t: &Trace, demanded: f64) -> Result<SpeedPoint>
         .windows(2)
         .map(|w| (contour.coordinates(w[1])[0] - contour.coordinates(w[0])[0]).norm())
         .sum();
-    let at_limit = t
-        .torque
-        .rows(range.clone())
-        .filter(|u| {
-            u.iter()
-                .zip(&FIG1_TORQUE_LIMITS)
-                .any(|(u, l)| u.abs() >= l * (1.0 - 1e-9))
-        })
-        .count();
     Ok(SpeedPoint {
         demanded,
         tau_rate: (t.tau[t.len() - 1] - t.tau[start]) / duration,
         speed: length / duration,
         error: contour_error(t, &contour, s.period(), range.clone()),
-        saturated: at_limit as f64 / range.len().max(1) as f64,
+        saturated: at_limit(t, range, &FIG1_TORQUE_LIMITS),
     })
 }
 
@@ -116,10 +159,60 @@ pub(crate) fn fig1_saturated_claim(
     Ok(())
 }
 
+/// The UR5's claim: over the speeds where the timed tracker's drives reach a limit (in over
+/// 1 % of the samples: at the rounded corners), its distance to the path along the surface is larger than PVFC's,
+/// and grows with the speed.
+pub(crate) fn ur5_saturated_claim(
+    r: &Runs,
+    push: &mut impl FnMut(&str, &str, &str, String, bool),
+) -> Result<()> {
+    let (pvfc, timed) = ur5_sweep(r)?;
+    let saturated: Vec<usize> = (0..timed.len())
+        .filter(|&i| timed[i].saturated > 0.01)
+        .collect();
+    let grows = saturated
+        .windows(2)
+        .all(|w| timed[w[1]].error.0 > timed[w[0]].error.0);
+    let pvfc_nearer = saturated
+        .iter()
+        .all(|&i| pvfc[i].error.0 < timed[i].error.0);
+    let rows: Vec<String> = pvfc
+        .iter()
+        .zip(&timed)
+        .map(|(p, t)| {
+            format!(
+                "r = {}: PVFC {:.0} mm/s, {:.3} / {:.2} mm (at limit {:.0} %); timed {:.0} mm/s, {:.3} / {:.2} mm (at limit {:.0} %)",
+                p.demanded,
+                p.speed * 1e3,
+                p.error.0 * 1e3,
+                p.error.1 * 1e3,
+                100.0 * p.saturated,
+                t.speed * 1e3,
+                t.error.0 * 1e3,
+                t.error.1 * 1e3,
+                100.0 * t.saturated
+            )
+        })
+        .collect();
+    push(
+        "fig1.saturated.ur5",
+        "On the UR5's saturating drives, the timed tracker leaves the tool path further than PVFC as the demanded speed grows",
+        "UR5 rounded rectangle (ur5_cartesian) at r times its speed, both controllers limited to 60/60/30/5/5/5 N·m (PVFC passive 1 kHz at the energy of β = r, γ/r³; timed: τ̇ = r, computed torque + PD at 100 rad/s); the tool's distance to the path along the surface (mean / max) and speed along it over the steady passes; holds if, where the tracker reaches a limit (in over 1 % of the samples), its mean distance grows with r and exceeds PVFC's",
+        rows.join("; "),
+        !saturated.is_empty() && grows && pvfc_nearer,
+    );
+    Ok(())
+}
+
 /// The speed–accuracy figure: mean speed along the contour against the mean contour error,
 /// both controllers, each point a demanded speed.
 pub fn figure_saturated(r: &Runs, dir: &Path) -> Result<PathBuf> {
     let (pvfc, timed) = sweep(r)?;
+    let ur5 = if r.run(PresetId::Ur5Saturated { speed: 1 }).is_ok() {
+        Some(ur5_sweep(r)?)
+    } else {
+        None
+    };
     let p = dir.join("fig1_saturated.png");
     let series = |label: &str, v: &[SpeedPoint]| Series {
         label: label.into(),
@@ -131,7 +224,12 @@ pub fn figure_saturated(r: &Runs, dir: &Path) -> Result<PathBuf> {
         points: v.iter().map(|x| (x.demanded, x.tau_rate)).collect(),
         reference: false,
     };
-    figure(&p, 2, |i, a| match i {
+    let mm = |label: &str, v: &[SpeedPoint]| Series {
+        label: label.into(),
+        points: v.iter().map(|x| (x.speed * 1e3, x.error.0 * 1e3)).collect(),
+        reference: false,
+    };
+    figure(&p, if ur5.is_some() { 3 } else { 2 }, |i, a| match i {
         0 => panel(
             a,
             &p,
@@ -141,6 +239,18 @@ pub fn figure_saturated(r: &Runs, dir: &Path) -> Result<PathBuf> {
             &[series("PVFC", &pvfc), series("timed tracker", &timed)],
             true,
         ),
+        2 => match &ur5 {
+            Some((pv, tm)) => panel(
+                a,
+                &p,
+                "UR5 rectangle on saturating drives: speed against accuracy",
+                "mean speed along the path [mm/s]",
+                "mean distance along the surface [mm]",
+                &[mm("PVFC", pv), mm("timed tracker", tm)],
+                true,
+            ),
+            None => Ok(()),
+        },
         _ => panel(
             a,
             &p,

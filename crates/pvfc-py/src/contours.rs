@@ -188,7 +188,7 @@ impl Ellipse {
     }
 }
 
-/// A smooth (C²) closed curve through 3 to 32 waypoints in joint space (any number of joints,
+/// A smooth (C²) closed curve through 3 to 1024 waypoints in joint space (any number of joints,
 /// 1 to 8), one every `spacing` units of τ (periodic cubic spline). Sampled with every
 /// coordinate an angle; composed with a robot, its prismatic joints are lengths.
 #[pyclass(module = "pvfc", frozen, from_py_object)]

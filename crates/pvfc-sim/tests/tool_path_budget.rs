@@ -236,3 +236,44 @@ fn spreads_and_steady_passes() {
     assert!(t.tau[r.start].abs() < 1e-9 && (t.tau[r.end - 1] - 2.0).abs() < 1e-9);
     assert!(steady_passes(&t, 4.0).is_none());
 }
+
+/// The MCAP log of a run on a Cartesian path carries its error budget as a metadata record,
+/// the same numbers `path_budget` gives.
+#[test]
+fn the_log_carries_the_budget() {
+    use pvfc_sim::log::scene::{ArmScene, BUDGET_METADATA};
+    use pvfc_sim::log::{write_mcap_with, LogOptions};
+    use pvfc_sim::trace::path_budget::path_budget;
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut s = pvfc_sim::Scenario::from_file(&repo.join("scenarios/ur5_cartesian.toml")).unwrap();
+    s.duration = 13.0; // one pass
+    s.baseline = None;
+    if let Some(c) = s.contour.cartesian.as_mut() {
+        c.tolerance = Some(1e-4);
+    }
+    let t = pvfc_sim::simulate(&s, &mut |_| {}).unwrap();
+    let b = path_budget(&s, &s.robot().unwrap(), &t).unwrap().unwrap();
+    let scene = ArmScene::of_run(&s, &t).unwrap().unwrap();
+    let dir = std::env::temp_dir().join(format!("pvfc-budget-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("ur5.mcap");
+    let options = LogOptions {
+        scene: Some(&scene),
+        rate: Some(50.0),
+    };
+    write_mcap_with(&t, &options, &p).unwrap();
+    let bytes = std::fs::read(&p).unwrap();
+    let summary = mcap::Summary::read(&bytes).unwrap().unwrap();
+    let index = summary
+        .metadata_indexes
+        .iter()
+        .find(|m| m.name == BUDGET_METADATA)
+        .expect("the budget record");
+    let m = mcap::read::metadata(&bytes, index).unwrap().metadata;
+    let get = |k: &str| m[k].parse::<f64>().unwrap();
+    assert_eq!(get("geometry.samples"), b.geometry.samples as f64);
+    assert_eq!(get("distance.max_m"), b.spread.max);
+    assert_eq!(get("surface.mean_m"), b.surface.unwrap().mean);
+    assert_eq!(get("speed_m_per_s"), b.speed);
+    std::fs::remove_dir_all(&dir).ok();
+}

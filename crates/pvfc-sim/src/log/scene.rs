@@ -41,6 +41,47 @@ pub struct ArmScene {
     pub desired: Vec<[f64; 3]>,
     /// The Cartesian path the contour was made from, if any.
     pub cartesian: Vec<[f64; 3]>,
+    /// The run's tool-path error budget ([`path_budget`](crate::trace::path_budget)) as
+    /// named numbers in SI units (m, m/s, rad, s), written as the log's metadata record
+    /// [`BUDGET_METADATA`]; empty without a Cartesian path or a steady pass.
+    pub budget: BTreeMap<String, String>,
+}
+
+/// The name of the MCAP metadata record that holds a run's tool-path error budget.
+pub const BUDGET_METADATA: &str = "pvfc.path_budget";
+
+/// A tool-path error budget as named numbers.
+fn budget_record(b: &crate::trace::path_budget::PathBudget) -> BTreeMap<String, String> {
+    let mut m = BTreeMap::new();
+    let mut put = |k: &str, v: f64| {
+        m.insert(k.to_string(), format!("{v:e}"));
+    };
+    put("geometry.samples", b.geometry.samples as f64);
+    put("geometry.mean_m", b.geometry.mean);
+    put("geometry.max_m", b.geometry.max);
+    if let Some(a) = b.geometry.max_angle {
+        put("geometry.max_angle_rad", a);
+    }
+    put("distance.mean_m", b.spread.mean);
+    put("distance.p95_m", b.spread.p95);
+    put("distance.max_m", b.spread.max);
+    if let Some(s) = &b.surface {
+        put("surface.mean_m", s.mean);
+        put("surface.p95_m", s.p95);
+        put("surface.max_m", s.max);
+    }
+    if let Some(n) = &b.normal {
+        put("normal.mean_m", n.mean);
+        put("normal.min_m", n.min);
+        put("normal.max_m", n.max);
+    }
+    put("speed_m_per_s", b.speed);
+    put("worst.t_s", b.when);
+    put("worst.along_m", b.distance.along);
+    put("path.length_m", b.distance.length);
+    put("window.start_s", b.window.0);
+    put("window.end_s", b.window.1);
+    m
 }
 
 impl ArmScene {
@@ -83,12 +124,16 @@ impl ArmScene {
                 .collect(),
             None => vec![],
         };
+        let budget = crate::trace::path_budget::path_budget(s, robot, t)?
+            .map(|b| budget_record(&b))
+            .unwrap_or_default();
         Ok(ArmScene {
             base: d.base_link.clone(),
             frames,
             poses,
             desired,
             cartesian,
+            budget,
         })
     }
 }
@@ -258,6 +303,13 @@ pub(crate) fn write_scene<W: Write + Seek>(
     let frames = channel::<FrameTransforms, W>(w, FRAMES_TOPIC, meta)?;
     let arm = channel::<SceneUpdate, W>(w, ARM_TOPIC, meta)?;
     let path = channel::<SceneUpdate, W>(w, PATH_TOPIC, meta)?;
+    if !scene.budget.is_empty() {
+        w.write_metadata(&mcap::records::Metadata {
+            name: BUDGET_METADATA.into(),
+            metadata: scene.budget.clone(),
+        })
+        .map_err(mcap_err)?;
+    }
     let mut buf = Vec::new();
     let start = scene.poses.first().map(|(ns, _)| *ns).unwrap_or(0);
     put(w, path, 0, start, &path_update(scene, start), &mut buf)?;

@@ -155,7 +155,7 @@ pub struct ContourSpec {
     pub offset: [f64; 2],
     /// The common period of the curve in `τ`.
     pub period: f64,
-    /// For a URDF arm: the waypoints of a closed C² joint-space contour (3 to 32, one every
+    /// For a URDF arm: the waypoints of a closed C² joint-space contour (3 to 1024, one every
     /// `spacing` of `τ`); the Lissajous fields above are then unused.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub waypoints: Option<Vec<Vec<f64>>>,

@@ -188,10 +188,19 @@ pub enum PresetId {
     Arm3d(Arm3dCase),
     /// A UR5 tool path at machining accuracy.
     ToolPath(ToolPathCase),
+    /// Fig. 1 on the UR5's saturating drives: the rounded rectangle at `r` times its speed.
+    Ur5Saturated {
+        /// The demanded speed `r` (times the rectangle's 87 mm/s).
+        speed: u32,
+    },
 }
 
 /// The demanded speeds of Fig. 1 on saturating drives (`r`, in hundredths).
 pub const FIG1_SATURATED_SPEEDS: [u32; 6] = [50, 100, 150, 200, 300, 400];
+
+/// The demanded speeds of Fig. 1 on the UR5's saturating drives (`r`, times the rectangle's
+/// nominal speed).
+pub const UR5_SATURATED_SPEEDS: [u32; 6] = [1, 2, 4, 6, 8, 10];
 
 /// The rates of the digital comparison (Hz).
 pub const DIGITAL_RATES: [u32; 3] = [1000, 250, 100];
@@ -231,6 +240,7 @@ impl PresetId {
             PresetId::Arm3d(a) => format!("ur5_{}", a.label()),
             PresetId::ToolPath(ToolPathCase::Free) => "ur5_cartesian".into(),
             PresetId::ToolPath(ToolPathCase::Deburr) => "ur5_deburr_fine".into(),
+            PresetId::Ur5Saturated { speed } => format!("ur5_saturated_r{speed}"),
         }
     }
 
@@ -286,6 +296,7 @@ impl PresetId {
         v.extend(Arm3dCase::FILES.map(PresetId::Arm3d));
         v.push(PresetId::Arm3d(Arm3dCase::DeburrContinuous));
         v.extend(ToolPathCase::ALL.map(PresetId::ToolPath));
+        v.extend(UR5_SATURATED_SPEEDS.map(|speed| PresetId::Ur5Saturated { speed }));
         v
     }
 

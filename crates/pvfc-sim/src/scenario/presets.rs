@@ -16,7 +16,7 @@ use crate::contact::{ContactLaw, ContactSpec, ForceSchedule, Keyframe, ObstacleS
 use crate::model::friction::JointFriction;
 use crate::scenario::preset_id::{
     Arm3dCase, ContactCase, Digital, DigitalCase, PresetId, ToolPathCase, DIGITAL_RATES,
-    FIG1_SATURATED_SPEEDS,
+    FIG1_SATURATED_SPEEDS, UR5_SATURATED_SPEEDS,
 };
 use crate::scenario::*;
 
@@ -557,13 +557,51 @@ pub fn arms_3d() -> crate::error::Result<Vec<Scenario>> {
 }
 
 /// The UR5's tool paths at machining accuracy, read from the workspace's `scenarios/`
-/// (`ur5_cartesian.toml`, `ur5_deburr_fine.toml`), each beside its timed baseline.
+/// (`ur5_cartesian.toml`, `ur5_deburr_fine.toml`), each beside its timed baseline, then the
+/// rectangle on saturating drives ([`ur5_saturated`]).
 pub fn tool_paths() -> crate::error::Result<Vec<Scenario>> {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
-    ToolPathCase::ALL
+    let mut v = ToolPathCase::ALL
         .iter()
         .map(|&case| {
             Scenario::from_file(&dir.join(format!("{}.toml", PresetId::ToolPath(case).name())))
         })
-        .collect()
+        .collect::<crate::error::Result<Vec<_>>>()?;
+    let free = v[0].clone();
+    v.extend(UR5_SATURATED_SPEEDS.map(|speed| ur5_saturated(&free, speed)));
+    Ok(v)
+}
+
+/// The UR5's drive limits of Fig. 1 on saturating drives (N·m): below the URDF's effort
+/// limits (150, 150, 150, 28, 28, 28), which the rectangle does not reach up to 700 mm/s.
+pub const UR5_TORQUE_LIMITS: [f64; 6] = [60.0, 60.0, 30.0, 5.0, 5.0, 5.0];
+
+/// Fig. 1 on the UR5's saturating drives: the rounded rectangle of `ur5_cartesian` (`free`)
+/// at `r` times its speed, both controllers limited to [`UR5_TORQUE_LIMITS`]. PVFC is the
+/// passive digital controller at 1 kHz with the limits, at the energy of `β = r` (`Ē × r²`)
+/// held by the nominal-speed control (36) at `r`, with `γ / r³` (so `γβĒ` stays
+/// `ur5_cartesian`'s); the timed tracker runs at `τ̇ = r`, its command clamped to the limits.
+/// The run lasts 2.5 passes (at least 8 s).
+pub fn ur5_saturated(free: &Scenario, speed: u32) -> Scenario {
+    let r = f64::from(speed);
+    let mut s = free.clone();
+    s.name = PresetId::Ur5Saturated { speed }.name();
+    s.description = format!(
+        "UR5 rectangle on drives limited to {UR5_TORQUE_LIMITS:?} N·m at {r} times its speed"
+    );
+    s.duration = (30.0 / r).max(8.0);
+    s.controller.energy *= r * r;
+    s.controller.gamma /= r * r * r;
+    if let Some(n) = s.controller.nominal_speed.as_mut() {
+        n.r = r;
+    }
+    s.controller.passive = Some(PassiveSpec {
+        torque_limit: UR5_TORQUE_LIMITS.to_vec(),
+        ..PassiveSpec::default()
+    });
+    if let Some(b) = s.baseline.as_mut() {
+        b.tau_rate = Some(r);
+        b.torque_limit = UR5_TORQUE_LIMITS.to_vec();
+    }
+    s
 }
