@@ -15,6 +15,7 @@ use pvfc::sim::scenario::presets::pelican_example;
 use pvfc::sim::urdf::ChainDescription;
 use pvfc::sim::ClosedLoop;
 use pvfc_core::augmented::AugmentedState;
+use pvfc_core::task_field::TaskSpaceField;
 use std::hint::black_box;
 use std::path::Path;
 
@@ -171,6 +172,7 @@ fn serial_arm(c: &mut Criterion) {
         fixed_orientation: true,
         ..CartesianSpec::default()
     };
+    let mut near_rectangle = Vec::new();
     for (name, samples) in [("ur5_rectangle_24_f64", 24), ("ur5_rectangle_10um_f64", 0)] {
         let path = rectangle(samples)
             .joint_path(&ur5_robot, Path::new("."))
@@ -178,7 +180,31 @@ fn serial_arm(c: &mut Criterion) {
         println!("{name}: {} waypoints", path.geometry.samples);
         let (ctl, samples) = arm::<6>("ur5/ur5_robot.urdf", "tool0", path.waypoints);
         bench_arm::<6>(&mut g, name, &ctl, &samples);
+        near_rectangle = samples;
     }
+    // The task-space field on the same path (a C² curve on ℝ³ through 128 of its points),
+    // stepped through the same states.
+    let rectangle_points = rectangle(24)
+        .path(Path::new("."))
+        .expect("valid path")
+        .sample(128);
+    let ur5_chain = *ur5.law().system();
+    task_arm(
+        &mut g,
+        "ur5_task_f64",
+        ur5_chain,
+        &rectangle_points,
+        None,
+        &near_rectangle,
+    );
+    task_arm(
+        &mut g,
+        "ur5_task_f32",
+        ur5_chain.cast::<f32>(),
+        &rectangle_points,
+        None,
+        &near_rectangle,
+    );
     let panda_robot = Robot::from_urdf(
         &models.join("panda/panda.urdf"),
         None,
@@ -207,6 +233,37 @@ fn serial_arm(c: &mut Criterion) {
     );
     let (ctl, samples) = arm::<7>("panda/panda.urdf", "panda_hand_tcp", circle.waypoints);
     bench_arm::<7>(&mut g, "panda_circle_10um_f64", &ctl, &samples);
+    let circle_points = CartesianSpec {
+        circle: Some(CircleSpec {
+            center: [p0.x, p0.y + 0.1, p0.z],
+            radius: 0.1,
+            normal: [0.0, 0.3, 1.0],
+            semi_minor: None,
+            major_axis: Some([0.0, -1.0, 0.0]),
+        }),
+        ..CartesianSpec::default()
+    }
+    .path(Path::new("."))
+    .expect("valid path")
+    .sample(128);
+    let panda_chain = *panda.law().system();
+    let rest = Some(SVector::from(seed));
+    task_arm(
+        &mut g,
+        "panda_task_f64",
+        panda_chain,
+        &circle_points,
+        rest,
+        &samples,
+    );
+    task_arm(
+        &mut g,
+        "panda_task_f32",
+        panda_chain.cast::<f32>(),
+        &circle_points,
+        rest,
+        &samples,
+    );
 
     // f32: the same chains and contours in single precision.
     f32_arm(&mut g, "ur5_f32", &ur5, &ur5_samples);
@@ -261,6 +318,62 @@ fn f32_arm<const N: usize>(
             let mut c = ctl32;
             for (q, v) in &s32 {
                 black_box(c.step(black_box(q), black_box(v), 1e-3).expect("valid"));
+            }
+        })
+    });
+}
+
+/// The task-space field's control step (`pvfc_core::task_field`) of `chain` on the closed
+/// path through `points` (a periodic B-spline on ℝ³, 0.1 of τ between points), with the
+/// null-space pull towards `rest` if given, through the recorded states.
+fn task_arm<T: Real, const N: usize>(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    name: &str,
+    chain: SerialChain<T, N>,
+    points: &[nalgebra::Vector3<f64>],
+    rest: Option<SVector<f64, N>>,
+    samples: &[(JointSpace<f64, N>, SVector<f64, N>)],
+) {
+    let c = |x: f64| nalgebra::convert::<f64, T>(x);
+    let pts: Vec<Rn<T, 3>> = points.iter().map(|p| Rn::new(p.cast::<T>())).collect();
+    let path = PeriodicBSpline::<T, Rn<T, 3>, 3, 256>::through_slice(&pts, c(0.1)).expect("valid");
+    let mut field = TaskSpaceField::new(
+        chain,
+        path,
+        ExponentialPacing::new(c(50.0)).expect("valid"),
+        c(4.0),
+        c(0.01),
+    )
+    .expect("valid");
+    if let Some(r) = rest {
+        field = field.with_rest(r.cast::<T>(), c(2.0)).expect("valid");
+    }
+    let law = PvfcLaw::new(
+        chain,
+        field,
+        Flywheel::new(c(1.0), c(40.0)).expect("valid"),
+        c(10.0),
+    )
+    .expect("valid");
+    let ctl = Controller::new(law)
+        .starting_at_rest(T::zero())
+        .with_gravity_compensation();
+    let kinds = chain.kinds();
+    let samples: Vec<(JointSpace<T, N>, SVector<T, N>)> = samples
+        .iter()
+        .map(|(q, v)| {
+            (
+                JointSpace::new(q.coords().cast::<T>(), kinds),
+                v.cast::<T>(),
+            )
+        })
+        .collect();
+    let dt = c(DT);
+    g.bench_function(name, |b| {
+        b.iter(|| {
+            let mut c = ctl;
+            for (q, v) in &samples {
+                black_box(c.step(black_box(q), black_box(v), dt).expect("valid"));
             }
         })
     });

@@ -62,6 +62,7 @@ pub mod navigation;
 pub mod pacing;
 pub mod passive;
 pub mod scalar;
+pub mod task_field;
 
 pub use error::{Error, ErrorKind, Result};
 /// The linear-algebra crate of pvfc's types (vectors, matrices), re-exported so that a user

@@ -296,7 +296,7 @@ pub(crate) fn simulate(py: Python<'_>, scenario: &Scenario) -> PyResult<Simulati
         .map_err(sim_err)?;
     Ok(SimulationResult {
         t,
-        period: scenario.s.contour.period,
+        period: scenario.s.period(),
     })
 }
 
@@ -310,7 +310,7 @@ pub(crate) fn simulate_many(
     threads: Option<usize>,
 ) -> PyResult<Vec<SimulationResult>> {
     let ss: Vec<SimScenario> = scenarios.into_iter().map(|s| s.s).collect();
-    let periods: Vec<f64> = ss.iter().map(|s| s.contour.period).collect();
+    let periods: Vec<f64> = ss.iter().map(|s| s.period()).collect();
     let run = move || -> Vec<pvfc_sim::Result<Trace>> {
         ss.par_iter()
             .map(|s| pvfc_sim::run::simulate(s, &mut |_| {}))
@@ -337,22 +337,27 @@ pub(crate) fn simulate_many(
         .collect()
 }
 
-/// The timed-trajectory baseline of a scenario (computed torque + PD) at a τ rate.
+/// The timed-trajectory baseline of a scenario (computed torque + PD) at a τ rate; with
+/// `torque_limit` (one per joint), its command is clamped as a drive saturates.
 #[pyfunction]
-#[pyo3(signature = (scenario, kp, kd, tau_rate))]
+#[pyo3(signature = (scenario, kp, kd, tau_rate, torque_limit=None))]
 pub(crate) fn simulate_timed(
     py: Python<'_>,
     scenario: &Scenario,
     kp: &Bound<'_, PyAny>,
     kd: &Bound<'_, PyAny>,
     tau_rate: f64,
+    torque_limit: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<SimulationResult> {
     let n = scenario.s.dof().map_err(sim_err)?;
     let b = pvfc_sim::scenario::BaselineSpec {
         kp: dyn_vector(kp, "kp", n)?,
         kd: dyn_vector(kd, "kd", n)?,
         tau_rate: Some(tau_rate),
-        torque_limit: Vec::new(),
+        torque_limit: match torque_limit {
+            Some(l) => dyn_vector(l, "torque_limit", n)?,
+            None => Vec::new(),
+        },
     };
     let s = scenario.s.clone();
     let t = py

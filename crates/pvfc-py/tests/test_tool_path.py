@@ -160,3 +160,19 @@ def test_a_ur5_closed_loop_on_pinocchio_meets_the_tracking_target():
     print(f"steady samples {steady.sum()}, mean {d.mean():.2e} m, max {d.max():.2e} m, speed {speed:.3f} m/s")
     assert d.mean() <= 1e-4 and d.max() <= 3e-4, (d.mean(), d.max())
     assert speed >= 0.05, speed
+
+
+def test_the_timed_tracker_saturates_at_its_torque_limit():
+    d = pvfc.Scenario.preset("fig1_saturated_r2").to_dict()
+    d["duration"] = 3.0
+    s = pvfc.Scenario.from_dict(d)
+    limits = np.array([15.0, 5.0])
+    free = pvfc.simulate_timed(s, [400.0, 400.0], [40.0, 40.0], 2.0)
+    held = pvfc.simulate_timed(s, [400.0, 400.0], [40.0, 40.0], 2.0, torque_limit=limits)
+    # Unlimited, the tracker asks for more than the drives have; limited, it gets at most that.
+    assert np.any(np.abs(free.torque) > limits)
+    assert np.all(np.abs(held.torque) <= limits)
+    assert np.any(np.isclose(np.abs(held.torque), limits).any(axis=1))
+    with pytest.raises(pvfc.PvfcError, match="torque_limit"):
+        pvfc.simulate_timed(s, [400.0, 400.0], [40.0, 40.0], 2.0, torque_limit=[15.0, -1.0])
+    assert held.period == s.to_dict()["contour"]["period"]
