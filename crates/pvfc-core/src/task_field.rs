@@ -1,6 +1,6 @@
 //! A velocity field built on the tool's error to a path in Cartesian space, pulled back to
-//! the joints through the Jacobian: the task-space counterpart of [`SuspendedField`]
-//! (`crate::field::SuspendedField`), for a serial chain. The coupling is unchanged, so
+//! the joints through the Jacobian: the task-space counterpart of
+//! [`SuspendedField`](crate::field::SuspendedField), for a serial chain. The coupling is unchanged, so
 //! passivity holds as for any field (it is a property of the coupling, eq. 9).
 //!
 //! With the tool position `x(q)`, the path `p_d(τ)` (a contour on `ℝ³`), the error
