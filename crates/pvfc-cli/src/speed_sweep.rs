@@ -16,7 +16,7 @@ use pvfc_sim::trace::Trace;
 use std::path::{Path, PathBuf};
 
 /// The seconds at the end of each run the figures are taken over.
-const WINDOW: f64 = 12.0;
+pub const WINDOW: f64 = 12.0;
 
 /// One run of the sweep.
 #[derive(Clone, Debug, PartialEq)]
