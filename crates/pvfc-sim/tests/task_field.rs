@@ -43,6 +43,26 @@ fn rectangle() -> Path3 {
     PeriodicBSpline::through_slice(&pts, 0.1).unwrap()
 }
 
+type Field<const N: usize> = TaskSpaceField<f64, Path3, ExponentialPacing<f64>, N>;
+
+/// The field of `chain` on the rectangle: `U = 2|e|²` (k = 4), self-pacing `R = 50`,
+/// damping 1 cm.
+fn field_of<const N: usize>(chain: SerialChain<f64, N>) -> Field<N> {
+    TaskSpaceField::new(
+        chain,
+        rectangle(),
+        ExponentialPacing::new(50.0).unwrap(),
+        4.0,
+        0.01,
+    )
+    .unwrap()
+}
+
+/// The UR5's chain.
+fn ur5_chain() -> SerialChain<f64, 6> {
+    SerialChain::try_from(robot("models/ur5/ur5_robot.urdf", "tool0").model()).unwrap()
+}
+
 fn lcg(seed: &mut u64) -> f64 {
     *seed = seed
         .wrapping_mul(6364136223846793005)
@@ -51,11 +71,7 @@ fn lcg(seed: &mut u64) -> f64 {
 }
 
 /// Random states near `q0`: the rate against `(V(q + h q̇, τ + h τ̇) − V(q − h q̇, τ − h τ̇))/2h`.
-fn check_rate<const N: usize>(
-    field: &TaskSpaceField<f64, Path3, ExponentialPacing<f64>, N>,
-    kinds: [JointKind; N],
-    q0: SVector<f64, N>,
-) {
+fn check_rate<const N: usize>(field: &Field<N>, kinds: [JointKind; N], q0: SVector<f64, N>) {
     let mut seed = 3;
     let mut worst = 0.0f64;
     for _ in 0..200 {
@@ -87,16 +103,8 @@ fn check_rate<const N: usize>(
 
 #[test]
 fn the_rate_is_the_derivative_along_the_motion_ur5_and_panda() {
-    let ur5 = robot("models/ur5/ur5_robot.urdf", "tool0");
-    let chain = SerialChain::<f64, 6>::try_from(ur5.model()).unwrap();
-    let field = TaskSpaceField::new(
-        chain,
-        rectangle(),
-        ExponentialPacing::new(50.0).unwrap(),
-        4.0,
-        0.01,
-    )
-    .unwrap();
+    let chain = ur5_chain();
+    let field = field_of(chain);
     check_rate(
         &field,
         chain.kinds(),
@@ -105,32 +113,15 @@ fn the_rate_is_the_derivative_along_the_motion_ur5_and_panda() {
     let panda = robot("models/panda/panda.urdf", "panda_hand_tcp");
     let chain = SerialChain::<f64, 7>::try_from(panda.model()).unwrap();
     let rest = SVector::from([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8]);
-    let field = TaskSpaceField::new(
-        chain,
-        rectangle(),
-        ExponentialPacing::new(50.0).unwrap(),
-        4.0,
-        0.01,
-    )
-    .unwrap()
-    .with_rest(rest, 2.0)
-    .unwrap();
+    let field = field_of(chain).with_rest(rest, 2.0).unwrap();
     check_rate(&field, chain.kinds(), rest);
 }
 
 /// The coupling is untouched: with the task-space field, `q̇_aᵀ T_a = 0` at random states.
 #[test]
 fn the_coupling_stays_workless_with_the_task_space_field() {
-    let ur5 = robot("models/ur5/ur5_robot.urdf", "tool0");
-    let chain = SerialChain::<f64, 6>::try_from(ur5.model()).unwrap();
-    let field = TaskSpaceField::new(
-        chain,
-        rectangle(),
-        ExponentialPacing::new(50.0).unwrap(),
-        4.0,
-        0.01,
-    )
-    .unwrap();
+    let chain = ur5_chain();
+    let field = field_of(chain);
     let law = PvfcLaw::new(chain, field, Flywheel::new(1.0, 40.0).unwrap(), 10.0).unwrap();
     let q0 = SVector::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0]);
     let mut seed = 5;
@@ -157,8 +148,7 @@ fn the_coupling_stays_workless_with_the_task_space_field() {
 /// field finite and bounded by `|w|/(2μ)`; a zero or negative damping is an error.
 #[test]
 fn the_field_is_bounded_at_a_singularity() {
-    let ur5 = robot("models/ur5/ur5_robot.urdf", "tool0");
-    let chain = SerialChain::<f64, 6>::try_from(ur5.model()).unwrap();
+    let chain = ur5_chain();
     let make = |mu| {
         TaskSpaceField::new(
             chain,
@@ -190,16 +180,8 @@ fn the_field_is_bounded_at_a_singularity() {
 #[test]
 fn the_ur5_follows_the_path_with_the_task_space_field() {
     use pvfc_sim::ClosedLoop;
-    let ur5 = robot("models/ur5/ur5_robot.urdf", "tool0");
-    let chain = SerialChain::<f64, 6>::try_from(ur5.model()).unwrap();
-    let field = TaskSpaceField::new(
-        chain,
-        rectangle(),
-        ExponentialPacing::new(50.0).unwrap(),
-        4.0,
-        0.01,
-    )
-    .unwrap();
+    let chain = ur5_chain();
+    let field = field_of(chain);
     let law = PvfcLaw::new(chain, field, Flywheel::new(1.0, 40.0).unwrap(), 10.0).unwrap();
     let ctl = Controller::new(law)
         .starting_at_rest(0.0)
@@ -254,8 +236,7 @@ fn the_ur5_follows_the_path_with_the_task_space_field() {
 /// The field in f32 (the chain and the path cast) agrees with f64 to single precision.
 #[test]
 fn the_task_space_field_runs_in_f32() {
-    let ur5 = robot("models/ur5/ur5_robot.urdf", "tool0");
-    let chain = SerialChain::<f64, 6>::try_from(ur5.model()).unwrap();
+    let chain = ur5_chain();
     let path64 = rectangle();
     let pts32: Vec<Rn<f32, 3>> = path64
         .control_points()
