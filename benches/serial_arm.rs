@@ -213,7 +213,7 @@ fn serial_arm(c: &mut Criterion) {
     .expect("shipped URDF");
     let seed = [0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8];
     let (_, p0) = panda_robot.tool_pose(&seed).expect("7 joints");
-    let circle = CartesianSpec {
+    let circle_spec = CartesianSpec {
         circle: Some(CircleSpec {
             center: [p0.x, p0.y + 0.1, p0.z],
             radius: 0.1,
@@ -224,28 +224,20 @@ fn serial_arm(c: &mut Criterion) {
         samples: 0,
         seed: seed.to_vec(),
         ..CartesianSpec::default()
-    }
-    .joint_path(&panda_robot, Path::new("."))
-    .expect("the circle is reachable");
+    };
+    let circle = circle_spec
+        .joint_path(&panda_robot, Path::new("."))
+        .expect("the circle is reachable");
     println!(
         "panda_circle_10um_f64: {} waypoints",
         circle.geometry.samples
     );
     let (ctl, samples) = arm::<7>("panda/panda.urdf", "panda_hand_tcp", circle.waypoints);
     bench_arm::<7>(&mut g, "panda_circle_10um_f64", &ctl, &samples);
-    let circle_points = CartesianSpec {
-        circle: Some(CircleSpec {
-            center: [p0.x, p0.y + 0.1, p0.z],
-            radius: 0.1,
-            normal: [0.0, 0.3, 1.0],
-            semi_minor: None,
-            major_axis: Some([0.0, -1.0, 0.0]),
-        }),
-        ..CartesianSpec::default()
-    }
-    .path(Path::new("."))
-    .expect("valid path")
-    .sample(128);
+    let circle_points = circle_spec
+        .path(Path::new("."))
+        .expect("valid path")
+        .sample(128);
     let panda_chain = *panda.law().system();
     let rest = Some(SVector::from(seed));
     task_arm(

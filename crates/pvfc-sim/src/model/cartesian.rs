@@ -15,7 +15,7 @@
 use crate::error::{Result, SimError, WaypointProblem};
 use crate::model::arm::JointContourSpec;
 use crate::model::robot::Robot;
-use crate::model::tool_path::ToolPath;
+use crate::model::tool_path::{Closest, ToolPath};
 use crate::with_dof;
 use nalgebra::{SVector, Vector3};
 use pvfc_core::contour::Contour;
@@ -416,6 +416,14 @@ impl CartesianSpec {
     pub fn path_error(&self, base_dir: &Path, tool: &[Vector3<f64>]) -> Result<PathError> {
         let path = self.path(base_dir)?;
         let closest: Vec<_> = tool.iter().map(|p| path.closest(p)).collect();
+        Ok(PathError::of(&closest, path.length()))
+    }
+}
+
+impl PathError {
+    /// The summary of the closest path points `closest` of a run's tool positions, on a path
+    /// of `length` (m).
+    pub fn of(closest: &[Closest], length: f64) -> Self {
         let (worst, max) = closest
             .iter()
             .enumerate()
@@ -426,13 +434,13 @@ impl CartesianSpec {
                     (wi, wm)
                 }
             });
-        Ok(PathError {
+        PathError {
             mean: closest.iter().map(|c| c.distance).sum::<f64>() / closest.len().max(1) as f64,
             max,
             worst,
             along: closest.get(worst).map_or(0.0, |c| c.along),
-            length: path.length(),
-        })
+            length,
+        }
     }
 }
 

@@ -109,17 +109,7 @@ pub fn path_budget(s: &Scenario, robot: &Robot, t: &Trace) -> Result<Option<Path
             .collect::<Result<Vec<_>>>()?;
     let closest: Vec<_> = tool.iter().map(|p| path.closest(p)).collect();
     let d: Vec<f64> = closest.iter().map(|c| c.distance).collect();
-    let (worst, max) =
-        d.iter().enumerate().fold(
-            (0, 0.0f64),
-            |(wi, wm), (i, &x)| {
-                if x > wm {
-                    (i, x)
-                } else {
-                    (wi, wm)
-                }
-            },
-        );
+    let distance = PathError::of(&closest, path.length());
     let length = path.length();
     let (surface, normal) = match path.normal() {
         None => (None, None),
@@ -159,17 +149,11 @@ pub fn path_budget(s: &Scenario, robot: &Robot, t: &Trace) -> Result<Option<Path
     let duration = (t1 - t0).max(f64::MIN_POSITIVE);
     Ok(Some(PathBudget {
         geometry,
-        distance: PathError {
-            mean: Spread::of(&d).mean,
-            max,
-            worst,
-            along: closest.get(worst).map_or(0.0, |c| c.along),
-            length,
-        },
+        distance,
         spread: Spread::of(&d),
         surface,
         normal,
-        when: t.t[range.start + worst],
+        when: t.t[range.start + distance.worst],
         speed: progress / duration,
         tool_speed: travelled / duration,
         window: (t0, t1),
