@@ -27,6 +27,7 @@ const DT: f64 = 1e-3;
 
 fn settings(waypoints: Vec<Vec<f64>>, n: usize) -> ArmSettings {
     ArmSettings {
+        field: pvfc_sim::model::arm_field::FieldSpec::Joint,
         contour: JointContourSpec::Waypoints {
             points: waypoints,
             spacing: 1.0,
@@ -272,7 +273,7 @@ fn f32_arm<const N: usize>(
     let law = ctl.law();
     let chain = law.system().cast::<f32>();
     let kinds = chain.kinds();
-    let JointContour::Spline(spline) = law.field().contour() else {
+    let JointContour::Spline(spline) = law.field().joint_contour() else {
         unreachable!("the bench's arms follow waypoints")
     };
     let pts: Vec<JointSpace<f32, N>> = spline

@@ -7,7 +7,7 @@ use pvfc_sim::error::{Result, SimError};
 use pvfc_sim::scenario::preset_id::PresetId;
 use pvfc_sim::scenario::Mode;
 use pvfc_sim::trace::metrics::last_pass;
-use pvfc_sim::trace::Trace;
+use pvfc_sim::trace::{Trace, TIMED_SUFFIX};
 use std::path::{Path, PathBuf};
 
 /// A one-panel figure of paths in joint space (q1, q2).
@@ -281,7 +281,7 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
     files.push(crate::plot_digital::digital_figure(runs, dir)?);
     files.push(crate::speed_sweep::figure_saturated(runs, dir)?);
     for (name, (s, t)) in &runs.runs {
-        if s.contact.is_some() && t.contact.is_some() && !name.ends_with("-timed") {
+        if s.contact.is_some() && t.contact.is_some() && !t.is_timed() {
             let p = dir.join(format!("{name}.png"));
             contact_figure(runs, name, &p)?;
             files.push(p);
@@ -296,9 +296,12 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
 pub fn chain_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     for (name, (s, t)) in &runs.runs {
-        if s.is_chain() && !name.ends_with("-timed") {
+        if s.is_chain() && !t.is_timed() {
             let p = dir.join(format!("{name}.png"));
-            let baseline = runs.runs.get(&format!("{name}-timed")).map(|(_, b)| b);
+            let baseline = runs
+                .runs
+                .get(&format!("{name}{TIMED_SUFFIX}"))
+                .map(|(_, b)| b);
             if let Some(system) = runs.arm_system(s)? {
                 crate::chain_plot::chain_figure(s, &system, t, baseline, &p)?;
             }
@@ -350,7 +353,10 @@ pub fn contact_figure(runs: &Runs, name: &str, p: &Path) -> Result<()> {
         .runs
         .get(name)
         .ok_or_else(|| SimError::Setting(format!("run `{name}` is missing")))?;
-    let timed = runs.runs.get(&format!("{name}-timed")).map(|(_, t)| t);
+    let timed = runs
+        .runs
+        .get(&format!("{name}{TIMED_SUFFIX}"))
+        .map(|(_, t)| t);
     let spec = s
         .contact
         .as_ref()

@@ -125,17 +125,16 @@ pub(crate) fn arm_claims(
                 )))
             }
         };
-        let who = if name.ends_with("-timed") {
-            "timed"
-        } else {
-            "PVFC"
-        };
+        let who = if t.is_timed() { "timed" } else { "PVFC" };
         if rows.is_empty() {
-            rows.push(format!(
-                "geometry: {} samples, contour ≤ {:.3} mm from the path",
-                b.geometry.samples,
-                b.geometry.max * 1e3
-            ));
+            rows.push(match &b.geometry {
+                Some(g) => format!(
+                    "geometry: {} samples, contour ≤ {:.3} mm from the path",
+                    g.samples,
+                    g.max * 1e3
+                ),
+                None => "geometry: the exact path (task-space field)".into(),
+            });
         }
         rows.push(format!(
             "{who}: along the surface mean {:.2} / p95 {:.2} / max {:.2} mm, press-in {:+.2} mm, 3-D max {:.2} mm, {:.0} mm/s",

@@ -47,10 +47,12 @@ pub(crate) fn tool_path_claims(
             .map(|n| format!(", press-in {:+.2} mm", n.mean * 1e3))
             .unwrap_or_default();
         rows.push(format!(
-            "{}: geometry {} samples ≤ {:.4} mm; PVFC mean {:.3} / p95 {:.3} / max {:.3} mm at {:.0} mm/s{press}; timed mean {:.3} / p95 {:.3} / max {:.3} mm",
+            "{}: geometry {}; PVFC mean {:.3} / p95 {:.3} / max {:.3} mm at {:.0} mm/s{press}; timed mean {:.3} / p95 {:.3} / max {:.3} mm",
             case.label(),
-            p.geometry.samples,
-            p.geometry.max * 1e3,
+            match &p.geometry {
+                Some(g) => format!("{} samples ≤ {:.4} mm", g.samples, g.max * 1e3),
+                None => "exact (task-space field)".into(),
+            },
             mean * 1e3,
             p95 * 1e3,
             max * 1e3,

@@ -15,6 +15,16 @@
 //!   null space of the task (for arms with more than three joints);
 //! * `V_τ = λ₁`.
 //!
+//! With an orientation to hold ([`with_orientation`](TaskSpaceField::with_orientation)), the
+//! task is six-dimensional: the tool's rotation `R(q)` is pulled to `R_d` by the navigation
+//! function `U_R = ½ k_R (3 − tr E) = k_R (1 − cos θ)`, `E = R R_dᵀ` (θ the angle of `E`),
+//! whose gradient in the spatial angular velocity is `k_R e_R` with `e_R = vee(½(E − Eᵀ)) =
+//! sin θ n`; its rate is `ė_R = ½ (tr E · I − E) ω`. The desired angular velocity is
+//! `−λ₂ k_R e_R`, `U = U_p + U_R` drives the self-pacing, and `J` stacks the position rows
+//! over the spatial angular rows (the joints' axes `w_i`). `U_R` is a navigation function on
+//! SO(3) apart from the rotations by π (θ = π is its unstable maximum set), the same
+//! construction as [`So3Navigation`](crate::navigation::so3::So3Navigation) with `P = k_R/2 · I`.
+//!
 //! The rate along the motion `(q̇, τ̇)` is analytic: `J̇` from the spatial axes'
 //! rates `ṡ_i = V_{i−1} × s_i` (the velocity of link `i − 1` crossed into joint `i`'s axis),
 //! `d(J⁺)/dt = J̇ᵀ A⁻¹ − Jᵀ A⁻¹ (J̇ Jᵀ + J J̇ᵀ) A⁻¹` with `A = J Jᵀ + μ² I`, and
@@ -40,14 +50,26 @@ pub struct TaskSpaceField<T: Real, X, S, const N: usize> {
     stiffness: T,
     damping: T,
     rest: Option<(SVector<T, N>, T)>,
+    orientation: Option<(Matrix3<T>, T)>,
 }
 
-/// The tool's position Jacobian and its rate at one state.
+/// The tool's pose, its velocity, and the Jacobian (position rows over spatial angular rows)
+/// with its rate at one state.
 struct TaskKinematics<T: Real, const N: usize> {
     x: Vector3<T>,
     x_dot: Vector3<T>,
-    jac: SMatrix<T, 3, N>,
-    jac_dot: SMatrix<T, 3, N>,
+    rotation: Matrix3<T>,
+    omega: Vector3<T>,
+    jac: SMatrix<T, 6, N>,
+    jac_dot: SMatrix<T, 6, N>,
+}
+
+/// The desired task velocity `w` (position rows, then angular rows when the orientation is
+/// held) and its rate, pulled back to the joints.
+struct Pulled<T: Real, const N: usize> {
+    velocity: SVector<T, N>,
+    rate: SVector<T, N>,
+    along: SVector<T, N>,
 }
 
 impl<T, X, S, const N: usize> TaskSpaceField<T, X, S, N>
@@ -85,7 +107,38 @@ where
             stiffness,
             damping,
             rest: None,
+            orientation: None,
         })
+    }
+
+    /// Holding the tool's orientation at `rotation` (a rotation matrix in the base frame) with
+    /// the navigation function `U_R = k_R (1 − cos θ)` (`stiffness` `k_R` > 0, 1/s when
+    /// `λ₂ = 1`): the task becomes six-dimensional.
+    pub fn with_orientation(mut self, rotation: Matrix3<T>, stiffness: T) -> Result<Self> {
+        let eps: T = cast(1e-6);
+        let orthonormal = (rotation.transpose() * rotation - Matrix3::identity())
+            .iter()
+            .all(|x| x.abs() <= eps)
+            && (rotation.determinant() - T::one()).abs() <= eps;
+        if !(rotation.iter().all(|x| x.is_finite()) && orthonormal) {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "TaskSpaceField: the orientation must be a rotation matrix",
+            ));
+        }
+        if !(stiffness.is_finite() && stiffness > T::zero()) {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "TaskSpaceField: the orientation's stiffness must be finite and > 0",
+            ));
+        }
+        self.orientation = Some((rotation, stiffness));
+        Ok(self)
+    }
+
+    /// The orientation held, with its stiffness, if any.
+    pub fn orientation(&self) -> Option<&(Matrix3<T>, T)> {
+        self.orientation.as_ref()
     }
 
     /// With a pull of `gain` (1/s, ≥ 0) towards the posture `rest` in the null space of the
@@ -111,38 +164,87 @@ where
         &self.path
     }
 
-    /// The tool position, its velocity, and the position Jacobian with its rate.
+    /// The tool pose, its velocity, and the Jacobian with its rate.
     fn kinematics(&self, q: &SVector<T, N>, v: &SVector<T, N>) -> TaskKinematics<T, N> {
         let k = self.chain.kinematics(q);
-        let x = k.link_poses[N - 1].compose(self.chain.tool()).translation;
+        let tool = k.link_poses[N - 1].compose(self.chain.tool());
+        let x = tool.translation;
         let split = |s: &SVector<T, 6>| {
             (
                 Vector3::new(s[0], s[1], s[2]),
                 Vector3::new(s[3], s[4], s[5]),
             )
         };
-        let mut jac = SMatrix::<T, 3, N>::zeros();
+        let mut jac = SMatrix::<T, 6, N>::zeros();
         for (i, s) in k.axes.iter().enumerate() {
             let (w, l) = split(s);
-            jac.set_column(i, &(l + w.cross(&x)));
+            jac.fixed_view_mut::<3, 1>(0, i)
+                .copy_from(&(l + w.cross(&x)));
+            jac.fixed_view_mut::<3, 1>(3, i).copy_from(&w);
         }
-        let x_dot = jac * v;
+        let x_dot = jac.fixed_rows::<3>(0) * v;
         // ṡ_i = V × s_i with V the spatial velocity of the links before joint i.
         let (mut om, mut nu) = (Vector3::zeros(), Vector3::zeros());
-        let mut jac_dot = SMatrix::<T, 3, N>::zeros();
+        let mut jac_dot = SMatrix::<T, 6, N>::zeros();
         for (i, s) in k.axes.iter().enumerate() {
             let (w, l) = split(s);
             let w_dot = om.cross(&w);
             let l_dot = om.cross(&l) + nu.cross(&w);
-            jac_dot.set_column(i, &(l_dot + w_dot.cross(&x) + w.cross(&x_dot)));
+            jac_dot
+                .fixed_view_mut::<3, 1>(0, i)
+                .copy_from(&(l_dot + w_dot.cross(&x) + w.cross(&x_dot)));
+            jac_dot.fixed_view_mut::<3, 1>(3, i).copy_from(&w_dot);
             om += w * v[i];
             nu += l * v[i];
         }
         TaskKinematics {
             x,
             x_dot,
+            rotation: tool.rotation,
+            omega: om,
             jac,
             jac_dot,
+        }
+    }
+
+    /// The desired task velocity `w` with its rate `ẇ` and the path's velocity `p_d'` in the
+    /// same rows, pulled back through the damped inverse `J⁺` of the task's `M` rows of `jac`,
+    /// with the null-space pull towards the rest posture.
+    #[allow(clippy::too_many_arguments)]
+    fn pull_back<const M: usize>(
+        &self,
+        q: &JointSpace<T, N>,
+        v: &SVector<T, N>,
+        jac: &SMatrix<T, M, N>,
+        jac_dot: &SMatrix<T, M, N>,
+        w: &SVector<T, M>,
+        w_dot: &SVector<T, M>,
+        along: &SVector<T, M>,
+    ) -> Pulled<T, N> {
+        // The damped inverse and its rate (A is symmetric positive definite as μ > 0).
+        let mu2 = self.damping * self.damping;
+        let a = jac * jac.transpose() + SMatrix::<T, M, M>::identity() * mu2;
+        let a_inv = a.try_inverse().unwrap_or_else(SMatrix::<T, M, M>::zeros);
+        let a_dot = jac_dot * jac.transpose() + jac * jac_dot.transpose();
+        let pinv = jac.transpose() * a_inv;
+        let pinv_dot = jac_dot.transpose() * a_inv - pinv * a_dot * a_inv;
+        let mut velocity = pinv * w;
+        let mut rate = pinv_dot * w + pinv * w_dot;
+        if let Some((rest, gain)) = &self.rest {
+            let to_rest = q
+                .inverse()
+                .compose(&JointSpace::new(*rest, q.kinds()))
+                .log()
+                * *gain;
+            let p = SMatrix::<T, N, N>::identity() - pinv * jac;
+            let p_dot = -(pinv_dot * jac + pinv * jac_dot);
+            velocity += p * to_rest;
+            rate += p_dot * to_rest - p * (v * *gain);
+        }
+        Pulled {
+            velocity,
+            rate,
+            along: pinv * along,
         }
     }
 
@@ -160,48 +262,72 @@ where
         let e = kin.x - c.point.coords();
         let e_dot = kin.x_dot - c.velocity * tau_dot;
         let half: T = cast(0.5);
-        let u = half * k * e.dot(&e);
-        let u_dot = k * e.dot(&e_dot);
+        let mut u = half * k * e.dot(&e);
+        let mut u_dot = k * e.dot(&e_dot);
+        let mut gradient = kin.jac.fixed_rows::<3>(0).transpose() * (e * k);
+        // The orientation's error `e_R = vee(½(E − Eᵀ))`, `E = R R_dᵀ`, and its rate.
+        let turn = self.orientation.map(|(rd, kr)| {
+            let m = kin.rotation * rd.transpose();
+            let e_r = Vector3::new(
+                m[(2, 1)] - m[(1, 2)],
+                m[(0, 2)] - m[(2, 0)],
+                m[(1, 0)] - m[(0, 1)],
+            ) * half;
+            let e_r_dot = (Matrix3::identity() * m.trace() - m) * kin.omega * half;
+            (e_r, e_r_dot, kr, half * kr * (cast::<T>(3.0) - m.trace()))
+        });
+        if let Some((e_r, _, kr, u_r)) = &turn {
+            u += *u_r;
+            u_dot += *kr * e_r.dot(&kin.omega);
+            gradient += kin.jac.fixed_rows::<3>(3).transpose() * (e_r * *kr);
+        }
         let g = self.pacing.gains(u);
         let (l1_dot, l2_dot) = (g.dlambda1 * u_dot, g.dlambda2 * u_dot);
         let w = c.velocity * g.lambda1 - e * (g.lambda2 * k);
         let w_dot = c.velocity * l1_dot + c.acceleration * (g.lambda1 * tau_dot)
             - e * (l2_dot * k)
             - e_dot * (g.lambda2 * k);
-        // The damped inverse and its rate (A is symmetric positive definite as μ > 0).
-        let mu2 = self.damping * self.damping;
-        let a = kin.jac * kin.jac.transpose() + Matrix3::identity() * mu2;
-        let a_inv = a.try_inverse().unwrap_or_else(Matrix3::zeros);
-        let a_dot = kin.jac_dot * kin.jac.transpose() + kin.jac * kin.jac_dot.transpose();
-        let pinv = kin.jac.transpose() * a_inv;
-        let pinv_dot = kin.jac_dot.transpose() * a_inv - pinv * a_dot * a_inv;
-        let mut velocity = pinv * w;
-        let mut rate = pinv_dot * w + pinv * w_dot;
-        if let Some((rest, gain)) = &self.rest {
-            let to_rest = q
-                .inverse()
-                .compose(&JointSpace::new(*rest, q.kinds()))
-                .log()
-                * *gain;
-            let p = SMatrix::<T, N, N>::identity() - pinv * kin.jac;
-            let p_dot = -(pinv_dot * kin.jac + pinv * kin.jac_dot);
-            velocity += p * to_rest;
-            rate += p_dot * to_rest - p * (v * *gain);
-        }
+        let pulled = match &turn {
+            None => self.pull_back::<3>(
+                q,
+                v,
+                &kin.jac.fixed_rows::<3>(0).into_owned(),
+                &kin.jac_dot.fixed_rows::<3>(0).into_owned(),
+                &w,
+                &w_dot,
+                &c.velocity,
+            ),
+            Some((e_r, e_r_dot, kr, _)) => {
+                let w_r = -(e_r * (g.lambda2 * *kr));
+                let w_r_dot = -(e_r * (l2_dot * *kr) + e_r_dot * (g.lambda2 * *kr));
+                let stack = |a: &Vector3<T>, b: &Vector3<T>| {
+                    SVector::<T, 6>::new(a[0], a[1], a[2], b[0], b[1], b[2])
+                };
+                self.pull_back::<6>(
+                    q,
+                    v,
+                    &kin.jac,
+                    &kin.jac_dot,
+                    &stack(&w, &w_r),
+                    &stack(&w_dot, &w_r_dot),
+                    &stack(&c.velocity, &Vector3::zeros()),
+                )
+            }
+        };
         FieldSample {
             contour: ContourSample {
                 point: *q,
-                velocity: pinv * c.velocity,
+                velocity: pulled.along,
                 acceleration: SVector::zeros(),
             },
             error: JointSpace::identity().with_kinds(q.kinds()),
             potential: u,
-            gradient: kin.jac.transpose() * (e * k),
+            gradient,
             lambda1: g.lambda1,
             lambda2: g.lambda2,
-            velocity,
+            velocity: pulled.velocity,
             velocity_tau: g.lambda1,
-            rate,
+            rate: pulled.rate,
             rate_tau: l1_dot,
             error_velocity: SVector::zeros(),
         }
@@ -215,7 +341,8 @@ where
     S: SelfPacing<T>,
 {
     /// The field and its rate. What [`FieldSample`] holds for this field: `potential` is `U`
-    /// of the tool's error and `gradient` its joint-space gradient `Jᵀ k e`; the error lives
+    /// of the tool's error and `gradient` its joint-space gradient (`Jᵀ k e`, plus the
+    /// orientation's `J_ωᵀ k_R e_R` when it is held); the error lives
     /// in the task space, so `error` is the identity and `error_velocity` zero; `contour` is
     /// the joint-space image at `q` (point `q`, velocity `J⁺ p_d'(τ)`, acceleration zero).
     #[inline]

@@ -222,10 +222,11 @@ impl SimulationResult {
             Ok(d)
         };
         let d = PyDict::new(py);
-        d.set_item(
-            "geometry",
-            crate::cartesian::geometry_dict(py, &b.geometry)?,
-        )?;
+        let geometry = match &b.geometry {
+            Some(g) => Some(crate::cartesian::geometry_dict(py, g)?),
+            None => None,
+        };
+        d.set_item("geometry", geometry)?;
         d.set_item("distance", spread(b.spread)?)?;
         d.set_item("surface", b.surface.map(spread).transpose()?)?;
         let normal = match b.normal {

@@ -37,6 +37,7 @@ impl ControllerSettings {
     /// The settings of an arm's controller with this contour and these navigation weights.
     pub(crate) fn arm_settings(&self, contour: JointContourSpec, h: Vec<f64>) -> ArmSettings {
         ArmSettings {
+            field: pvfc_sim::model::arm_field::FieldSpec::Joint,
             contour,
             h,
             self_pacing: self.self_pacing,

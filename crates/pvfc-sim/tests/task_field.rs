@@ -117,15 +117,84 @@ fn the_rate_is_the_derivative_along_the_motion_ur5_and_panda() {
     check_rate(&field, chain.kinds(), rest);
 }
 
+/// The tool pointing down (the UR5 scenarios' orientation): `x` along the base's `x`, `z`
+/// down.
+fn down() -> nalgebra::Matrix3<f64> {
+    nalgebra::Matrix3::new(1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, -1.0)
+}
+
+/// With the orientation held (a six-dimensional task), the rate is still the derivative along
+/// the motion: the UR5 (square Jacobian) and the Panda (one dimension of null space, pulled to
+/// the rest posture).
+#[test]
+fn the_rate_is_the_derivative_along_the_motion_with_the_orientation_held() {
+    let chain = ur5_chain();
+    let field = field_of(chain).with_orientation(down(), 3.0).unwrap();
+    check_rate(
+        &field,
+        chain.kinds(),
+        SVector::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0]),
+    );
+    let panda = robot("models/panda/panda.urdf", "panda_hand_tcp");
+    let chain = SerialChain::<f64, 7>::try_from(panda.model()).unwrap();
+    let rest = SVector::from([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8]);
+    let field = field_of(chain)
+        .with_rest(rest, 2.0)
+        .unwrap()
+        .with_orientation(down(), 3.0)
+        .unwrap();
+    check_rate(&field, chain.kinds(), rest);
+    // Not a rotation, or a stiffness that is not > 0: an error.
+    let f = || field_of(ur5_chain());
+    assert!(f().with_orientation(down() * 2.0, 3.0).is_err());
+    assert!(f().with_orientation(-down(), 3.0).is_err());
+    assert!(f().with_orientation(down(), 0.0).is_err());
+    assert!(f().with_orientation(down(), f64::NAN).is_err());
+}
+
+/// The orientation's navigation function: `U_R = k_R (1 − cos θ)` and its gradient
+/// `J_ωᵀ k_R sin θ n`, checked against a finite difference of `U` along random joint motions.
+#[test]
+fn the_orientation_potential_and_its_gradient() {
+    let chain = ur5_chain();
+    let with = field_of(chain).with_orientation(down(), 3.0).unwrap();
+    let without = field_of(chain);
+    let mut seed = 11;
+    for _ in 0..50 {
+        let q = SVector::<f64, 6>::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0])
+            + SVector::from_fn(|_, _| 0.6 * (lcg(&mut seed) - 0.5));
+        let v = SVector::<f64, 6>::from_fn(|_, _| lcg(&mut seed) - 0.5);
+        let at = |f: &Field<6>, h: f64| f.evaluate(&chain.configuration(q + v * h), &v, 1.0, 0.0);
+        let s = at(&with, 0.0);
+        let r = chain.tool_pose(&q).rotation * down().transpose();
+        let cos = (r.trace() - 1.0) / 2.0;
+        let u_r = s.potential - at(&without, 0.0).potential;
+        assert!((u_r - 3.0 * (1.0 - cos)).abs() < 1e-12, "{u_r} {cos}");
+        let h = 1e-6;
+        let fd = (at(&with, h).potential - at(&with, -h).potential) / (2.0 * h);
+        assert!(
+            (fd - s.gradient.dot(&v)).abs() < 1e-7 * (1.0 + fd.abs()),
+            "{fd} {}",
+            s.gradient.dot(&v)
+        );
+    }
+}
+
 /// The coupling is untouched: with the task-space field, `q̇_aᵀ T_a = 0` at random states.
 #[test]
 fn the_coupling_stays_workless_with_the_task_space_field() {
     let chain = ur5_chain();
     let field = field_of(chain);
-    let law = PvfcLaw::new(chain, field, Flywheel::new(1.0, 40.0).unwrap(), 10.0).unwrap();
+    let held = field.with_orientation(down(), 3.0).unwrap();
+    let flywheel = Flywheel::new(1.0, 40.0).unwrap();
+    let laws = [
+        PvfcLaw::new(chain, field, flywheel, 10.0).unwrap(),
+        PvfcLaw::new(chain, held, flywheel, 10.0).unwrap(),
+    ];
     let q0 = SVector::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0]);
     let mut seed = 5;
-    for _ in 0..100 {
+    for k in 0..200 {
+        let law = &laws[k % 2];
         let s = AugmentedState {
             q: chain.configuration(q0 + SVector::from_fn(|_, _| 0.4 * (lcg(&mut seed) - 0.5))),
             v: SVector::from_fn(|_, _| 2.0 * (lcg(&mut seed) - 0.5)),
@@ -179,9 +248,22 @@ fn the_field_is_bounded_at_a_singularity() {
 /// compensation cancels gravity), and over the second pass the tool follows the path.
 #[test]
 fn the_ur5_follows_the_path_with_the_task_space_field() {
+    let chain = ur5_chain();
+    follow(field_of(chain), None);
+}
+
+/// The same with the tool held pointing down (a six-dimensional task): the tool follows the
+/// path and its orientation stays within a milliradian of the one held.
+#[test]
+fn the_ur5_follows_the_path_with_the_orientation_held() {
+    let chain = ur5_chain();
+    let field = field_of(chain).with_orientation(down(), 4.0).unwrap();
+    follow(field, Some(down()));
+}
+
+fn follow(field: Field<6>, held: Option<nalgebra::Matrix3<f64>>) {
     use pvfc_sim::ClosedLoop;
     let chain = ur5_chain();
-    let field = field_of(chain);
     let law = PvfcLaw::new(chain, field, Flywheel::new(1.0, 40.0).unwrap(), 10.0).unwrap();
     let ctl = Controller::new(law)
         .starting_at_rest(0.0)
@@ -209,14 +291,18 @@ fn the_ur5_follows_the_path_with_the_task_space_field() {
     }
     .path(Path::new("."))
     .unwrap();
-    let (mut d, mut drift) = (Vec::new(), 0.0f64);
+    let (mut d, mut drift, mut angle) = (Vec::new(), 0.0f64, 0.0f64);
     // RK4's error in κ_a falls as dt⁴ (measured: 2.3e-3, 1.3e-4, 8.3e-6 of Ē at 1, 0.5 and
     // 0.25 ms): the field itself conserves it.
     let dt = 2.5e-4;
     while s.tau < 2.0 * 12.8 {
         if s.tau >= 12.8 {
-            let x = chain.tool_pose(s.q.coords()).translation;
-            d.push(path.closest(&x).distance);
+            let pose = chain.tool_pose(s.q.coords());
+            d.push(path.closest(&pose.translation).distance);
+            if let Some(rd) = held {
+                let c = ((pose.rotation * rd.transpose()).trace() - 1.0) / 2.0;
+                angle = angle.max(c.clamp(-1.0, 1.0).acos());
+            }
         }
         s = sys.rk4_step(&s, dt, &SVector::zeros()).unwrap();
         drift = drift.max((energy(&s) - e0).abs() / e0);
@@ -225,9 +311,10 @@ fn the_ur5_follows_the_path_with_the_task_space_field() {
     let mean = d.iter().sum::<f64>() / d.len() as f64;
     let max = d.iter().cloned().fold(0.0, f64::max);
     println!(
-        "task-space field: {} samples, mean {mean:.2e} m, max {max:.2e} m, κ_a drift {drift:.1e}",
+        "task-space field: {} samples, mean {mean:.2e} m, max {max:.2e} m, orientation {angle:.1e} rad at most, κ_a drift {drift:.1e}",
         d.len()
     );
+    assert!(angle < 1e-3, "{angle:e}");
     assert!(d.len() > 1000);
     assert!(drift < 3e-5, "{drift:e}");
     assert!(mean < 1e-4 && max < 3e-4, "{mean:e} {max:e}");

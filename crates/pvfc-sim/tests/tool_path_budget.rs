@@ -163,6 +163,7 @@ fn the_adaptive_sampling_puts_the_ur5_contour_within_its_tolerance() {
     assert!(g.max <= 2e-5 && g.samples > 24, "{g:?}");
     assert!(g.max_angle.unwrap() < 1e-3, "{g:?}");
     let settings = ArmSettings {
+        field: pvfc_sim::model::arm_field::FieldSpec::Joint,
         contour: JointContourSpec::Waypoints {
             points: adaptive.waypoints.clone(),
             spacing: 0.05,
@@ -271,7 +272,7 @@ fn the_log_carries_the_budget() {
         .expect("the budget record");
     let m = mcap::read::metadata(&bytes, index).unwrap().metadata;
     let get = |k: &str| m[k].parse::<f64>().unwrap();
-    assert_eq!(get("geometry.samples"), b.geometry.samples as f64);
+    assert_eq!(get("geometry.samples"), b.geometry.unwrap().samples as f64);
     assert_eq!(get("distance.max_m"), b.spread.max);
     assert_eq!(get("surface.mean_m"), b.surface.unwrap().mean);
     assert_eq!(get("speed_m_per_s"), b.speed);

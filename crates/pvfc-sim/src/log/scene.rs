@@ -56,11 +56,13 @@ fn budget_record(b: &crate::trace::path_budget::PathBudget) -> BTreeMap<String, 
     let mut put = |k: &str, v: f64| {
         m.insert(k.to_string(), format!("{v:e}"));
     };
-    put("geometry.samples", b.geometry.samples as f64);
-    put("geometry.mean_m", b.geometry.mean);
-    put("geometry.max_m", b.geometry.max);
-    if let Some(a) = b.geometry.max_angle {
-        put("geometry.max_angle_rad", a);
+    if let Some(g) = &b.geometry {
+        put("geometry.samples", g.samples as f64);
+        put("geometry.mean_m", g.mean);
+        put("geometry.max_m", g.max);
+        if let Some(a) = g.max_angle {
+            put("geometry.max_angle_rad", a);
+        }
     }
     put("distance.mean_m", b.spread.mean);
     put("distance.p95_m", b.spread.p95);

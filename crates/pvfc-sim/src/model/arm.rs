@@ -5,6 +5,7 @@
 
 use super::{fixed, MAX_JOINTS, MAX_WAYPOINTS};
 use crate::error::{Result, SimError};
+use crate::model::arm_field::{ArmField, FieldSpec};
 use crate::model::robot::{ChainModel, Robot};
 use pvfc_core::augmented::AugmentedState;
 use pvfc_core::contour::ContourSample;
@@ -146,17 +147,6 @@ impl<const N: usize> Contour<f64, JointSpace<f64, N>, N> for JointContour<N> {
     }
 }
 
-/// The field of an `N`-joint arm: its joint-space contour, the mixed navigation function,
-/// exponential self-pacing (eq. 21).
-pub type ArmField<const N: usize> = SuspendedField<
-    f64,
-    JointSpace<f64, N>,
-    JointContour<N>,
-    JointNavigation<f64, N>,
-    ExponentialPacing<f64>,
-    N,
->;
-
 /// The controller of an `N`-joint arm.
 pub type ArmControllerN<const N: usize> =
     Controller<f64, JointSpace<f64, N>, SerialChain<f64, N>, ArmField<N>, N>;
@@ -164,8 +154,11 @@ pub type ArmControllerN<const N: usize> =
 /// The settings of an arm controller, as plain data (lengths checked against the robot).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ArmSettings {
-    /// The closed joint-space contour.
+    /// The closed joint-space contour (with the task-space field: the tool path's joint-space
+    /// image, for the timed tracker and the figures; its period is the field's).
     pub contour: JointContourSpec,
+    /// The field: the joint-space contour's, or the task-space field on a tool path.
+    pub field: FieldSpec,
     /// Navigation weights `h_i`, one per joint.
     pub h: Vec<f64>,
     /// Self-pacing `R` of eq. (21) (0: off).
@@ -226,11 +219,23 @@ pub fn arm_controller<const N: usize>(
 ) -> Result<ArmControllerN<N>> {
     let kinds = chain.kinds();
     let contour = s.contour.build(kinds)?;
-    let field = SuspendedField::new(
-        contour,
-        JointNavigation::new(fixed::<N>(&s.h, "h")?, kinds)?,
-        ExponentialPacing::new(s.self_pacing)?,
-    );
+    let pacing = ExponentialPacing::new(s.self_pacing)?;
+    let field = match &s.field {
+        FieldSpec::Joint => ArmField::Joint(SuspendedField::new(
+            contour,
+            JointNavigation::new(fixed::<N>(&s.h, "h")?, kinds)?,
+            pacing,
+        )),
+        FieldSpec::Task(t) => {
+            let period = s.contour.period().ok_or_else(|| {
+                setting("contour: the task-space field needs a closed contour (a period)".into())
+            })?;
+            ArmField::Task {
+                field: Box::new(t.build(chain, pacing, period)?),
+                image: contour,
+            }
+        }
+    };
     let flywheel = Flywheel::new(s.flywheel_inertia, s.energy)?;
     let law = PvfcLaw::new(chain, field, flywheel, s.gamma)?;
     let mut ctl = Controller::new(law).starting_at_rest(s.tau0);
@@ -300,9 +305,10 @@ impl ArmController {
         })
     }
 
-    /// `x_d(τ)`: the contour's point at `τ`.
+    /// `x_d(τ)`: the joint contour's point at `τ` (with the task-space field: the tool path's
+    /// joint-space image).
     pub fn contour_point(&self, tau: f64) -> Vec<f64> {
-        on_arm!(self, c, N => c.law().field().contour().point(tau).coords().as_slice().to_vec())
+        on_arm!(self, c, N => c.law().field().joint_contour().point(tau).coords().as_slice().to_vec())
     }
 
     /// The internal states `(τ, τ̇, q̇_F, laps)`.

@@ -14,6 +14,7 @@
 
 use crate::error::{Result, SimError, WaypointProblem};
 use crate::model::arm::JointContourSpec;
+use crate::model::arm_field::TaskFieldSpec;
 use crate::model::robot::Robot;
 use crate::model::tool_path::{Closest, ToolPath};
 use crate::with_dof;
@@ -75,7 +76,42 @@ pub struct CartesianSpec {
     /// The smallest manipulability accepted; default 1e-4.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub min_manipulability: Option<f64>,
+    /// `[contour.cartesian.task]`: follow the path with the task-space field (the tool's
+    /// error to the exact path, pulled back through the Jacobian) instead of the joint
+    /// contour through the waypoints. The waypoints are still solved: the timed tracker and
+    /// the figures use them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub task: Option<TaskSpec>,
 }
+
+/// `[contour.cartesian.task]`: the task-space field's gains (every key has a default, so
+/// `task = {}` chooses the field with them).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TaskSpec {
+    /// `k` of the position's navigation function `U = ½ k |e|²` (1/s); default
+    /// [`DEFAULT_TASK_STIFFNESS`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stiffness: Option<f64>,
+    /// `k_R` of the orientation's `U_R = k_R (1 − cos θ)` (1/s), with `fixed_orientation`;
+    /// default: `stiffness`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub orientation_stiffness: Option<f64>,
+    /// The damping `μ` of the Jacobian's inverse `Jᵀ(J Jᵀ + μ² I)⁻¹` (m): near a singularity
+    /// the field stays below `|w|/(2μ)`; default [`DEFAULT_TASK_DAMPING`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub damping: Option<f64>,
+    /// The gain (1/s) of the pull towards `rest` (default: the seed) in the task's null
+    /// space, for arms with more joints than the task has coordinates; default 1.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rest_gain: Option<f64>,
+}
+
+/// The task-space field's default stiffness `k` (1/s).
+pub const DEFAULT_TASK_STIFFNESS: f64 = 4.0;
+
+/// The task-space field's default damping `μ` (m).
+pub const DEFAULT_TASK_DAMPING: f64 = 0.01;
 
 /// A circle of the tool path, or an ellipse (with `semi_minor`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -139,6 +175,53 @@ impl CartesianSpec {
             }
             _ => Err(bad("give exactly one of points, circle or csv")),
         }
+    }
+
+    /// The task-space field's settings for `robot`, when the path has a
+    /// `[contour.cartesian.task]` table: the exact path, the gains, the orientation held (the
+    /// seed's tool orientation, with `fixed_orientation`) and the rest posture (`rest`, or
+    /// the seed for an arm with more joints than the task has coordinates).
+    pub fn task_field(&self, robot: &Robot, base_dir: &Path) -> Result<Option<TaskFieldSpec>> {
+        let Some(t) = &self.task else {
+            return Ok(None);
+        };
+        let positive = |x: Option<f64>, default: f64, key: &str| match x.unwrap_or(default) {
+            v if v.is_finite() && v > 0.0 => Ok(v),
+            v => Err(bad(format!("task.{key}: finite and > 0, got {v}"))),
+        };
+        let stiffness = positive(t.stiffness, DEFAULT_TASK_STIFFNESS, "stiffness")?;
+        let turn = positive(t.orientation_stiffness, stiffness, "orientation_stiffness")?;
+        let damping = positive(t.damping, DEFAULT_TASK_DAMPING, "damping")?;
+        let gain = positive(t.rest_gain, 1.0, "rest_gain")?;
+        if !self.orientations.is_empty() {
+            return Err(bad(
+                "task: the task-space field holds one orientation (fixed_orientation); \
+                 orientations along the path need the joint contour (remove [contour.cartesian.task])",
+            ));
+        }
+        let n = robot.dof();
+        if self.seed.len() != n || !self.seed.iter().all(|x| x.is_finite()) {
+            return Err(bad(format!("seed: {n} finite joint coordinates")));
+        }
+        let orientation = if self.fixed_orientation {
+            Some((robot.tool_pose(&self.seed)?.0, turn))
+        } else {
+            None
+        };
+        let dims = if self.fixed_orientation { 6 } else { 3 };
+        let rest = match &self.rest {
+            Some(r) if r.len() == n && r.iter().all(|x| x.is_finite()) => Some((r.clone(), gain)),
+            Some(_) => return Err(bad(format!("rest: {n} finite joint coordinates"))),
+            None if n > dims => Some((self.seed.clone(), gain)),
+            None => None,
+        };
+        Ok(Some(TaskFieldSpec {
+            path: self.path(base_dir)?,
+            stiffness,
+            damping,
+            orientation,
+            rest,
+        }))
     }
 
     /// The joint waypoints of the path for `robot` (those of [`joint_path`](Self::joint_path)).

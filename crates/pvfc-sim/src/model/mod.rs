@@ -5,6 +5,7 @@
 //! ([`cartesian`]), and joint friction ([`friction`]).
 
 pub mod arm;
+pub mod arm_field;
 pub mod cartesian;
 pub mod dispatch;
 pub mod friction;

@@ -41,13 +41,14 @@ impl Piece {
         }
     }
 
-    /// The point and unit tangent at arc length `s ∈ [0, length]` along the piece.
-    fn at(&self, s: f64) -> (Vector3<f64>, Vector3<f64>) {
+    /// The point, the unit tangent and the curvature vector (`d²x/ds²`) at arc length
+    /// `s ∈ [0, length]` along the piece.
+    fn at(&self, s: f64) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
         match self {
             Piece::Line { a, b } => {
                 let l = (b - a).norm();
                 let t = (b - a) / l;
-                (a + t * s.clamp(0.0, l), t)
+                (a + t * s.clamp(0.0, l), t, Vector3::zeros())
             }
             Piece::Arc {
                 center,
@@ -55,10 +56,14 @@ impl Piece {
                 axis,
                 ..
             } => {
-                let phi = s / start.norm();
-                let r = UnitQuaternion::from_axis_angle(axis, phi);
+                let radius = start.norm();
+                let r = UnitQuaternion::from_axis_angle(axis, s / radius);
                 let v = r * start;
-                (center + v, axis.cross(&v).normalize())
+                (
+                    center + v,
+                    axis.cross(&v).normalize(),
+                    -v / (radius * radius),
+                )
             }
             Piece::Ellipse {
                 center,
@@ -69,7 +74,14 @@ impl Piece {
             } => {
                 let theta = ellipse_angle(table, u, w, s);
                 let (sn, cs) = theta.sin_cos();
-                (center + u * cs + w * sn, (w * cs - u * sn).normalize())
+                // x' and x'' in θ; by arc length, d²x/ds² = (x'' − (x'·x''/|x'|²) x')/|x'|².
+                let (d1, d2) = (w * cs - u * sn, -(u * cs + w * sn));
+                let speed2 = d1.norm_squared();
+                (
+                    center + u * cs + w * sn,
+                    d1 / speed2.sqrt(),
+                    (d2 - d1 * (d1.dot(&d2) / speed2)) / speed2,
+                )
             }
         }
     }
@@ -334,6 +346,12 @@ impl ToolPath {
         self.pieces[k].at(r).1
     }
 
+    /// The point, unit tangent and curvature vector `d²x/ds²` at arc length `s`.
+    pub fn frame(&self, s: f64) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+        let (k, r) = self.piece_at(s);
+        self.pieces[k].at(r)
+    }
+
     /// `m` points at equal arc length, from the start.
     pub fn sample(&self, m: usize) -> Vec<Vector3<f64>> {
         (0..m)
@@ -381,5 +399,54 @@ impl ToolPath {
             })
             .all(|p| (p - centroid).dot(&n).abs() < 1e-6);
         flat.then_some(n)
+    }
+}
+
+/// A closed tool path as a contour on `ℝ³` for the task-space field: the exact path (no
+/// samples, no spline) traced at constant speed, one pass every `period` of `τ`, so that
+/// `p_d(τ)` is the point at arc length `s = τ L / period`, `p_d' = t L / period` and
+/// `p_d'' = κ (L / period)²` (`t` the unit tangent, `κ` the curvature vector). The path is
+/// C¹: its curvature jumps where a straight side meets an arc, so the field's rate jumps there
+/// too (the coupling needs the rate, not its continuity). Evaluating it finds the piece by
+/// bisection: it costs the same for any path and allocates nothing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PathContour {
+    path: ToolPath,
+    period: f64,
+}
+
+impl PathContour {
+    /// `path` traced once every `period` (> 0) of `τ`.
+    pub fn new(path: ToolPath, period: f64) -> Result<Self, String> {
+        if !(period.is_finite() && period > 0.0) {
+            return Err(format!(
+                "the pass's period must be finite and > 0, got {period}"
+            ));
+        }
+        Ok(PathContour { path, period })
+    }
+
+    /// The path.
+    pub fn path(&self) -> &ToolPath {
+        &self.path
+    }
+}
+
+impl pvfc_core::contour::Contour<f64, pvfc_core::lie::Rn<f64, 3>, 3> for PathContour {
+    fn sample(
+        &self,
+        tau: f64,
+    ) -> pvfc_core::contour::ContourSample<f64, pvfc_core::lie::Rn<f64, 3>, 3> {
+        let speed = self.path.length() / self.period;
+        let (p, t, k) = self.path.frame(tau * speed);
+        pvfc_core::contour::ContourSample {
+            point: pvfc_core::lie::Rn::new(p),
+            velocity: t * speed,
+            acceleration: k * (speed * speed),
+        }
+    }
+
+    fn period(&self) -> Option<f64> {
+        Some(self.period)
     }
 }

@@ -126,7 +126,13 @@ fn timed<const N: usize>(
 ) -> Result<Trace> {
     let settings = &system.settings;
     let ctl: ArmControllerN<N> = arm_controller(chain, settings)?;
-    let field = ctl.law().field();
+    let contour = ctl.law().field().joint_contour();
+    // U of the joint error, as for the joint-space field (the timed tracker follows the joint
+    // contour whichever field PVFC uses).
+    let navigation = JointNavigation::new(
+        joint_vector::<N>(&settings.h, "controller.h")?,
+        chain.kinds(),
+    )?;
     let comp = match &settings.friction_compensation {
         Some(f) => Some(
             FrictionCompensation::new(joint_vector::<N>(f, "controller.friction_compensation")?)?
@@ -143,7 +149,7 @@ fn timed<const N: usize>(
     let mut env = Spatial::of(s, system, &chain)?;
     let columns = env.columns();
     let law = |tau: f64, q: &JointSpace<f64, N>, v: &SVector<f64, N>| {
-        let xd = field.contour().sample(tau);
+        let xd = contour.sample(tau);
         let (xd_v, xd_a) = (
             xd.velocity * tau_rate,
             xd.acceleration * (tau_rate * tau_rate),
@@ -157,10 +163,7 @@ fn timed<const N: usize>(
             u += fc.torque(v);
         }
         let err = q.compose(&xd.point.inverse());
-        Ok((
-            BaselineSpec::saturate(u, &limits),
-            field.navigation().value(&err),
-        ))
+        Ok((BaselineSpec::saturate(u, &limits), navigation.value(&err)))
     };
     loops::timed(
         s,

@@ -179,7 +179,11 @@ where
 {
     let friction = s.plant.friction.clone();
     let (dt, h, n) = timing(s)?;
-    let mut trace = Trace::with_capacity(format!("{}-timed", s.name), N, n + 1);
+    let mut trace = Trace::with_capacity(
+        format!("{}{}", s.name, crate::trace::TIMED_SUFFIX),
+        N,
+        n + 1,
+    );
     let mut contact = columns.map(|dim| ContactTrace::with_capacity(n + 1, N, dim));
     let mut work = Work::default();
     for k in 0..=n {

@@ -10,6 +10,7 @@ use super::{
 };
 use crate::error::{Result, SimError};
 use crate::model::arm::{ArmController, ArmSettings, JointContourSpec};
+use crate::model::arm_field::FieldSpec;
 use crate::model::robot::Robot;
 use nalgebra::Vector2;
 use pvfc_core::prelude::*;
@@ -214,8 +215,15 @@ impl Scenario {
                         .into(),
                 )),
             };
+        let field = match &k.cartesian {
+            Some(p) => p
+                .task_field(robot, &self.base_dir)?
+                .map_or(FieldSpec::Joint, |t| FieldSpec::Task(Box::new(t))),
+            None => FieldSpec::Joint,
+        };
         Ok(ArmSettings {
             contour,
+            field,
             h: c.h.clone(),
             self_pacing: c.self_pacing,
             energy: c.energy,

@@ -246,7 +246,7 @@ impl PresetId {
 
     /// The name of its timed baseline's run (`NAME-timed`).
     pub fn timed_name(&self) -> String {
-        format!("{}-timed", self.name())
+        format!("{}{}", self.name(), crate::trace::TIMED_SUFFIX)
     }
 
     /// Every preset, in the order `pvfc reproduce` runs them (the planar ones of

@@ -207,6 +207,9 @@ macro_rules! column_table {
     };
 }
 
+/// The suffix of the timed baseline's trace name (`NAME-timed`).
+pub const TIMED_SUFFIX: &str = "-timed";
+
 macro_rules! define_traces {
     (
         trace { $($n:ident as $p:ident : $shape:ident $log:ident $doc:literal;)* }
@@ -228,6 +231,12 @@ macro_rules! define_traces {
         }
 
         impl Trace {
+            /// Whether this is the timed baseline's run (its name ends in
+            /// [`TIMED_SUFFIX`]).
+            pub fn is_timed(&self) -> bool {
+                self.name.ends_with(TIMED_SUFFIX)
+            }
+
             /// An empty trace of a `dof`-joint robot named `name`, with room for `n` samples
             /// (no reallocation in the run).
             pub(crate) fn with_capacity(name: String, dof: usize, n: usize) -> Self {

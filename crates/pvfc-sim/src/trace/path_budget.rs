@@ -55,8 +55,9 @@ pub struct NormalOffset {
 /// The error budget of a run on a Cartesian path.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PathBudget {
-    /// Geometry: the joint contour's own distance to the path.
-    pub geometry: ContourGeometry,
+    /// Geometry: the joint contour's own distance to the path; `None` when the controller
+    /// follows the exact path (the task-space field, `[contour.cartesian.task]`).
+    pub geometry: Option<ContourGeometry>,
     /// Tracking: the tool's 3-D distance to the path over the steady passes (every complete
     /// pass after the first; the last pass if there is only one), where the largest was.
     pub distance: PathError,
@@ -102,7 +103,11 @@ pub fn path_budget(s: &Scenario, robot: &Robot, t: &Trace) -> Result<Option<Path
         return Ok(None);
     };
     let path = c.path(&s.base_dir)?;
-    let geometry = c.joint_path(robot, &s.base_dir)?.geometry;
+    // The task-space field follows the exact path; the timed tracker, the joint contour.
+    let geometry = match c.task {
+        Some(_) if !t.is_timed() => None,
+        _ => Some(c.joint_path(robot, &s.base_dir)?.geometry),
+    };
     let tool =
         t.q.rows(range.clone())
             .map(|q| robot.tool_pose(q).map(|(_, p)| p))
@@ -165,16 +170,20 @@ impl std::fmt::Display for PathBudget {
     /// in 3-D, then the speed.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let mm = |x: f64| x * 1e3;
-        let g = &self.geometry;
-        write!(
-            f,
-            "geometry: {} samples, contour {:.4} mm from the path at most (mean {:.4} mm)",
-            g.samples,
-            mm(g.max),
-            mm(g.mean)
-        )?;
-        if let Some(a) = g.max_angle {
-            write!(f, ", orientation {:.3} mrad at most", a * 1e3)?;
+        match &self.geometry {
+            Some(g) => {
+                write!(
+                    f,
+                    "geometry: {} samples, contour {:.4} mm from the path at most (mean {:.4} mm)",
+                    g.samples,
+                    mm(g.max),
+                    mm(g.mean)
+                )?;
+                if let Some(a) = g.max_angle {
+                    write!(f, ", orientation {:.3} mrad at most", a * 1e3)?;
+                }
+            }
+            None => write!(f, "geometry: the exact path (task-space field)")?,
         }
         write!(
             f,

@@ -1,0 +1,123 @@
+//! The velocity field of an arm, chosen per scenario: the joint-space contour's
+//! ([`SuspendedField`]: the mixed navigation function of the joint error, eq. 30) or the
+//! task-space field on a Cartesian tool path ([`TaskSpaceField`]: the tool's position error,
+//! and its orientation's on SO(3) when it is held, pulled back through the damped inverse of
+//! the Jacobian). Both feed the same coupling, so passivity and the audits are the same.
+
+use super::fixed;
+use crate::error::{Result, SimError};
+use crate::model::arm::JointContour;
+use crate::model::tool_path::{PathContour, ToolPath};
+use nalgebra::{Matrix3, SVector};
+use pvfc_core::field::FieldSample;
+use pvfc_core::prelude::*;
+use pvfc_core::task_field::TaskSpaceField;
+
+/// The joint-space field of an `N`-joint arm: its joint contour, the mixed navigation
+/// function, exponential self-pacing (eq. 21).
+pub type JointField<const N: usize> = SuspendedField<
+    f64,
+    JointSpace<f64, N>,
+    JointContour<N>,
+    JointNavigation<f64, N>,
+    ExponentialPacing<f64>,
+    N,
+>;
+
+/// The task-space field of an `N`-joint arm on the exact tool path.
+pub type TaskField<const N: usize> = TaskSpaceField<f64, PathContour, ExponentialPacing<f64>, N>;
+
+/// The field of an `N`-joint arm.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ArmField<const N: usize> {
+    /// The joint-space contour's field.
+    Joint(JointField<N>),
+    /// The task-space field, with the path's joint-space image (its inverse kinematics, the
+    /// contour the timed tracker and the figures use; the field itself does not).
+    Task {
+        /// The field.
+        field: Box<TaskField<N>>,
+        /// The joint-space image of the path.
+        image: JointContour<N>,
+    },
+}
+
+impl<const N: usize> ArmField<N> {
+    /// The joint-space contour: the field's own, or the tool path's joint-space image.
+    pub fn joint_contour(&self) -> &JointContour<N> {
+        match self {
+            ArmField::Joint(f) => f.contour(),
+            ArmField::Task { image, .. } => image,
+        }
+    }
+}
+
+impl<const N: usize> VelocityField<f64, JointSpace<f64, N>, N> for ArmField<N> {
+    #[inline]
+    fn sample(
+        &self,
+        q: &JointSpace<f64, N>,
+        v: &SVector<f64, N>,
+        tau: f64,
+        tau_dot: f64,
+    ) -> FieldSample<f64, JointSpace<f64, N>, N> {
+        match self {
+            ArmField::Joint(f) => f.evaluate(q, v, tau, tau_dot),
+            ArmField::Task { field, .. } => field.evaluate(q, v, tau, tau_dot),
+        }
+    }
+
+    fn period(&self) -> Option<f64> {
+        match self {
+            ArmField::Joint(f) => VelocityField::period(f),
+            ArmField::Task { field, .. } => VelocityField::period(field.as_ref()),
+        }
+    }
+}
+
+/// Which field an arm's controller follows, as plain data.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum FieldSpec {
+    /// The joint-space contour's field (the settings' `contour`, `h`).
+    #[default]
+    Joint,
+    /// The task-space field on a tool path.
+    Task(Box<TaskFieldSpec>),
+}
+
+/// The task-space field's settings, as plain data.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TaskFieldSpec {
+    /// The tool path (m, base frame), traced once per period of the settings' contour.
+    pub path: ToolPath,
+    /// `k` of `U = ½ k |e|²` (1/s, > 0).
+    pub stiffness: f64,
+    /// The damping `μ` of the Jacobian's inverse (m, > 0).
+    pub damping: f64,
+    /// The tool's orientation to hold (a rotation matrix in the base frame) and its stiffness
+    /// `k_R` (1/s, > 0); `None`: the orientation is free.
+    pub orientation: Option<(Matrix3<f64>, f64)>,
+    /// The rest posture pulled towards in the task's null space, and the pull's gain (1/s).
+    pub rest: Option<(Vec<f64>, f64)>,
+}
+
+impl TaskFieldSpec {
+    /// The field of `chain` with self-pacing `pacing`, one pass of the path every `period`.
+    pub fn build<const N: usize>(
+        &self,
+        chain: SerialChain<f64, N>,
+        pacing: ExponentialPacing<f64>,
+        period: f64,
+    ) -> Result<TaskField<N>> {
+        let path = PathContour::new(self.path.clone(), period)
+            .map_err(|e| SimError::Setting(format!("contour.cartesian.task: {e}")))?;
+        let mut field = TaskSpaceField::new(chain, path, pacing, self.stiffness, self.damping)?;
+        if let Some((r, k)) = self.orientation {
+            field = field.with_orientation(r, k)?;
+        }
+        if let Some((rest, gain)) = &self.rest {
+            field = field.with_rest(fixed::<N>(rest, "contour.cartesian.rest")?, *gain)?;
+        }
+        Ok(field)
+    }
+}
