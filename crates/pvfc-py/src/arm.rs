@@ -92,7 +92,8 @@ impl ArmController {
     /// or `Ellipse` with one coordinate per joint), a navigation function (`JointNavigation`;
     /// default: every weight 1) and settings (`ControllerSettings`; default: its defaults).
     /// The contour and the navigation function take the robot's joint kinds (prismatic joints
-    /// are lengths).
+    /// are lengths). In place of the contour, a `TaskSpaceField` (`CartesianPath.task_field`)
+    /// makes the controller follow the tool path itself, with no navigation function.
     #[staticmethod]
     #[pyo3(signature = (robot, contour, navigation=None, settings=None))]
     fn compose(
@@ -102,6 +103,25 @@ impl ArmController {
         settings: Option<&ControllerSettings>,
     ) -> PyResult<Self> {
         let n = robot.robot.dof();
+        let d = ControllerSettings::default();
+        let settings = settings.unwrap_or(&d);
+        if let Ok(t) = contour.cast::<crate::cartesian::TaskSpaceField>() {
+            let t = t.get();
+            if t.image.dim() != n {
+                return Err(PyValueError::new_err(format!(
+                    "contour: a task-space field made for {} joints, the robot has {n}",
+                    t.image.dim()
+                )));
+            }
+            if navigation.is_some() {
+                return Err(PyValueError::new_err(
+                    "navigation: the task-space field has its own (its stiffness); give none",
+                ));
+            }
+            let mut s = settings.arm_settings(t.image.clone(), vec![1.0; n]);
+            s.field = t.field.clone();
+            return Self::build(robot, s);
+        }
         let spec = if let Ok(c) = contour.cast::<WaypointCurve>() {
             c.get().c.spec.clone()
         } else if let Ok(c) = contour.cast::<Lissajous>() {
@@ -110,7 +130,7 @@ impl ArmController {
             c.get().c.spec.clone()
         } else {
             return Err(PyTypeError::new_err(
-                "contour: expected a pvfc.WaypointCurve, pvfc.Lissajous or pvfc.Ellipse",
+                "contour: expected a pvfc.WaypointCurve, pvfc.Lissajous, pvfc.Ellipse or pvfc.TaskSpaceField",
             ));
         };
         if spec.dim() != n {
@@ -137,8 +157,7 @@ impl ArmController {
             }
             None => vec![1.0; n],
         };
-        let d = ControllerSettings::default();
-        Self::build(robot, settings.unwrap_or(&d).arm_settings(spec, h))
+        Self::build(robot, settings.arm_settings(spec, h))
     }
 
     /// The number of joints.

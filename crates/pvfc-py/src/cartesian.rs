@@ -7,7 +7,9 @@ use crate::errors::sim_err;
 use crate::robots::Robot;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2};
-use pvfc_sim::model::cartesian::{CartesianSpec, CircleSpec, ContourGeometry};
+use pvfc_sim::model::arm::JointContourSpec;
+use pvfc_sim::model::arm_field::FieldSpec;
+use pvfc_sim::model::cartesian::{CartesianSpec, CircleSpec, ContourGeometry, TaskSpec};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -188,6 +190,63 @@ impl CartesianPath {
         geometry_dict(py, &g)
     }
 
+    /// The task-space field on this path for `robot` (`ArmController.compose` takes it in
+    /// place of a joint contour): the tool's error to the exact path, `U = ½ k |e|²`
+    /// (`stiffness` k, 1/s), with `fixed_orientation` the tool held at the seed's orientation
+    /// (`U_R = k_R (1 − cos θ)`, `orientation_stiffness` k_R, default `stiffness`), pulled back
+    /// through the damped inverse `Jᵀ(J Jᵀ + μ² I)⁻¹` (`damping` μ, m), and for a redundant
+    /// arm a pull of `rest_gain` (1/s) towards `rest` (default: the seed) in the task's null
+    /// space. One pass of the path every `period` of τ. The path's joint waypoints are solved
+    /// too (same arguments as `joint_waypoints`): `ArmController.contour_point` gives them.
+    #[pyo3(signature = (robot, seed, period, *, fixed_orientation=false, stiffness=None, orientation_stiffness=None, damping=None, rest=None, rest_gain=None, max_jump=0.6, min_manipulability=1e-4))]
+    #[allow(clippy::too_many_arguments)]
+    fn task_field(
+        &self,
+        robot: &Robot,
+        seed: &Bound<'_, PyAny>,
+        period: f64,
+        fixed_orientation: bool,
+        stiffness: Option<f64>,
+        orientation_stiffness: Option<f64>,
+        damping: Option<f64>,
+        rest: Option<&Bound<'_, PyAny>>,
+        rest_gain: Option<f64>,
+        max_jump: f64,
+        min_manipulability: f64,
+    ) -> PyResult<TaskSpaceField> {
+        if !(period.is_finite() && period > 0.0) {
+            return Err(PyValueError::new_err(format!(
+                "period: finite and > 0, got {period}"
+            )));
+        }
+        let mut spec = self.with_ik(
+            robot,
+            seed,
+            fixed_orientation,
+            max_jump,
+            min_manipulability,
+            rest,
+            0.1,
+        )?;
+        spec.task = Some(TaskSpec {
+            stiffness,
+            orientation_stiffness,
+            damping,
+            rest_gain,
+        });
+        let base = std::path::Path::new(".");
+        let field = spec
+            .task_field(&robot.robot, base)
+            .map_err(sim_err)?
+            .ok_or_else(|| PyValueError::new_err("task: no task-space field"))?;
+        let points = spec.joint_waypoints(&robot.robot, base).map_err(sim_err)?;
+        let spacing = period / points.len() as f64;
+        Ok(TaskSpaceField {
+            image: JointContourSpec::Waypoints { points, spacing },
+            field: FieldSpec::Task(Box::new(field)),
+        })
+    }
+
     /// The path's length (m).
     #[getter]
     fn length(&self) -> PyResult<f64> {
@@ -286,4 +345,42 @@ pub(crate) fn geometry_dict<'py>(
     d.set_item("max_angle", g.max_angle)?;
     d.set_item("length", g.length)?;
     Ok(d)
+}
+
+/// The task-space field on a tool path for one robot (`CartesianPath.task_field`), which
+/// `ArmController.compose` takes in place of a joint contour.
+#[pyclass(module = "pvfc", frozen)]
+pub(crate) struct TaskSpaceField {
+    /// The path's joint-space image (its joint waypoints, one pass per period).
+    pub(crate) image: JointContourSpec,
+    /// The field.
+    pub(crate) field: FieldSpec,
+}
+
+#[pymethods]
+impl TaskSpaceField {
+    /// The number of joints of the robot it was made for.
+    #[getter]
+    fn dof(&self) -> usize {
+        self.image.dim()
+    }
+
+    /// The period of τ per pass of the path.
+    #[getter]
+    fn period(&self) -> Option<f64> {
+        self.image.period()
+    }
+
+    fn __repr__(&self) -> String {
+        match &self.field {
+            FieldSpec::Task(t) => format!(
+                "TaskSpaceField(dof={}, stiffness={}, damping={}, orientation held: {})",
+                self.image.dim(),
+                t.stiffness,
+                t.damping,
+                t.orientation.is_some()
+            ),
+            FieldSpec::Joint => "TaskSpaceField()".into(),
+        }
+    }
 }

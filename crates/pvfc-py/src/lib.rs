@@ -24,6 +24,7 @@ fn _pvfc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scara::Scara>()?;
     m.add_class::<robots::Robot>()?;
     m.add_class::<cartesian::CartesianPath>()?;
+    m.add_class::<cartesian::TaskSpaceField>()?;
     m.add_class::<arm::ArmController>()?;
     m.add_class::<contours::Lissajous>()?;
     m.add_class::<contours::Ellipse>()?;

@@ -110,41 +110,69 @@ def test_the_budget_of_a_run_splits_the_surface_from_the_normal(repo):
     assert r.path_budget(pvfc.Scenario.preset("fig6_unforced")) is None
 
 
-def test_a_ur5_closed_loop_on_pinocchio_meets_the_tracking_target():
+def test_a_scenario_chooses_the_task_space_field(repo):
+    """``[contour.cartesian.task]`` from a dict: the run follows the exact path (the budget
+    has no geometry term) within the machining target, and a bad gain names its key."""
+    s = pvfc.Scenario.from_file(repo / "scenarios" / "ur5_cartesian.toml")
+    d = s.to_dict()
+    d["plant"]["urdf"] = str(repo / "models" / "ur5" / "ur5_robot.urdf")
+    d["contour"]["cartesian"]["task"] = {"stiffness": 4.0}
+    d["contour"]["cartesian"]["tolerance"] = 1e-4  # the joint image only: a quicker test
+    d.pop("baseline")
+    d["duration"] = 25.0
+    r = pvfc.simulate(pvfc.Scenario.from_dict(d))
+    b = r.path_budget(pvfc.Scenario.from_dict(d))
+    assert b["geometry"] is None
+    assert b["surface"]["mean"] <= 1e-4 and b["surface"]["max"] <= 3e-4, b["surface"]
+    d["contour"]["cartesian"]["task"] = {"damping": -1.0}
+    with pytest.raises(pvfc.PvfcError, match="task.damping"):
+        pvfc.Scenario.from_dict(d)
+
+
+@pytest.mark.parametrize("field", ["joint", "task"])
+def test_a_ur5_closed_loop_on_pinocchio_meets_the_tracking_target(field):
     """The UR5 on Pinocchio's dynamics (``aba``, RK4 at 4 kHz, gravity), pvfc's controller at
-    1 kHz on the rectangle sampled to 10 µm (``ur5_cartesian``'s gains: γ = 10, Ē = 40 J,
-    h = 4, R = 50, gravity compensation, nominal speed (0.5, 1)), no friction: over the
-    second pass the tool, by Pinocchio's forward kinematics, stays within 0.1 mm of the path
-    on average and 0.3 mm at most (the closed-form distance), at over 50 mm/s."""
+    1 kHz (``ur5_cartesian``'s gains: γ = 10, Ē = 40 J, R = 50, gravity compensation, nominal
+    speed (0.5, 1)), no friction, following the rectangle either as a joint contour sampled
+    to 10 µm (h = 4) or with the task-space field on the exact path (k = 4, the tool held
+    pointing down): over the second pass the tool, by Pinocchio's forward kinematics, stays
+    within 0.1 mm of the path on average and 0.3 mm at most (the closed-form distance), at
+    over 50 mm/s, and with the task-space field its orientation within 1 mrad of the seed's."""
     robot, model, frame = models("ur5")
     data = model.createData()
     path = pvfc.CartesianPath(points=RECTANGLE, corner_radius=0.03, samples=0)
-    q_way = path.joint_waypoints(robot, UR5_SEED, fixed_orientation=True)
-    k = len(q_way)
-    arm = pvfc.ArmController(
-        robot,
-        q_way,
-        12.0 / k,
-        h=[4.0] * 6,
-        self_pacing=50.0,
-        energy=40.0,
-        gamma=10.0,
-        nominal_speed=(0.5, 1.0),
+    settings = pvfc.ControllerSettings(
+        self_pacing=50.0, energy=40.0, gamma=10.0, nominal_speed=(0.5, 1.0)
     )
+    if field == "joint":
+        q_way = path.joint_waypoints(robot, UR5_SEED, fixed_orientation=True)
+        contour = pvfc.WaypointCurve(q_way, 12.0 / len(q_way))
+        arm = pvfc.ArmController.compose(robot, contour, pvfc.JointNavigation([4.0] * 6), settings)
+    else:
+        task = path.task_field(robot, UR5_SEED, 12.0, fixed_orientation=True, stiffness=4.0)
+        assert task.dof == 6 and task.period == pytest.approx(12.0)
+        arm = pvfc.ArmController.compose(robot, task, settings=settings)
+        with pytest.raises(ValueError, match="navigation"):
+            pvfc.ArmController.compose(robot, task, pvfc.JointNavigation([4.0] * 6))
     dt, substeps = 1e-3, 4
     h = dt / substeps
     x = np.concatenate([np.array(UR5_SEED), np.zeros(6)])
+    pin.framesForwardKinematics(model, data, x[:6])
+    held = data.oMf[frame].rotation.copy()
 
     def f(x, u):
         return np.concatenate([x[6:], pin.aba(model, data, x[:6], x[6:], u)])
 
-    tool, taus = [], []
+    tool, taus, angle = [], [], 0.0
     for _ in range(int(26.0 / dt)):
         u = arm.step(x[:6], x[6:], dt)
         tau, _, _, laps = arm.state
         taus.append(tau + 12.0 * laps)
         pin.framesForwardKinematics(model, data, x[:6])
         tool.append(data.oMf[frame].translation.copy())
+        if taus[-1] >= 12.0:
+            c = (np.trace(data.oMf[frame].rotation @ held.T) - 1.0) / 2.0
+            angle = max(angle, np.arccos(np.clip(c, -1.0, 1.0)))
         for _ in range(substeps):
             k1 = f(x, u)
             k2 = f(x + 0.5 * h * k1, u)
@@ -157,9 +185,13 @@ def test_a_ur5_closed_loop_on_pinocchio_meets_the_tracking_target():
     tool = np.array(tool)[steady]
     d = rounded_rectangle_distance(tool)
     speed = np.sum(np.linalg.norm(np.diff(tool, axis=0), axis=1)) / (steady.sum() * dt)
-    print(f"steady samples {steady.sum()}, mean {d.mean():.2e} m, max {d.max():.2e} m, speed {speed:.3f} m/s")
+    print(
+        f"{field}: steady samples {steady.sum()}, mean {d.mean():.2e} m, max {d.max():.2e} m, "
+        f"speed {speed:.3f} m/s, orientation {angle:.1e} rad"
+    )
     assert d.mean() <= 1e-4 and d.max() <= 3e-4, (d.mean(), d.max())
     assert speed >= 0.05, speed
+    assert angle < 1e-3, angle
 
 
 def test_the_timed_tracker_saturates_at_its_torque_limit():

@@ -12,6 +12,7 @@ with numpy arrays, MCAP logs, and the paper's figures (``pvfc.plot``, needs matp
 from ._pvfc import (
     ArmController,
     CartesianPath,
+    TaskSpaceField,
     Controller,
     ControllerSettings,
     PassiveController,
@@ -48,6 +49,7 @@ from ._pvfc import (
 __all__ = [
     "ArmController",
     "CartesianPath",
+    "TaskSpaceField",
     "Controller",
     "ControllerSettings",
     "PassiveController",

@@ -14,6 +14,7 @@ _PathLike: TypeAlias = Union[str, "os.PathLike[str]"]
 __all__ = [
     "ArmController",
     "CartesianPath",
+    "TaskSpaceField",
     "Controller",
     "ControllerSettings",
     "DimensionMismatchError",
@@ -115,7 +116,29 @@ class CartesianPath:
         rest: Optional[_ArrayLike] = None,
         rest_gain: float = 0.1,
     ) -> _F64Array: ...
+    def task_field(
+        self,
+        robot: Robot,
+        seed: _ArrayLike,
+        period: float,
+        *,
+        fixed_orientation: bool = False,
+        stiffness: Optional[float] = None,
+        orientation_stiffness: Optional[float] = None,
+        damping: Optional[float] = None,
+        rest: Optional[_ArrayLike] = None,
+        rest_gain: Optional[float] = None,
+        max_jump: float = 0.6,
+        min_manipulability: float = 1e-4,
+    ) -> TaskSpaceField: ...
     def distances(self, tool: _ArrayLike) -> _F64Array: ...
+
+@final
+class TaskSpaceField:
+    @property
+    def dof(self) -> int: ...
+    @property
+    def period(self) -> Optional[float]: ...
 
 @final
 class Robot:
@@ -184,7 +207,7 @@ class ArmController:
     @staticmethod
     def compose(
         robot: Robot,
-        contour: Union[WaypointCurve, Lissajous, Ellipse],
+        contour: Union[WaypointCurve, Lissajous, Ellipse, TaskSpaceField],
         navigation: Optional[JointNavigation] = None,
         settings: Optional[ControllerSettings] = None,
     ) -> ArmController: ...
