@@ -23,7 +23,7 @@
 //! `−λ₂ k_R e_R`, `U = U_p + U_R` drives the self-pacing, and `J` stacks the position rows
 //! over the spatial angular rows (the joints' axes `w_i`). `U_R` is a navigation function on
 //! SO(3) apart from the rotations by π (θ = π is its unstable maximum set), the same
-//! construction as [`So3Navigation`](crate::navigation::so3::So3Navigation) with `P = k_R/2 · I`.
+//! construction as [`So3Navigation`](crate::navigation::So3Navigation) with `P = k_R/2 · I`.
 //!
 //! The rate along the motion `(q̇, τ̇)` is analytic: `J̇` from the spatial axes'
 //! rates `ṡ_i = V_{i−1} × s_i` (the velocity of link `i − 1` crossed into joint `i`'s axis),

@@ -6,7 +6,7 @@
 
 use super::fixed;
 use crate::error::{Result, SimError};
-use crate::model::arm::JointContour;
+use crate::model::joint_contour::JointContour;
 use crate::model::tool_path::{PathContour, ToolPath};
 use nalgebra::{Matrix3, SVector};
 use pvfc_core::field::FieldSample;

@@ -4,13 +4,14 @@
 //! along the path. The joint contour is then the periodic spline through those waypoints
 //! (`[contour] spacing`), as for a contour given in joint space.
 //!
-//! Why a joint-space contour and not a task-space field pulled back through the Jacobian:
-//! the field, the navigation function and the coupling stay exactly those of the joint-space
-//! arms (passivity is a property of the coupling and is untouched either way), the spline
-//! gives `ξ_d` and `dξ_d/dτ` in closed form, and the inverse kinematics is done once, where
-//! its failures (unreachable points, singularities, limits, branch jumps) can be reported by
-//! waypoint before anything runs. The price is that the tool follows the Cartesian path only
-//! at the waypoints and through the joint spline in between (the distance is reported).
+//! Why a joint-space contour by default: the field, the navigation function and the coupling
+//! stay exactly those of the joint-space arms, the spline gives `ξ_d` and `dξ_d/dτ` in closed
+//! form, and the inverse kinematics is done once, where its failures (unreachable points,
+//! singularities, limits, branch jumps) can be reported by waypoint before anything runs. The
+//! price is that the tool follows the Cartesian path through the joint spline between
+//! waypoints (the distance is reported, and the adaptive sampling bounds it). With
+//! `[contour.cartesian.task]` ([`TaskSpec`]) the controller follows the exact path instead,
+//! with the task-space field ([`crate::model::arm_field`]).
 
 use crate::error::{Result, SimError, WaypointProblem};
 use crate::model::arm::JointContourSpec;

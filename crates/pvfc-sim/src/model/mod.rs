@@ -9,6 +9,7 @@ pub mod arm_field;
 pub mod cartesian;
 pub mod dispatch;
 pub mod friction;
+pub mod joint_contour;
 pub mod robot;
 pub mod tool_path;
 

@@ -188,6 +188,8 @@ pub enum PresetId {
     Arm3d(Arm3dCase),
     /// A UR5 tool path at machining accuracy.
     ToolPath(ToolPathCase),
+    /// The same tool path followed with the task-space field (`NAME_task`).
+    ToolPathTask(ToolPathCase),
     /// Fig. 1 on the UR5's saturating drives: the rounded rectangle at `r` times its speed.
     Ur5Saturated {
         /// The demanded speed `r` (times the rectangle's 87 mm/s).
@@ -240,6 +242,7 @@ impl PresetId {
             PresetId::Arm3d(a) => format!("ur5_{}", a.label()),
             PresetId::ToolPath(ToolPathCase::Free) => "ur5_cartesian".into(),
             PresetId::ToolPath(ToolPathCase::Deburr) => "ur5_deburr_fine".into(),
+            PresetId::ToolPathTask(case) => format!("{}_task", PresetId::ToolPath(case).name()),
             PresetId::Ur5Saturated { speed } => format!("ur5_saturated_r{speed}"),
         }
     }
@@ -296,6 +299,7 @@ impl PresetId {
         v.extend(Arm3dCase::FILES.map(PresetId::Arm3d));
         v.push(PresetId::Arm3d(Arm3dCase::DeburrContinuous));
         v.extend(ToolPathCase::ALL.map(PresetId::ToolPath));
+        v.extend(ToolPathCase::ALL.map(PresetId::ToolPathTask));
         v.extend(UR5_SATURATED_SPEEDS.map(|speed| PresetId::Ur5Saturated { speed }));
         v
     }

@@ -558,7 +558,8 @@ pub fn arms_3d() -> crate::error::Result<Vec<Scenario>> {
 
 /// The UR5's tool paths at machining accuracy, read from the workspace's `scenarios/`
 /// (`ur5_cartesian.toml`, `ur5_deburr_fine.toml`), each beside its timed baseline, then the
-/// rectangle on saturating drives ([`ur5_saturated`]).
+/// same paths with the task-space field ([`tool_path_task`]), then the rectangle on
+/// saturating drives ([`ur5_saturated`]).
 pub fn tool_paths() -> crate::error::Result<Vec<Scenario>> {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
     let mut v = ToolPathCase::ALL
@@ -568,8 +569,28 @@ pub fn tool_paths() -> crate::error::Result<Vec<Scenario>> {
         })
         .collect::<crate::error::Result<Vec<_>>>()?;
     let free = v[0].clone();
+    let tasks: Vec<Scenario> = ToolPathCase::ALL
+        .iter()
+        .zip(&v)
+        .map(|(&case, s)| tool_path_task(s, case))
+        .collect();
+    v.extend(tasks);
     v.extend(UR5_SATURATED_SPEEDS.map(|speed| ur5_saturated(&free, speed)));
     Ok(v)
+}
+
+/// A tool path's scenario `s` (of `case`) followed with the task-space field (default gains:
+/// `[contour.cartesian.task]` empty) instead of the joint contour, the tool's orientation held
+/// as in `s`. No timed baseline: the joint contour's run has it, on the same geometry.
+pub fn tool_path_task(s: &Scenario, case: ToolPathCase) -> Scenario {
+    let mut t = s.clone();
+    t.name = PresetId::ToolPathTask(case).name();
+    t.description = format!("{} (task-space field)", s.description);
+    if let Some(c) = t.contour.cartesian.as_mut() {
+        c.task = Some(Default::default());
+    }
+    t.baseline = None;
+    t
 }
 
 /// The UR5's drive limits of Fig. 1 on saturating drives (N·m): below the URDF's effort
