@@ -15,13 +15,16 @@
 //!   null space of the task (for arms with more than three joints);
 //! * `V_τ = λ₁`.
 //!
-//! With an orientation to hold ([`with_orientation`](TaskSpaceField::with_orientation)), the
-//! task is six-dimensional: the tool's rotation `R(q)` is pulled to `R_d` by the navigation
-//! function `U_R = ½ k_R (3 − tr E) = k_R (1 − cos θ)`, `E = R R_dᵀ` (θ the angle of `E`),
-//! whose gradient in the spatial angular velocity is `k_R e_R` with `e_R = vee(½(E − Eᵀ)) =
-//! sin θ n`; its rate is `ė_R = ½ (tr E · I − E) ω`. The desired angular velocity is
-//! `−λ₂ k_R e_R`, `U = U_p + U_R` drives the self-pacing, and `J` stacks the position rows
-//! over the spatial angular rows (the joints' axes `w_i`). `U_R` is a navigation function on
+//! With an orientation ([`with_orientation`](TaskSpaceField::with_orientation) to hold one,
+//! [`with_orientation_path`](TaskSpaceField::with_orientation_path) for a contour `R_d(τ)` on
+//! SO(3), an SE(3) path), the task is six-dimensional: the tool's rotation `R(q)` is pulled to
+//! `R_d(τ)` by the navigation function `U_R = ½ k_R (3 − tr E) = k_R (1 − cos θ)`,
+//! `E = R R_dᵀ` (θ the angle of `E`), whose gradient in the spatial angular velocity is
+//! `k_R e_R` with `e_R = vee(½(E − Eᵀ)) = sin θ n`. With `ω_d = R_d ξ_d` the path's spatial
+//! angular velocity per unit of `τ` (`ξ_d` its body velocity), `Ė = [ω]E − τ̇ E[ω_d]`, so
+//! `ė_R = ½ (tr E · I − E) ω − ½ (tr E · I − Eᵀ) ω_d τ̇` and `U̇_R = k_R e_Rᵀ(ω − ω_d τ̇)`. The
+//! desired angular velocity is `λ₁ ω_d − λ₂ k_R e_R`, `U = U_p + U_R` drives the self-pacing,
+//! and `J` stacks the position rows over the spatial angular rows (the joints' axes `w_i`). `U_R` is a navigation function on
 //! SO(3) apart from the rotations by π (θ = π is its unstable maximum set), the same
 //! construction as [`So3Navigation`](crate::navigation::So3Navigation) with `P = k_R/2 · I`.
 //!
@@ -30,27 +33,33 @@
 //! `d(J⁺)/dt = J̇ᵀ A⁻¹ − Jᵀ A⁻¹ (J̇ Jᵀ + J J̇ᵀ) A⁻¹` with `A = J Jᵀ + μ² I`, and
 //! `ẇ = λ̇₁ p_d' + λ₁ p_d'' τ̇ − λ̇₂ k e − λ₂ k ė`, `ė = J q̇ − p_d' τ̇`, `λ̇ = λ'(U) k eᵀė`.
 
+use crate::contour::ConstantRate;
 use crate::contour::{Contour, ContourSample};
 use crate::error::{Error, ErrorKind, Result};
 use crate::field::{FieldSample, VelocityField};
-use crate::lie::{JointSpace, LieGroup, Rn};
+use crate::lie::{JointSpace, LieGroup, Rn, So3};
 use crate::mechanics::SerialChain;
 use crate::pacing::SelfPacing;
 use crate::scalar::cast;
 use crate::Real;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
+/// A held orientation: the constant contour on SO(3).
+pub type HeldOrientation<T> = ConstantRate<T, So3<T>, 3>;
+
 /// The task-space velocity field of a serial chain on a Cartesian path `X` (a contour on
-/// `ℝ³`, e.g. a periodic B-spline through points of the path), with self-pacing `S`.
+/// `ℝ³`, e.g. a periodic B-spline through points of the path), with self-pacing `S` and,
+/// optionally, the tool's orientation along `O` (a contour on SO(3); by default one held
+/// orientation).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TaskSpaceField<T: Real, X, S, const N: usize> {
+pub struct TaskSpaceField<T: Real, X, S, const N: usize, O = HeldOrientation<T>> {
     chain: SerialChain<T, N>,
     path: X,
     pacing: S,
     stiffness: T,
     damping: T,
     rest: Option<(SVector<T, N>, T)>,
-    orientation: Option<(Matrix3<T>, T)>,
+    orientation: Option<(O, T)>,
 }
 
 /// The tool's pose, its velocity, and the Jacobian (position rows over spatial angular rows)
@@ -114,30 +123,64 @@ where
     /// Holding the tool's orientation at `rotation` (a rotation matrix in the base frame) with
     /// the navigation function `U_R = k_R (1 − cos θ)` (`stiffness` `k_R` > 0, 1/s when
     /// `λ₂ = 1`): the task becomes six-dimensional.
-    pub fn with_orientation(mut self, rotation: Matrix3<T>, stiffness: T) -> Result<Self> {
-        let eps: T = cast(1e-6);
-        let orthonormal = (rotation.transpose() * rotation - Matrix3::identity())
-            .iter()
-            .all(|x| x.abs() <= eps)
-            && (rotation.determinant() - T::one()).abs() <= eps;
-        if !(rotation.iter().all(|x| x.is_finite()) && orthonormal) {
-            return Err(Error::new(
+    pub fn with_orientation(self, rotation: Matrix3<T>, stiffness: T) -> Result<Self> {
+        let r = So3::from_matrix(rotation, cast(1e-6)).map_err(|_| {
+            Error::new(
                 ErrorKind::InvalidParameter,
                 "TaskSpaceField: the orientation must be a rotation matrix",
-            ));
-        }
-        if !(stiffness.is_finite() && stiffness > T::zero()) {
-            return Err(Error::new(
-                ErrorKind::InvalidParameter,
-                "TaskSpaceField: the orientation's stiffness must be finite and > 0",
-            ));
-        }
-        self.orientation = Some((rotation, stiffness));
-        Ok(self)
+            )
+        })?;
+        self.with_orientation_path(ConstantRate::new(r, Vector3::zeros())?, stiffness)
+    }
+}
+
+impl<T, X, S, O, const N: usize> TaskSpaceField<T, X, S, N, O>
+where
+    T: Real,
+    X: Contour<T, Rn<T, 3>, 3>,
+    S: SelfPacing<T>,
+    O: Contour<T, So3<T>, 3>,
+{
+    /// With the tool's orientation along `orientation` (a contour `R_d(τ)` on SO(3), on the
+    /// same `τ` as the path) and the navigation function `U_R = k_R (1 − cos θ)` of the angle
+    /// between the tool's rotation and `R_d(τ)` (`stiffness` `k_R` > 0, 1/s when `λ₂ = 1`):
+    /// the task becomes six-dimensional.
+    pub fn with_orientation_path<P: Contour<T, So3<T>, 3>>(
+        self,
+        orientation: P,
+        stiffness: T,
+    ) -> Result<TaskSpaceField<T, X, S, N, P>> {
+        self.with_orientation_option(Some((orientation, stiffness)))
     }
 
-    /// The orientation held, with its stiffness, if any.
-    pub fn orientation(&self) -> Option<&(Matrix3<T>, T)> {
+    /// [`with_orientation_path`](Self::with_orientation_path) when `orientation` is given,
+    /// else the position only, with the orientation's type `P` either way (for callers that
+    /// choose at run time).
+    pub fn with_orientation_option<P: Contour<T, So3<T>, 3>>(
+        self,
+        orientation: Option<(P, T)>,
+    ) -> Result<TaskSpaceField<T, X, S, N, P>> {
+        if let Some((_, k)) = &orientation {
+            if !(k.is_finite() && *k > T::zero()) {
+                return Err(Error::new(
+                    ErrorKind::InvalidParameter,
+                    "TaskSpaceField: the orientation's stiffness must be finite and > 0",
+                ));
+            }
+        }
+        Ok(TaskSpaceField {
+            chain: self.chain,
+            path: self.path,
+            pacing: self.pacing,
+            stiffness: self.stiffness,
+            damping: self.damping,
+            rest: self.rest,
+            orientation,
+        })
+    }
+
+    /// The orientation's contour, with its stiffness, if any.
+    pub fn orientation(&self) -> Option<&(O, T)> {
         self.orientation.as_ref()
     }
 
@@ -265,20 +308,35 @@ where
         let mut u = half * k * e.dot(&e);
         let mut u_dot = k * e.dot(&e_dot);
         let mut gradient = kin.jac.fixed_rows::<3>(0).transpose() * (e * k);
-        // The orientation's error `e_R = vee(½(E − Eᵀ))`, `E = R R_dᵀ`, and its rate.
-        let turn = self.orientation.map(|(rd, kr)| {
+        // The orientation's error `e_R = vee(½(E − Eᵀ))`, `E = R R_dᵀ`, its rate, and the path's
+        // spatial angular velocity per τ with its derivative.
+        let turn = self.orientation.as_ref().map(|(o, kr)| {
+            let od = o.sample(tau);
+            let rd = *od.point.matrix();
+            let (wd, wd_dot) = (rd * od.velocity, rd * od.acceleration);
             let m = kin.rotation * rd.transpose();
+            let tr = m.trace();
             let e_r = Vector3::new(
                 m[(2, 1)] - m[(1, 2)],
                 m[(0, 2)] - m[(2, 0)],
                 m[(1, 0)] - m[(0, 1)],
             ) * half;
-            let e_r_dot = (Matrix3::identity() * m.trace() - m) * kin.omega * half;
-            (e_r, e_r_dot, kr, half * kr * (cast::<T>(3.0) - m.trace()))
+            let id = Matrix3::identity() * tr;
+            let e_r_dot = ((id - m) * kin.omega - (id - m.transpose()) * (wd * tau_dot)) * half;
+            let u_r_dot = *kr * e_r.dot(&(kin.omega - wd * tau_dot));
+            (
+                e_r,
+                e_r_dot,
+                *kr,
+                half * *kr * (cast::<T>(3.0) - tr),
+                u_r_dot,
+                wd,
+                wd_dot,
+            )
         });
-        if let Some((e_r, _, kr, u_r)) = &turn {
+        if let Some((e_r, _, kr, u_r, u_r_dot, _, _)) = &turn {
             u += *u_r;
-            u_dot += *kr * e_r.dot(&kin.omega);
+            u_dot += *u_r_dot;
             gradient += kin.jac.fixed_rows::<3>(3).transpose() * (e_r * *kr);
         }
         let g = self.pacing.gains(u);
@@ -297,9 +355,11 @@ where
                 &w_dot,
                 &c.velocity,
             ),
-            Some((e_r, e_r_dot, kr, _)) => {
-                let w_r = -(e_r * (g.lambda2 * *kr));
-                let w_r_dot = -(e_r * (l2_dot * *kr) + e_r_dot * (g.lambda2 * *kr));
+            Some((e_r, e_r_dot, kr, _, _, wd, wd_dot)) => {
+                let w_r = wd * g.lambda1 - e_r * (g.lambda2 * *kr);
+                let w_r_dot = wd * l1_dot + wd_dot * (g.lambda1 * tau_dot)
+                    - e_r * (l2_dot * *kr)
+                    - e_r_dot * (g.lambda2 * *kr);
                 let stack = |a: &Vector3<T>, b: &Vector3<T>| {
                     SVector::<T, 6>::new(a[0], a[1], a[2], b[0], b[1], b[2])
                 };
@@ -310,7 +370,7 @@ where
                     &kin.jac_dot,
                     &stack(&w, &w_r),
                     &stack(&w_dot, &w_r_dot),
-                    &stack(&c.velocity, &Vector3::zeros()),
+                    &stack(&c.velocity, wd),
                 )
             }
         };
@@ -334,11 +394,13 @@ where
     }
 }
 
-impl<T, X, S, const N: usize> VelocityField<T, JointSpace<T, N>, N> for TaskSpaceField<T, X, S, N>
+impl<T, X, S, O, const N: usize> VelocityField<T, JointSpace<T, N>, N>
+    for TaskSpaceField<T, X, S, N, O>
 where
     T: Real,
     X: Contour<T, Rn<T, 3>, 3>,
     S: SelfPacing<T>,
+    O: Contour<T, So3<T>, 3>,
 {
     /// The field and its rate. What [`FieldSample`] holds for this field: `potential` is `U`
     /// of the tool's error and `gradient` its joint-space gradient (`Jᵀ k e`, plus the

@@ -71,7 +71,11 @@ fn lcg(seed: &mut u64) -> f64 {
 }
 
 /// Random states near `q0`: the rate against `(V(q + h q̇, τ + h τ̇) − V(q − h q̇, τ − h τ̇))/2h`.
-fn check_rate<const N: usize>(field: &Field<N>, kinds: [JointKind; N], q0: SVector<f64, N>) {
+fn check_rate<const N: usize, F: VelocityField<f64, JointSpace<f64, N>, N>>(
+    field: &F,
+    kinds: [JointKind; N],
+    q0: SVector<f64, N>,
+) {
     let mut seed = 3;
     let mut worst = 0.0f64;
     for _ in 0..200 {
@@ -79,7 +83,7 @@ fn check_rate<const N: usize>(field: &Field<N>, kinds: [JointKind; N], q0: SVect
         let v = SVector::<f64, N>::from_fn(|_, _| 2.0 * (lcg(&mut seed) - 0.5));
         let (tau, tau_dot) = (12.8 * lcg(&mut seed), 2.0 * (lcg(&mut seed) - 0.5));
         let at = |h: f64| {
-            field.evaluate(
+            field.sample(
                 &JointSpace::new(q + v * h, kinds),
                 &v,
                 tau + tau_dot * h,
@@ -150,6 +154,58 @@ fn the_rate_is_the_derivative_along_the_motion_with_the_orientation_held() {
     assert!(f().with_orientation(-down(), 3.0).is_err());
     assert!(f().with_orientation(down(), 0.0).is_err());
     assert!(f().with_orientation(down(), f64::NAN).is_err());
+}
+
+/// A rotation about a fixed axis by `a sin τ`: body velocity `n a cos τ`, its derivative
+/// `−n a sin τ` (a contour on SO(3) whose acceleration is not zero).
+struct Nodding {
+    start: So3<f64>,
+    axis: nalgebra::Vector3<f64>,
+    amplitude: f64,
+}
+
+impl pvfc_core::contour::Contour<f64, So3<f64>, 3> for Nodding {
+    fn sample(&self, tau: f64) -> pvfc_core::contour::ContourSample<f64, So3<f64>, 3> {
+        let turn = So3::exp(&(self.axis * (self.amplitude * tau.sin())));
+        pvfc_core::contour::ContourSample {
+            point: self.start.compose(&turn),
+            velocity: self.axis * (self.amplitude * tau.cos()),
+            acceleration: -self.axis * (self.amplitude * tau.sin()),
+        }
+    }
+}
+
+/// With an orientation that moves along `τ` (an SE(3) path), the rate is still the
+/// derivative along the motion: the path's angular velocity and its derivative enter the
+/// orientation's error rate and the desired angular velocity (UR5 and Panda).
+#[test]
+fn the_rate_is_the_derivative_along_the_motion_with_a_moving_orientation() {
+    let nodding = || Nodding {
+        start: So3::from_matrix(down(), 1e-9).unwrap(),
+        axis: nalgebra::Vector3::new(0.6, 0.0, 0.8),
+        amplitude: 0.3,
+    };
+    let chain = ur5_chain();
+    let field = field_of(chain)
+        .with_orientation_path(nodding(), 3.0)
+        .unwrap();
+    check_rate(
+        &field,
+        chain.kinds(),
+        SVector::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0]),
+    );
+    let panda = robot("models/panda/panda.urdf", "panda_hand_tcp");
+    let chain = SerialChain::<f64, 7>::try_from(panda.model()).unwrap();
+    let rest = SVector::from([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8]);
+    let field = field_of(chain)
+        .with_rest(rest, 2.0)
+        .unwrap()
+        .with_orientation_path(nodding(), 3.0)
+        .unwrap();
+    check_rate(&field, chain.kinds(), rest);
+    assert!(field_of(ur5_chain())
+        .with_orientation_path(nodding(), -1.0)
+        .is_err());
 }
 
 /// The orientation's navigation function: `U_R = k_R (1 − cos θ)` and its gradient

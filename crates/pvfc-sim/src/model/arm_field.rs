@@ -7,6 +7,7 @@
 use super::fixed;
 use crate::error::{Result, SimError};
 use crate::model::joint_contour::JointContour;
+use crate::model::path_orientation::{CornerOrientations, PathOrientation};
 use crate::model::tool_path::{PathContour, ToolPath};
 use nalgebra::{Matrix3, SVector};
 use pvfc_core::field::FieldSample;
@@ -24,8 +25,10 @@ pub type JointField<const N: usize> = SuspendedField<
     N,
 >;
 
-/// The task-space field of an `N`-joint arm on the exact tool path.
-pub type TaskField<const N: usize> = TaskSpaceField<f64, PathContour, ExponentialPacing<f64>, N>;
+/// The task-space field of an `N`-joint arm on the exact tool path, with the tool's
+/// orientation along it (if any).
+pub type TaskField<const N: usize> =
+    TaskSpaceField<f64, PathContour, ExponentialPacing<f64>, N, PathOrientation>;
 
 /// The field of an `N`-joint arm.
 #[derive(Clone, Debug, PartialEq)]
@@ -94,11 +97,20 @@ pub struct TaskFieldSpec {
     pub stiffness: f64,
     /// The damping `μ` of the Jacobian's inverse (m, > 0).
     pub damping: f64,
-    /// The tool's orientation to hold (a rotation matrix in the base frame) and its stiffness
-    /// `k_R` (1/s, > 0); `None`: the orientation is free.
-    pub orientation: Option<(Matrix3<f64>, f64)>,
+    /// The tool's orientation along the path and its stiffness `k_R` (1/s, > 0); `None`: the
+    /// orientation is free.
+    pub orientation: Option<(TaskOrientation, f64)>,
     /// The rest posture pulled towards in the task's null space, and the pull's gain (1/s).
     pub rest: Option<(Vec<f64>, f64)>,
+}
+
+/// The tool's orientation along a task-space field's path, as plain data.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TaskOrientation {
+    /// One orientation held (a rotation matrix in the base frame).
+    Held(Matrix3<f64>),
+    /// The orientations at the polyline's corners (an SE(3) path).
+    Corners(CornerOrientations),
 }
 
 impl TaskFieldSpec {
@@ -111,10 +123,26 @@ impl TaskFieldSpec {
     ) -> Result<TaskField<N>> {
         let path = PathContour::new(self.path.clone(), period)
             .map_err(|e| SimError::Setting(format!("contour.cartesian.task: {e}")))?;
-        let mut field = TaskSpaceField::new(chain, path, pacing, self.stiffness, self.damping)?;
-        if let Some((r, k)) = self.orientation {
-            field = field.with_orientation(r, k)?;
-        }
+        let orientation = match &self.orientation {
+            None => None,
+            Some((TaskOrientation::Held(r), k)) => Some((
+                PathOrientation::Held(So3::from_matrix(*r, 1e-6).map_err(|_| {
+                    SimError::Setting(
+                        "contour.cartesian.task: the orientation is not a rotation".into(),
+                    )
+                })?),
+                *k,
+            )),
+            Some((TaskOrientation::Corners(c), k)) => Some((
+                PathOrientation::Corners {
+                    corners: c.clone(),
+                    period,
+                },
+                *k,
+            )),
+        };
+        let mut field = TaskSpaceField::new(chain, path, pacing, self.stiffness, self.damping)?
+            .with_orientation_option(orientation)?;
         if let Some((rest, gain)) = &self.rest {
             field = field.with_rest(fixed::<N>(rest, "contour.cartesian.rest")?, *gain)?;
         }

@@ -15,7 +15,8 @@
 
 use crate::error::{Result, SimError, WaypointProblem};
 use crate::model::arm::JointContourSpec;
-use crate::model::arm_field::TaskFieldSpec;
+use crate::model::arm_field::{TaskFieldSpec, TaskOrientation};
+use crate::model::path_orientation::CornerOrientations;
 use crate::model::robot::Robot;
 use crate::model::tool_path::{Closest, ToolPath};
 use crate::with_dof;
@@ -56,9 +57,9 @@ pub struct CartesianSpec {
     /// Hold the tool's orientation at the seed's (else it is free).
     pub fixed_orientation: bool,
     /// The tool's orientation at each of `points` (roll, pitch, yaw in the base frame, URDF's
-    /// convention), for a path in SE(3): between two corners the orientation turns at
-    /// constant rate (slerp) with the position's progress along the sharp polyline. Empty:
-    /// position only (with `fixed_orientation` or free).
+    /// convention), for a path in SE(3): between the path's points closest to two
+    /// neighbouring corners the orientation turns at constant rate (slerp) with the arc length
+    /// ([`CornerOrientations`]). Empty: position only (with `fixed_orientation` or free).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub orientations: Vec<[f64; 3]>,
     /// A rest posture for redundant tasks (more joints than the path fixes coordinates: 3 for
@@ -94,8 +95,8 @@ pub struct TaskSpec {
     /// [`DEFAULT_TASK_STIFFNESS`].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stiffness: Option<f64>,
-    /// `k_R` of the orientation's `U_R = k_R (1 − cos θ)` (1/s), with `fixed_orientation`;
-    /// default: `stiffness`.
+    /// `k_R` of the orientation's `U_R = k_R (1 − cos θ)` (1/s), with `fixed_orientation` or
+    /// `orientations`; default: `stiffness`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub orientation_stiffness: Option<f64>,
     /// The damping `μ` of the Jacobian's inverse `Jᵀ(J Jᵀ + μ² I)⁻¹` (m): near a singularity
@@ -179,8 +180,9 @@ impl CartesianSpec {
     }
 
     /// The task-space field's settings for `robot`, when the path has a
-    /// `[contour.cartesian.task]` table: the exact path, the gains, the orientation held (the
-    /// seed's tool orientation, with `fixed_orientation`) and the rest posture (`rest`, or
+    /// `[contour.cartesian.task]` table: the exact path, the gains, the orientation (the
+    /// seed's tool orientation held, with `fixed_orientation`; the corners' along the path,
+    /// with `orientations`) and the rest posture (`rest`, or
     /// the seed for an arm with more joints than the task has coordinates).
     pub fn task_field(&self, robot: &Robot, base_dir: &Path) -> Result<Option<TaskFieldSpec>> {
         let Some(t) = &self.task else {
@@ -194,22 +196,21 @@ impl CartesianSpec {
         let turn = positive(t.orientation_stiffness, stiffness, "orientation_stiffness")?;
         let damping = positive(t.damping, DEFAULT_TASK_DAMPING, "damping")?;
         let gain = positive(t.rest_gain, 1.0, "rest_gain")?;
-        if !self.orientations.is_empty() {
-            return Err(bad(
-                "task: the task-space field holds one orientation (fixed_orientation); \
-                 orientations along the path need the joint contour (remove [contour.cartesian.task])",
-            ));
-        }
         let n = robot.dof();
         if self.seed.len() != n || !self.seed.iter().all(|x| x.is_finite()) {
             return Err(bad(format!("seed: {n} finite joint coordinates")));
         }
+        if self.fixed_orientation && !self.orientations.is_empty() {
+            return Err(bad("give orientations or fixed_orientation, not both"));
+        }
         let orientation = if self.fixed_orientation {
-            Some((robot.tool_pose(&self.seed)?.0, turn))
+            Some((TaskOrientation::Held(robot.tool_pose(&self.seed)?.0), turn))
+        } else if !self.orientations.is_empty() {
+            Some((TaskOrientation::Corners(self.corner_orientations()?), turn))
         } else {
             None
         };
-        let dims = if self.fixed_orientation { 6 } else { 3 };
+        let dims = if orientation.is_some() { 6 } else { 3 };
         let rest = match &self.rest {
             Some(r) if r.len() == n && r.iter().all(|x| x.is_finite()) => Some((r.clone(), gain)),
             Some(_) => return Err(bad(format!("rest: {n} finite joint coordinates"))),
@@ -529,9 +530,9 @@ impl PathError {
 }
 
 impl CartesianSpec {
-    /// The tool's orientation at each sampled point of a path with `orientations`: the
-    /// points' sharp polygon segment closest to the sample, and the slerp between its two
-    /// corners' orientations at the sample's fraction along it. `None` without orientations.
+    /// The tool's orientation at each sampled point of a path with `orientations`
+    /// ([`CornerOrientations`]: between the path's points closest to two neighbouring corners,
+    /// the slerp of their orientations with the arc length). `None` without orientations.
     pub fn sampled_orientations(
         &self,
         samples: &[Vector3<f64>],
@@ -539,6 +540,19 @@ impl CartesianSpec {
         if self.orientations.is_empty() {
             return Ok(None);
         }
+        let corners = self.corner_orientations()?;
+        let path = self.path(Path::new("."))?;
+        Ok(Some(
+            samples
+                .iter()
+                .map(|x| corners.at(path.closest(x).along).0)
+                .collect(),
+        ))
+    }
+
+    /// The orientations at the corners, for a path with `orientations` (checked: one per
+    /// point, finite, no half turn between neighbours).
+    pub fn corner_orientations(&self) -> Result<CornerOrientations> {
         let n = self.points.len();
         if self.orientations.len() != n || n == 0 {
             return Err(bad(format!(
@@ -548,52 +562,14 @@ impl CartesianSpec {
         if !self.orientations.iter().flatten().all(|x| x.is_finite()) {
             return Err(bad("orientations must be finite"));
         }
-        let corner = |i: usize| Vector3::from(self.points[i % n]);
-        let rot = |i: usize| {
-            let [r, p, y] = self.orientations[i % n];
-            nalgebra::UnitQuaternion::from_euler_angles(r, p, y)
-        };
-        samples
+        let corners: Vec<Vector3<f64>> = self.points.iter().map(|p| Vector3::from(*p)).collect();
+        let rotations: Vec<_> = self
+            .orientations
             .iter()
-            .map(|x| {
-                let (i, t, _) = (0..n)
-                    .map(|i| {
-                        let (t, d) = closest_on_segment(x, &corner(i), &corner(i + 1));
-                        (i, t, d)
-                    })
-                    .fold((0, 0.0, f64::INFINITY), |a, b| if b.2 < a.2 { b } else { a });
-                // The shorter way round; half a turn (quaternions orthogonal) has two
-                // equally short ways and is an error.
-                let (a, b) = (rot(i), rot(i + 1));
-                let half_turn = || {
-                    bad(format!(
-                        "orientations: points {i} and {} differ by half a turn (no unique way between them)",
-                        (i + 1) % n
-                    ))
-                };
-                if a.coords.dot(&b.coords).abs() < 1e-6 {
-                    return Err(half_turn());
-                }
-                a.try_slerp(&b, t, 1e-9)
-                    .map(|q| q.to_rotation_matrix().into_inner())
-                    .ok_or_else(half_turn)
-            })
-            .collect::<Result<Vec<_>>>()
-            .map(Some)
+            .map(|[r, p, y]| nalgebra::UnitQuaternion::from_euler_angles(*r, *p, *y))
+            .collect();
+        CornerOrientations::new(&self.path(Path::new("."))?, &corners, &rotations).map_err(bad)
     }
-}
-
-/// The closest point of segment `ab` to `p`, as its fraction `t ∈ [0, 1]` along `ab`, and the
-/// distance to it.
-fn closest_on_segment(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> (f64, f64) {
-    let ab = b - a;
-    let l2 = ab.norm_squared();
-    let t = if l2 > 0.0 {
-        ((p - a).dot(&ab) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (t, (p - (a + ab * t)).norm())
 }
 
 /// The circle or ellipse.

@@ -10,6 +10,7 @@ pub mod cartesian;
 pub mod dispatch;
 pub mod friction;
 pub mod joint_contour;
+pub mod path_orientation;
 pub mod robot;
 pub mod tool_path;
 
