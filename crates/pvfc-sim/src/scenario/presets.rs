@@ -332,7 +332,12 @@ pub fn fig1_saturated(speed: u32) -> Scenario {
     // The velocity error converges at γβĒ (Remark 1), which grows as r³: γ / r³ keeps that
     // rate at Fig. 8's (50/s), which a 1 kHz controller samples well.
     s.controller.gamma /= r * r * r;
-    s.controller.nominal_speed = Some(NominalSpeedSpec { c: 0.01, r });
+    // The run starts at its energy level, β = r (the flywheel holds κ_a = r²Ē with the arm at
+    // rest), and the nominal-speed control holds it there with a time constant 1/c = 2 s (with
+    // the paper's c = 0.01, 100 s, β would still be on its way from 1 to r when the run ends).
+    s.controller.nominal_speed = Some(NominalSpeedSpec { c: 0.5, r });
+    s.initial.flywheel_speed =
+        Some(r * (2.0 * s.controller.energy / s.controller.flywheel_inertia).sqrt());
     s.controller.passive = Some(PassiveSpec {
         torque_limit: FIG1_TORQUE_LIMITS.to_vec(),
         ..PassiveSpec::default()
@@ -616,6 +621,9 @@ pub fn ur5_saturated(free: &Scenario, speed: u32) -> Scenario {
     if let Some(n) = s.controller.nominal_speed.as_mut() {
         n.r = r;
     }
+    // Starting at β = r (κ_a = r²Ē with the arm at rest).
+    s.initial.flywheel_speed =
+        Some(r * (2.0 * s.controller.energy / s.controller.flywheel_inertia).sqrt());
     s.controller.passive = Some(PassiveSpec {
         torque_limit: UR5_TORQUE_LIMITS.to_vec(),
         ..PassiveSpec::default()
