@@ -1,13 +1,34 @@
 #!/usr/bin/env bash
-# All the tests: the Rust workspace (cargo test), then the Python wheel built into a fresh
-# virtual environment with its pytest suite and the stub check (mypy.stubtest).
-# Needs Rust (rustup) and Python ≥ 3.9 with venv; installs the rest itself.
+# All the tests: the Rust workspace (cargo test), the C ABI from C (under valgrind when it is
+# installed), then the Python wheel built into a fresh virtual environment with its pytest
+# suite and the stub check (mypy.stubtest).
+# Needs Rust (rustup), a C and a C++ compiler, and Python ≥ 3.9 with venv; installs the rest
+# itself.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 stage() { echo "=== $* (${SECONDS} s so far)"; }
 
 stage "cargo test"
 cargo test --locked
+
+stage "C and C++: the C ABI (crates/pvfc-c) from C, under valgrind"
+# The static library of the test profile that `cargo test` built (no second profile).
+cargo build --locked -p pvfc-c --profile test
+mkdir -p target/c
+cc -std=c99 -Wall -Wextra -Werror -pedantic crates/pvfc-c/tests/c/test_pvfc.c \
+  -Icrates/pvfc-c/include target/debug/libpvfc_c.a -lm -lpthread -ldl -o target/c/test_pvfc
+# The header also compiles as C++ (cbindgen's cpp_compat).
+c++ -std=c++17 -Wall -Wextra -Werror -fsyntax-only -x c++ crates/pvfc-c/include/pvfc.h
+if command -v valgrind >/dev/null; then
+  valgrind --error-exitcode=1 --leak-check=full --errors-for-leak-kinds=definite,indirect \
+    --quiet target/c/test_pvfc models/ur5/ur5_robot.urdf
+elif [ -n "${PVFC_REQUIRE_VALGRIND:-}" ]; then
+  echo "valgrind is needed (PVFC_REQUIRE_VALGRIND is set)" >&2
+  exit 1
+else
+  echo "valgrind not found: running the C test without it"
+  target/c/test_pvfc models/ur5/ur5_robot.urdf
+fi
 
 stage "Python: build the wheel into a fresh virtual environment"
 venv="${PVFC_VENV:-target/py-venv}"

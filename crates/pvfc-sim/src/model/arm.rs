@@ -61,6 +61,19 @@ pub struct ArmStep {
     pub internal: (f64, f64, f64),
 }
 
+/// The numbers of one control step besides the torque ([`ArmController::step_into`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepDiagnostics {
+    /// `U`.
+    pub potential: f64,
+    /// `β`.
+    pub beta: f64,
+    /// `κ_a` at the state the torque was computed at.
+    pub kinetic_energy: f64,
+    /// `τ` (wrapped), `τ̇`, `q̇_F` before the step.
+    pub internal: (f64, f64, f64),
+}
+
 crate::dof_enum! {
     /// An arm controller for 1 to 8 joints.
     #[derive(Clone, Debug)]
@@ -135,12 +148,36 @@ impl ArmController {
     /// One control step at the measured `(q, q̇)`: the torque, and the internal states advanced
     /// over `dt`. On error the state is unchanged.
     pub fn step(&mut self, q: &[f64], v: &[f64], dt: f64) -> Result<ArmStep> {
+        let mut torque = vec![0.0; self.dof()];
+        let d = self.step_into(q, v, dt, &mut torque)?;
+        Ok(ArmStep {
+            torque,
+            potential: d.potential,
+            beta: d.beta,
+            kinetic_energy: d.kinetic_energy,
+            internal: d.internal,
+        })
+    }
+
+    /// [`step`](Self::step) writing the torque into `torque` (one entry per joint): allocates
+    /// nothing, for real-time callers (the C ABI). On error the state and `torque` are
+    /// unchanged.
+    pub fn step_into(
+        &mut self,
+        q: &[f64],
+        v: &[f64],
+        dt: f64,
+        torque: &mut [f64],
+    ) -> Result<StepDiagnostics> {
         on_arm!(self, c, N => {
+            if torque.len() != N {
+                return Err(setting(format!("torque: {} entries for {N} joints", torque.len())));
+            }
             let kinds = c.law().system().kinds();
             let q = JointSpace::new(fixed::<N>(q, "q")?, kinds);
             let out = c.step(&q, &fixed::<N>(v, "v")?, dt)?;
-            Ok(ArmStep {
-                torque: out.torque.as_slice().to_vec(),
+            torque.copy_from_slice(out.torque.as_slice());
+            Ok(StepDiagnostics {
                 potential: out.diagnostics.potential,
                 beta: out.diagnostics.beta,
                 kinetic_energy: out.diagnostics.kinetic_energy,
@@ -260,18 +297,46 @@ impl PassiveArm {
         applied: Option<&[f64]>,
         dt: f64,
     ) -> Result<PassiveArmStep> {
+        let n = self.dof();
+        let (mut torque, mut velocity) = (vec![0.0; n], vec![0.0; n]);
+        let (potential, energy) =
+            self.step_into(q, v, applied, dt, &mut torque, Some(&mut velocity))?;
+        Ok(PassiveArmStep {
+            torque,
+            velocity,
+            potential,
+            energy,
+        })
+    }
+
+    /// [`step`](Self::step) writing the torque (and, if given, the velocity the law used) into
+    /// the caller's slices: allocates nothing. Returns `U` and the period's energy account. On
+    /// error nothing changes.
+    pub fn step_into(
+        &mut self,
+        q: &[f64],
+        v: Option<&[f64]>,
+        applied: Option<&[f64]>,
+        dt: f64,
+        torque: &mut [f64],
+        velocity: Option<&mut [f64]>,
+    ) -> Result<(f64, EnergyAccount<f64>)> {
         crate::on_joints!(PassiveArm, self, c, N => {
+            if torque.len() != N || velocity.as_ref().is_some_and(|x| x.len() != N) {
+                return Err(SimError::Setting(format!(
+                    "torque, velocity: {N} entries each"
+                )));
+            }
             let kinds = c.controller().law().system().kinds();
             let q = JointSpace::new(fixed::<N>(q, "q")?, kinds);
             let v = v.map(|v| fixed::<N>(v, "v")).transpose()?;
             let u = applied.map(|u| fixed::<N>(u, "applied")).transpose()?;
             let out = c.step(&q, v.as_ref(), u.as_ref(), dt)?;
-            Ok(PassiveArmStep {
-                torque: out.torque.as_slice().to_vec(),
-                velocity: out.velocity.as_slice().to_vec(),
-                potential: out.diagnostics.potential,
-                energy: out.energy,
-            })
+            torque.copy_from_slice(out.torque.as_slice());
+            if let Some(w) = velocity {
+                w.copy_from_slice(out.velocity.as_slice());
+            }
+            Ok((out.diagnostics.potential, out.energy))
         })
     }
 

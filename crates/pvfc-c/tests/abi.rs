@@ -1,0 +1,231 @@
+//! The C ABI called as C would call it: the step gives the same torque as the Rust
+//! controller, allocates nothing (a counting global allocator), and bad pointers are error
+//! codes with messages.
+#![allow(unsafe_code)]
+
+use pvfc_c::*;
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::ffi::{CStr, CString};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+// SAFETY: forwards to the system allocator, counting.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        // SAFETY: forwarded.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: forwarded.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+const WAYPOINTS: [f64; 18] = [
+    0.0, -1.2, 1.4, -1.8, -1.57, 0.0, //
+    0.3, -1.0, 1.2, -1.7, -1.57, 0.2, //
+    -0.2, -1.3, 1.5, -1.9, -1.57, -0.1,
+];
+
+fn urdf() -> CString {
+    let p = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../models/ur5/ur5_robot.urdf"
+    );
+    CString::new(p).unwrap()
+}
+
+fn last_error() -> String {
+    // SAFETY: a valid C string owned by the library.
+    unsafe { CStr::from_ptr(pvfc_last_error()) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+fn controller(robot: *const pvfc_robot) -> *mut pvfc_controller {
+    let mut s = pvfc_settings_default();
+    s.energy = 40.0;
+    s.self_pacing = 50.0;
+    let mut ctl = std::ptr::null_mut();
+    // SAFETY: valid arrays and handles.
+    let status = unsafe {
+        pvfc_controller_new_waypoints(
+            robot,
+            WAYPOINTS.as_ptr(),
+            3,
+            6,
+            1.5,
+            std::ptr::null(),
+            0,
+            &s,
+            &mut ctl,
+        )
+    };
+    assert_eq!(status, pvfc_status::PVFC_OK, "{}", last_error());
+    ctl
+}
+
+#[test]
+fn the_c_step_is_the_rust_step_and_allocates_nothing() {
+    let path = urdf();
+    let mut robot = std::ptr::null_mut();
+    // SAFETY: valid strings and out pointer.
+    let status = unsafe {
+        pvfc_robot_from_urdf_file(
+            path.as_ptr(),
+            std::ptr::null(),
+            c"tool0".as_ptr(),
+            &mut robot,
+        )
+    };
+    assert_eq!(status, pvfc_status::PVFC_OK, "{}", last_error());
+    let ctl = controller(robot);
+    // The same controller in Rust.
+    let r = pvfc_sim::model::robot::Robot::from_urdf(
+        std::path::Path::new(path.to_str().unwrap()),
+        None,
+        Some("tool0"),
+    )
+    .unwrap();
+    let settings = pvfc_sim::model::arm::ArmSettings {
+        contour: pvfc_sim::model::arm::JointContourSpec::Waypoints {
+            points: WAYPOINTS.chunks(6).map(<[f64]>::to_vec).collect(),
+            spacing: 1.5,
+        },
+        field: pvfc_sim::model::arm_field::FieldSpec::Joint,
+        h: vec![1.0; 6],
+        self_pacing: 50.0,
+        energy: 40.0,
+        flywheel_inertia: 1.0,
+        gamma: 1.0,
+        gravity_compensation: true,
+        friction_compensation: None,
+        friction_band: 0.0,
+        nominal_speed: None,
+        tau0: 0.0,
+    };
+    let mut rust = pvfc_sim::model::arm::ArmController::new(&r, &settings).unwrap();
+    let mut q = [0.1, -1.1, 1.3, -1.7, -1.5, 0.1];
+    let v = [0.2, -0.1, 0.05, 0.0, 0.1, -0.2];
+    let mut torque = [0.0; 6];
+    let mut d = pvfc_diagnostics::default();
+    let mut options = pvfc_passive_options_default();
+    let limit = [150.0, 150.0, 150.0, 28.0, 28.0, 28.0];
+    options.torque_limit = limit.as_ptr();
+    options.n = 6;
+    let mut passive = std::ptr::null_mut();
+    // SAFETY: valid handles and options.
+    assert_eq!(
+        unsafe { pvfc_passive_new(ctl, &options, &mut passive) },
+        pvfc_status::PVFC_OK
+    );
+    let mut account = pvfc_energy_account::default();
+    for k in 0..50 {
+        let expected = rust.step(&q, &v, 1e-3).unwrap();
+        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        // SAFETY: arrays of 6, valid handles.
+        let (a, b) = unsafe {
+            (
+                pvfc_controller_step(
+                    ctl,
+                    q.as_ptr(),
+                    v.as_ptr(),
+                    6,
+                    1e-3,
+                    torque.as_mut_ptr(),
+                    6,
+                    &mut d,
+                ),
+                pvfc_passive_step(
+                    passive,
+                    q.as_ptr(),
+                    std::ptr::null(),
+                    std::ptr::null(),
+                    6,
+                    1e-3,
+                    [0.0; 6].as_mut_ptr(),
+                    6,
+                    &mut account,
+                ),
+            )
+        };
+        let allocated = ALLOCATIONS.load(Ordering::SeqCst) - before;
+        assert_eq!((a, b), (pvfc_status::PVFC_OK, pvfc_status::PVFC_OK));
+        assert_eq!(allocated, 0, "step {k} allocated {allocated} times");
+        assert_eq!(torque.to_vec(), expected.torque, "step {k}");
+        assert_eq!(d.beta, expected.beta);
+        q[0] += 1e-3;
+    }
+    // SAFETY: handles made above, freed once.
+    unsafe {
+        pvfc_passive_destroy(passive);
+        pvfc_controller_destroy(ctl);
+        pvfc_robot_destroy(robot);
+    }
+}
+
+#[test]
+fn bad_pointers_and_sizes_are_codes_with_messages() {
+    let mut robot = std::ptr::null_mut();
+    let path = urdf();
+    // SAFETY: valid strings and out pointer.
+    unsafe {
+        pvfc_robot_from_urdf_file(
+            path.as_ptr(),
+            std::ptr::null(),
+            c"tool0".as_ptr(),
+            &mut robot,
+        )
+    };
+    let ctl = controller(robot);
+    let q = [0.0; 6];
+    let mut t = [0.0; 6];
+    // SAFETY: the pointers are valid or NULL, as each case says.
+    unsafe {
+        let s = pvfc_controller_step(
+            ctl,
+            q.as_ptr(),
+            std::ptr::null(),
+            6,
+            1e-3,
+            t.as_mut_ptr(),
+            6,
+            std::ptr::null_mut(),
+        );
+        assert_eq!(s, pvfc_status::PVFC_ERROR_NULL_POINTER);
+        assert!(last_error().contains("qdot"), "{}", last_error());
+        let s = pvfc_controller_step(
+            ctl,
+            q.as_ptr(),
+            q.as_ptr(),
+            7,
+            1e-3,
+            t.as_mut_ptr(),
+            6,
+            std::ptr::null_mut(),
+        );
+        assert_eq!(s, pvfc_status::PVFC_ERROR_WRONG_SIZE);
+        assert!(last_error().contains("7 entries"), "{}", last_error());
+        let s = pvfc_robot_from_urdf_string(
+            c"<robot".as_ptr(),
+            c"bad.urdf".as_ptr(),
+            std::ptr::null(),
+            std::ptr::null(),
+            &mut std::ptr::null_mut(),
+        );
+        assert_eq!(s, pvfc_status::PVFC_ERROR_URDF);
+        assert!(last_error().contains("bad.urdf"), "{}", last_error());
+        // The last error is per thread.
+        let other = std::thread::spawn(last_error).join().unwrap();
+        assert_eq!(other, "");
+        pvfc_controller_destroy(ctl);
+        pvfc_robot_destroy(robot);
+    }
+}

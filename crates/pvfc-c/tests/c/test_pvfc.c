@@ -1,0 +1,162 @@
+/* The C ABI from C: a UR5 from URDF, a controller on a joint contour, its step, the passive
+ * controller, and every kind of bad input as an error code with a message. Plain C99 with
+ * assert-like checks; run under valgrind in CI (no invalid access, no leak).
+ *   usage: test_pvfc path/to/ur5_robot.urdf */
+#include "pvfc.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int failures = 0;
+
+#define CHECK(cond)                                                              \
+  do {                                                                           \
+    if (!(cond)) {                                                               \
+      fprintf(stderr, "%s:%d: CHECK failed: %s (last error: %s)\n", __FILE__,    \
+              __LINE__, #cond, pvfc_last_error());                               \
+      failures++;                                                                \
+    }                                                                            \
+  } while (0)
+
+#define CHECK_ERROR(call, status, fragment)                                      \
+  do {                                                                           \
+    pvfc_status s_ = (call);                                                     \
+    CHECK(s_ == (status));                                                       \
+    CHECK(strstr(pvfc_last_error(), (fragment)) != NULL);                        \
+  } while (0)
+
+#define DOF 6
+
+int main(int argc, char **argv) {
+  if (argc < 2) {
+    fprintf(stderr, "usage: %s ur5_robot.urdf\n", argv[0]);
+    return 2;
+  }
+  CHECK(strlen(pvfc_version()) > 0);
+
+  /* The robot, and the errors of reading one. */
+  pvfc_robot *robot = NULL;
+  CHECK(pvfc_robot_from_urdf_file(argv[1], NULL, "tool0", &robot) == PVFC_OK);
+  CHECK(pvfc_robot_dof(robot) == DOF);
+  CHECK(pvfc_robot_dof(NULL) == 0);
+  pvfc_robot *none = NULL;
+  CHECK_ERROR(pvfc_robot_from_urdf_file("/nonexistent/robot.urdf", NULL, NULL, &none),
+              PVFC_ERROR_IO, "/nonexistent/robot.urdf");
+  CHECK(none == NULL);
+  CHECK_ERROR(pvfc_robot_from_urdf_file(argv[1], NULL, "nowhere", &none), PVFC_ERROR_URDF,
+              "nowhere");
+  CHECK_ERROR(pvfc_robot_from_urdf_string("<robot name='r'><link name='a'/>", "broken.urdf",
+                                          NULL, NULL, &none),
+              PVFC_ERROR_URDF, "broken.urdf");
+  CHECK_ERROR(pvfc_robot_from_urdf_file(NULL, NULL, NULL, &none), PVFC_ERROR_NULL_POINTER,
+              "path");
+  CHECK_ERROR(pvfc_robot_from_urdf_file(argv[1], NULL, "tool0", NULL),
+              PVFC_ERROR_NULL_POINTER, "out");
+
+  /* A controller on a closed contour through three postures. */
+  const double waypoints[3 * DOF] = {
+      0.0, -1.2, 1.4, -1.8, -1.57, 0.0,
+      0.3, -1.0, 1.2, -1.7, -1.57, 0.2,
+      -0.2, -1.3, 1.5, -1.9, -1.57, -0.1,
+  };
+  const double h[DOF] = {4, 4, 4, 4, 4, 4};
+  pvfc_settings settings = pvfc_settings_default();
+  settings.energy = 40.0;
+  settings.self_pacing = 50.0;
+  pvfc_controller *ctl = NULL;
+  CHECK(pvfc_controller_new_waypoints(robot, waypoints, 3, DOF, 1.5, h, DOF, &settings, &ctl) ==
+        PVFC_OK);
+  CHECK(pvfc_controller_dof(ctl) == DOF);
+  pvfc_controller *bad = NULL;
+  CHECK_ERROR(pvfc_controller_new_waypoints(robot, waypoints, 3, 5, 1.5, h, DOF, &settings, &bad),
+              PVFC_ERROR_WRONG_SIZE, "waypoints");
+  CHECK_ERROR(pvfc_controller_new_waypoints(robot, waypoints, 3, DOF, 1.5, h, 2, &settings, &bad),
+              PVFC_ERROR_WRONG_SIZE, "h");
+  CHECK_ERROR(pvfc_controller_new_waypoints(NULL, waypoints, 3, DOF, 1.5, h, DOF, NULL, &bad),
+              PVFC_ERROR_NULL_POINTER, "robot");
+  pvfc_settings wrong = settings;
+  wrong.size = 8;
+  CHECK_ERROR(pvfc_controller_new_waypoints(robot, waypoints, 3, DOF, 1.5, h, DOF, &wrong, &bad),
+              PVFC_ERROR_WRONG_SIZE, "settings");
+  wrong = settings;
+  wrong.energy = -1.0;
+  CHECK_ERROR(pvfc_controller_new_waypoints(robot, waypoints, 3, DOF, 1.5, h, DOF, &wrong, &bad),
+              PVFC_ERROR_INVALID_ARGUMENT, "");
+  double nan_waypoints[3 * DOF];
+  memcpy(nan_waypoints, waypoints, sizeof waypoints);
+  nan_waypoints[7] = NAN;
+  CHECK_ERROR(pvfc_controller_new_waypoints(robot, nan_waypoints, 3, DOF, 1.5, h, DOF, &settings, &bad),
+              PVFC_ERROR_NON_FINITE, "waypoints[7]");
+  CHECK(bad == NULL);
+
+  /* Steps: finite torques; the contour's point; bad inputs change nothing. */
+  double q[DOF] = {0.1, -1.1, 1.3, -1.7, -1.5, 0.1};
+  double v[DOF] = {0};
+  double torque[DOF], again[DOF];
+  pvfc_diagnostics d;
+  CHECK(pvfc_controller_step(ctl, q, v, DOF, 1e-3, torque, DOF, &d) == PVFC_OK);
+  for (int i = 0; i < DOF; i++) CHECK(isfinite(torque[i]));
+  CHECK(d.potential > 0.0 && isfinite(d.beta) && d.kinetic_energy > 0.0);
+  double xd[DOF];
+  CHECK(pvfc_controller_contour_point(ctl, 0.0, xd, DOF) == PVFC_OK);
+  for (int i = 0; i < DOF; i++) CHECK(fabs(xd[i] - waypoints[i]) < 1e-12);
+  CHECK(pvfc_controller_reset(ctl) == PVFC_OK);
+  double q_nan[DOF];
+  memcpy(q_nan, q, sizeof q);
+  q_nan[2] = NAN;
+  CHECK_ERROR(pvfc_controller_step(ctl, q_nan, v, DOF, 1e-3, torque, DOF, NULL),
+              PVFC_ERROR_NON_FINITE, "q[2]");
+  CHECK_ERROR(pvfc_controller_step(ctl, q, v, 5, 1e-3, torque, DOF, NULL), PVFC_ERROR_WRONG_SIZE,
+              "q: 5 entries");
+  CHECK_ERROR(pvfc_controller_step(ctl, q, v, DOF, 1e-3, torque, 3, NULL), PVFC_ERROR_WRONG_SIZE,
+              "torque_out");
+  CHECK_ERROR(pvfc_controller_step(ctl, q, NULL, DOF, 1e-3, torque, DOF, NULL),
+              PVFC_ERROR_NULL_POINTER, "qdot");
+  CHECK_ERROR(pvfc_controller_step(ctl, q, v, DOF, 1e-3, NULL, DOF, NULL),
+              PVFC_ERROR_NULL_POINTER, "torque_out");
+  CHECK_ERROR(pvfc_controller_step(ctl, q, v, DOF, -1.0, torque, DOF, NULL),
+              PVFC_ERROR_INVALID_ARGUMENT, "dt");
+  CHECK_ERROR(pvfc_controller_step(NULL, q, v, DOF, 1e-3, torque, DOF, NULL),
+              PVFC_ERROR_NULL_POINTER, "ctl");
+  /* After the errors the controller is where the reset put it: the same torque again. */
+  CHECK(pvfc_controller_step(ctl, q, v, DOF, 1e-3, again, DOF, NULL) == PVFC_OK);
+  for (int i = 0; i < DOF; i++) CHECK(again[i] == torque[i]);
+
+  /* The passive digital controller with torque limits. */
+  const double limit[DOF] = {150, 150, 150, 28, 28, 28};
+  pvfc_passive_options options = pvfc_passive_options_default();
+  options.torque_limit = limit;
+  options.n = DOF;
+  pvfc_passive *passive = NULL;
+  CHECK(pvfc_passive_new(ctl, &options, &passive) == PVFC_OK);
+  pvfc_energy_account account;
+  for (int k = 0; k < 10; k++) {
+    CHECK(pvfc_passive_step(passive, q, NULL, NULL, DOF, 1e-3, torque, DOF, &account) ==
+          PVFC_OK);
+    for (int i = 0; i < DOF; i++) CHECK(fabs(torque[i]) <= limit[i]);
+    CHECK(account.storage >= 0.0 && account.scale >= 0.0 && account.scale <= 1.0);
+  }
+  CHECK(isfinite(pvfc_passive_storage(passive)));
+  CHECK(isnan(pvfc_passive_storage(NULL)));
+  options.n = 2;
+  pvfc_passive *bad_passive = NULL;
+  CHECK_ERROR(pvfc_passive_new(ctl, &options, &bad_passive), PVFC_ERROR_WRONG_SIZE,
+              "options.torque_limit");
+  CHECK(bad_passive == NULL);
+
+  pvfc_passive_destroy(passive);
+  pvfc_controller_destroy(ctl);
+  pvfc_robot_destroy(robot);
+  pvfc_passive_destroy(NULL);
+  pvfc_controller_destroy(NULL);
+  pvfc_robot_destroy(NULL);
+
+  if (failures) {
+    fprintf(stderr, "%d checks failed\n", failures);
+    return 1;
+  }
+  printf("test_pvfc: all checks passed\n");
+  return 0;
+}
