@@ -196,6 +196,7 @@ fn serial_arm(c: &mut Criterion) {
         ur5_chain,
         &rectangle_points,
         None,
+        None,
         &near_rectangle,
     );
     task_arm(
@@ -204,6 +205,30 @@ fn serial_arm(c: &mut Criterion) {
         ur5_chain.cast::<f32>(),
         &rectangle_points,
         None,
+        None,
+        &near_rectangle,
+    );
+    // With the tool held pointing down (a six-dimensional task, as `ur5_cartesian_task`).
+    let down = ur5_robot
+        .tool_pose(&[0.0, -1.2, 1.4, -1.8, -1.57, 0.0])
+        .expect("6 joints")
+        .0;
+    task_arm(
+        &mut g,
+        "ur5_task_held_f64",
+        ur5_chain,
+        &rectangle_points,
+        None,
+        Some(down),
+        &near_rectangle,
+    );
+    task_arm(
+        &mut g,
+        "ur5_task_held_f32",
+        ur5_chain.cast::<f32>(),
+        &rectangle_points,
+        None,
+        Some(down),
         &near_rectangle,
     );
     let panda_robot = Robot::from_urdf(
@@ -247,6 +272,7 @@ fn serial_arm(c: &mut Criterion) {
         panda_chain,
         &circle_points,
         rest,
+        None,
         &samples,
     );
     task_arm(
@@ -255,6 +281,17 @@ fn serial_arm(c: &mut Criterion) {
         panda_chain.cast::<f32>(),
         &circle_points,
         rest,
+        None,
+        &samples,
+    );
+    let panda_held = panda_robot.tool_pose(&seed).expect("7 joints").0;
+    task_arm(
+        &mut g,
+        "panda_task_held_f64",
+        panda_chain,
+        &circle_points,
+        rest,
+        Some(panda_held),
         &samples,
     );
 
@@ -318,13 +355,15 @@ fn f32_arm<const N: usize>(
 
 /// The task-space field's control step (`pvfc_core::task_field`) of `chain` on the closed
 /// path through `points` (a periodic B-spline on ℝ³, 0.1 of τ between points), with the
-/// null-space pull towards `rest` if given, through the recorded states.
+/// null-space pull towards `rest` and the tool's orientation held at `held`, if given,
+/// through the recorded states.
 fn task_arm<T: Real, const N: usize>(
     g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
     name: &str,
     chain: SerialChain<T, N>,
     points: &[nalgebra::Vector3<f64>],
     rest: Option<SVector<f64, N>>,
+    held: Option<nalgebra::Matrix3<f64>>,
     samples: &[(JointSpace<f64, N>, SVector<f64, N>)],
 ) {
     let c = |x: f64| nalgebra::convert::<f64, T>(x);
@@ -340,6 +379,11 @@ fn task_arm<T: Real, const N: usize>(
     .expect("valid");
     if let Some(r) = rest {
         field = field.with_rest(r.cast::<T>(), c(2.0)).expect("valid");
+    }
+    if let Some(r) = held {
+        field = field
+            .with_orientation(r.cast::<T>(), c(4.0))
+            .expect("valid");
     }
     let law = PvfcLaw::new(
         chain,

@@ -56,7 +56,7 @@ impl<const N: usize> ArmField<N> {
 }
 
 impl<const N: usize> VelocityField<f64, JointSpace<f64, N>, N> for ArmField<N> {
-    #[inline]
+    #[inline(always)]
     fn sample(
         &self,
         q: &JointSpace<f64, N>,
