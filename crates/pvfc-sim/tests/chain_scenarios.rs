@@ -2,6 +2,8 @@
 //! UR5 and Panda files parse and run, the frictionless continuous loop keeps κ_a, the
 //! sampled one converges, and bad settings are errors that name the field.
 
+mod common;
+
 use pvfc_sim::run::simulate;
 use pvfc_sim::scenario::{Mode, Scenario};
 use std::path::{Path, PathBuf};
@@ -260,7 +262,6 @@ fn an_arm_log_carries_its_3d_scene_for_foxglove() {
 
 #[cfg(feature = "contact")]
 fn ur5_on_a_table(mode: Mode) -> Scenario {
-    use pvfc_sim::contact::spatial::{SpatialContactSpec, SpatialObstacle, SpatialShape};
     let mut s = Scenario::from_file(&file("ur5_cartesian.toml")).unwrap();
     s.simulation.mode = mode;
     if mode == Mode::Sampled {
@@ -269,29 +270,7 @@ fn ur5_on_a_table(mode: Mode) -> Scenario {
     }
     s.duration = 3.0;
     // A table whose top is 3 mm above the tool ball's lowest point on the path (z = 0.30).
-    s.contact_3d = Some(SpatialContactSpec {
-        arm: Default::default(),
-        packages: Default::default(),
-        force_schedule: None,
-        link_radius: 0.0,
-        link_radii: vec![],
-        tool_radius: 0.01,
-        obstacles: vec![SpatialObstacle {
-            shape: SpatialShape::Box {
-                half_extents: [0.3, 0.4, 0.05],
-            },
-            position: [0.55, 0.0, 0.30 - 0.01 + 0.003 - 0.05],
-            rpy: [0.0; 3],
-            law: None,
-            motion: vec![],
-        }],
-        law: pvfc_sim::contact::ContactLaw {
-            stiffness: 2.0e4,
-            damping: 0.5,
-            friction: 0.2,
-            slip_velocity: 0.01,
-        },
-    });
+    s.contact_3d = Some(common::table_under_the_rectangle());
     s.validate().unwrap();
     s
 }

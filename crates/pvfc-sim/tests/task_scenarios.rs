@@ -4,6 +4,8 @@
 //! machining target), the audits with contact (continuous and the passive digital
 //! controller), and bad settings named.
 
+mod common;
+
 use nalgebra::Vector3;
 use pvfc_core::contour::Contour;
 use pvfc_sim::model::cartesian::TaskSpec;
@@ -248,7 +250,6 @@ fn the_task_space_field_holds_the_tool_on_the_path() {
 #[cfg(feature = "contact")]
 #[test]
 fn the_audits_hold_with_the_task_space_field() {
-    use pvfc_sim::contact::spatial::{SpatialContactSpec, SpatialObstacle, SpatialShape};
     for mode in [Mode::Continuous, Mode::Sampled] {
         let mut s = ur5_task();
         s.simulation.mode = mode;
@@ -259,29 +260,7 @@ fn the_audits_hold_with_the_task_space_field() {
         }
         s.duration = 3.0;
         // A table whose top is 3 mm above the tool ball's lowest point on the path.
-        s.contact_3d = Some(SpatialContactSpec {
-            arm: Default::default(),
-            packages: Default::default(),
-            force_schedule: None,
-            link_radius: 0.0,
-            link_radii: vec![],
-            tool_radius: 0.01,
-            obstacles: vec![SpatialObstacle {
-                shape: SpatialShape::Box {
-                    half_extents: [0.3, 0.4, 0.05],
-                },
-                position: [0.55, 0.0, 0.30 - 0.01 + 0.003 - 0.05],
-                rpy: [0.0; 3],
-                law: None,
-                motion: vec![],
-            }],
-            law: pvfc_sim::contact::ContactLaw {
-                stiffness: 2.0e4,
-                damping: 0.5,
-                friction: 0.2,
-                slip_velocity: 0.01,
-            },
-        });
+        s.contact_3d = Some(common::table_under_the_rectangle());
         s.validate().unwrap();
         let t = simulate(&s, &mut |_| {}).unwrap();
         let c = t.contact.as_ref().unwrap();
