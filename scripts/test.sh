@@ -11,7 +11,7 @@ stage() { echo "=== $* (${SECONDS} s so far)"; }
 stage "cargo test"
 cargo test --locked
 
-stage "C and C++: the C ABI (crates/pvfc-c) from C, under valgrind"
+stage "C and C++: the C ABI (crates/pvfc-c) from C and from C++ (GoogleTest), under valgrind"
 # The static library of the test profile that `cargo test` built (no second profile).
 cargo build --locked -p pvfc-c --profile test
 mkdir -p target/c
@@ -19,16 +19,31 @@ cc -std=c99 -Wall -Wextra -Werror -pedantic crates/pvfc-c/tests/c/test_pvfc.c \
   -Icrates/pvfc-c/include target/debug/libpvfc_c.a -lm -lpthread -ldl -o target/c/test_pvfc
 # The header also compiles as C++ (cbindgen's cpp_compat).
 c++ -std=c++17 -Wall -Wextra -Werror -fsyntax-only -x c++ crates/pvfc-c/include/pvfc.h
-if command -v valgrind >/dev/null; then
-  valgrind --error-exitcode=1 --leak-check=full --errors-for-leak-kinds=definite,indirect \
-    --quiet target/c/test_pvfc models/ur5/ur5_robot.urdf
+c_tests=(target/c/test_pvfc)
+# The C++ header (pvfc.hpp) with GoogleTest (Debian's libgtest-dev), when it is installed.
+if [ -f /usr/include/gtest/gtest.h ]; then
+  c++ -std=c++17 -Wall -Wextra -Werror -Icrates/pvfc-c/include crates/pvfc-c/tests/cpp/test_pvfc.cpp \
+    target/debug/libpvfc_c.a -lgtest -lgtest_main -lpthread -ldl -lm -o target/c/test_pvfc_cpp
+  c_tests+=(target/c/test_pvfc_cpp)
 elif [ -n "${PVFC_REQUIRE_VALGRIND:-}" ]; then
-  echo "valgrind is needed (PVFC_REQUIRE_VALGRIND is set)" >&2
+  echo "GoogleTest (libgtest-dev) is needed in CI" >&2
   exit 1
 else
-  echo "valgrind not found: running the C test without it"
-  target/c/test_pvfc models/ur5/ur5_robot.urdf
+  echo "GoogleTest not found: skipping the C++ tests"
 fi
+export PVFC_UR5_URDF=models/ur5/ur5_robot.urdf
+for t in "${c_tests[@]}"; do
+  if command -v valgrind >/dev/null; then
+    valgrind --error-exitcode=1 --leak-check=full --errors-for-leak-kinds=definite,indirect \
+      --quiet "$t" models/ur5/ur5_robot.urdf
+  elif [ -n "${PVFC_REQUIRE_VALGRIND:-}" ]; then
+    echo "valgrind is needed (PVFC_REQUIRE_VALGRIND is set)" >&2
+    exit 1
+  else
+    echo "valgrind not found: running $t without it"
+    "$t" models/ur5/ur5_robot.urdf
+  fi
+done
 
 stage "Python: build the wheel into a fresh virtual environment"
 venv="${PVFC_VENV:-target/py-venv}"

@@ -1,0 +1,248 @@
+// pvfc from C++17: header-only RAII classes over the C ABI of pvfc.h.
+//
+// * Move-only handles (`pvfc::Robot`, `pvfc::Controller`, `pvfc::PassiveController`) free
+//   their C objects when they go out of scope.
+// * Every error is an exception derived from `pvfc::Error` (itself a `std::runtime_error`),
+//   one class per kind of `pvfc_status`, with the library's message (which names the
+//   argument, joint, link or URDF element).
+// * Arrays are passed as views (`pvfc::In`, `pvfc::Out`) built without copying from
+//   `std::array`, `std::vector`, Eigen vectors and maps, or a pointer and a length.
+// * The step functions allocate nothing (the C ABI does not; these wrappers add nothing).
+#ifndef PVFC_HPP
+#define PVFC_HPP
+
+#include "pvfc.h"
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pvfc {
+
+/// Any error of pvfc: `status()` is the C status, `what()` the message.
+class Error : public std::runtime_error {
+ public:
+  Error(pvfc_status status, const std::string &message)
+      : std::runtime_error(message), status_(status) {}
+  pvfc_status status() const noexcept { return status_; }
+
+ private:
+  pvfc_status status_;
+};
+
+/// A pointer that must not be NULL was.
+class NullPointerError : public Error { using Error::Error; };
+/// An array's length (or a struct's `size`) does not match.
+class WrongSizeError : public Error { using Error::Error; };
+/// An input was NaN or infinite.
+class NonFiniteError : public Error { using Error::Error; };
+/// An argument or setting is out of its range.
+class InvalidArgumentError : public Error { using Error::Error; };
+/// A file could not be read.
+class IoError : public Error { using Error::Error; };
+/// A URDF is malformed or not a serial chain.
+class UrdfError : public Error { using Error::Error; };
+/// A waypoint of a Cartesian path is unreachable, singular, beyond a limit or a branch jump.
+class WaypointError : public Error { using Error::Error; };
+/// The energy level is too low for the velocity field (eq. 6).
+class EnergyTooLowError : public Error { using Error::Error; };
+/// A numerical failure.
+class NumericalError : public Error { using Error::Error; };
+/// A bug in pvfc (a caught panic).
+class InternalError : public Error { using Error::Error; };
+
+/// Throws the exception of `status` (nothing for PVFC_OK), with the last error's message.
+inline void check(pvfc_status status) {
+  if (status == PVFC_OK) return;
+  const std::string message = pvfc_last_error();
+  switch (status) {
+    case PVFC_ERROR_NULL_POINTER: throw NullPointerError(status, message);
+    case PVFC_ERROR_WRONG_SIZE: throw WrongSizeError(status, message);
+    case PVFC_ERROR_NON_FINITE: throw NonFiniteError(status, message);
+    case PVFC_ERROR_INVALID_ARGUMENT: throw InvalidArgumentError(status, message);
+    case PVFC_ERROR_IO: throw IoError(status, message);
+    case PVFC_ERROR_URDF: throw UrdfError(status, message);
+    case PVFC_ERROR_WAYPOINT: throw WaypointError(status, message);
+    case PVFC_ERROR_ENERGY_TOO_LOW: throw EnergyTooLowError(status, message);
+    case PVFC_ERROR_NUMERICAL: throw NumericalError(status, message);
+    case PVFC_ERROR_INTERNAL: throw InternalError(status, message);
+    default: throw Error(status, message);
+  }
+}
+
+/// A read-only view of doubles: a pointer and a length (no copy).
+class In {
+ public:
+  In() = default;
+  In(const double *data, std::size_t size) : data_(data), size_(size) {}
+  /// Anything with `data()` and `size()`: std::array, std::vector, Eigen vectors and maps.
+  template <class C, class = decltype(std::declval<const C &>().data())>
+  In(const C &c) : data_(c.data()), size_(static_cast<std::size_t>(c.size())) {}
+  const double *data() const noexcept { return data_; }
+  std::size_t size() const noexcept { return size_; }
+
+ private:
+  const double *data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
+/// A writable view of doubles: a pointer and a length (no copy).
+class Out {
+ public:
+  Out(double *data, std::size_t size) : data_(data), size_(size) {}
+  template <class C, class = decltype(std::declval<C &>().data())>
+  Out(C &c) : data_(c.data()), size_(static_cast<std::size_t>(c.size())) {}
+  double *data() const noexcept { return data_; }
+  std::size_t size() const noexcept { return size_; }
+
+ private:
+  double *data_;
+  std::size_t size_;
+};
+
+namespace detail {
+/// A move-only owner of a C handle freed by `Destroy`.
+template <class T, void (*Destroy)(T *)>
+class Handle {
+ public:
+  explicit Handle(T *p = nullptr) noexcept : p_(p) {}
+  Handle(Handle &&o) noexcept : p_(std::exchange(o.p_, nullptr)) {}
+  Handle &operator=(Handle &&o) noexcept {
+    if (this != &o) {
+      Destroy(p_);
+      p_ = std::exchange(o.p_, nullptr);
+    }
+    return *this;
+  }
+  Handle(const Handle &) = delete;
+  Handle &operator=(const Handle &) = delete;
+  ~Handle() { Destroy(p_); }
+  T *get() const noexcept { return p_; }
+
+ private:
+  T *p_;
+};
+}  // namespace detail
+
+/// A serial arm read from URDF.
+class Robot {
+ public:
+  /// From a URDF file; `tip` and `base` name the links (empty: the only leaf, the root).
+  static Robot from_urdf_file(const std::string &path, const std::string &tip = "",
+                              const std::string &base = "") {
+    pvfc_robot *p = nullptr;
+    check(pvfc_robot_from_urdf_file(path.c_str(), base.empty() ? nullptr : base.c_str(),
+                                    tip.empty() ? nullptr : tip.c_str(), &p));
+    return Robot(p);
+  }
+  /// From the text of a URDF (`name` names it in error messages).
+  static Robot from_urdf_string(const std::string &urdf, const std::string &tip = "",
+                                const std::string &base = "",
+                                const std::string &name = "urdf") {
+    pvfc_robot *p = nullptr;
+    check(pvfc_robot_from_urdf_string(urdf.c_str(), name.c_str(),
+                                      base.empty() ? nullptr : base.c_str(),
+                                      tip.empty() ? nullptr : tip.c_str(), &p));
+    return Robot(p);
+  }
+  std::size_t dof() const noexcept { return pvfc_robot_dof(h_.get()); }
+  const pvfc_robot *get() const noexcept { return h_.get(); }
+
+ private:
+  explicit Robot(pvfc_robot *p) : h_(p) {}
+  detail::Handle<pvfc_robot, pvfc_robot_destroy> h_;
+};
+
+/// The settings of a controller, starting from `pvfc_settings_default()`.
+struct Settings : pvfc_settings {
+  Settings() : pvfc_settings(pvfc_settings_default()) {}
+};
+
+/// The options of the passive controller, starting from `pvfc_passive_options_default()`.
+struct PassiveOptions : pvfc_passive_options {
+  PassiveOptions() : pvfc_passive_options(pvfc_passive_options_default()) {}
+};
+
+/// A PVFC controller of an arm.
+class Controller {
+ public:
+  /// On the closed joint contour through `waypoints` (row-major, `dof` columns), one every
+  /// `spacing` of τ, with navigation weights `h` (empty: all 1).
+  static Controller waypoints(const Robot &robot, In waypoints, double spacing, In h = In(),
+                              const Settings &settings = Settings()) {
+    const std::size_t dof = robot.dof();
+    if (dof == 0 || waypoints.size() % dof != 0) {
+      throw WrongSizeError(PVFC_ERROR_WRONG_SIZE,
+                           "waypoints: " + std::to_string(waypoints.size()) +
+                               " values are not whole rows of " + std::to_string(dof));
+    }
+    pvfc_controller *p = nullptr;
+    check(pvfc_controller_new_waypoints(robot.get(), waypoints.data(), waypoints.size() / dof,
+                                        dof, spacing, h.size() ? h.data() : nullptr, h.size(),
+                                        &settings, &p));
+    return Controller(p);
+  }
+  /// One control step: the torques into `torque`; returns the step's numbers.
+  pvfc_diagnostics step(In q, In qdot, double dt, Out torque) {
+    if (q.size() != qdot.size()) {
+      throw WrongSizeError(PVFC_ERROR_WRONG_SIZE, "q and qdot differ in length");
+    }
+    pvfc_diagnostics d;
+    check(pvfc_controller_step(h_.get(), q.data(), qdot.data(), q.size(), dt, torque.data(),
+                               torque.size(), &d));
+    return d;
+  }
+  /// The joint contour's point at `tau`.
+  std::vector<double> contour_point(double tau) const {
+    std::vector<double> x(dof());
+    check(pvfc_controller_contour_point(h_.get(), tau, x.data(), x.size()));
+    return x;
+  }
+  /// Back to the initial internal states.
+  void reset() { check(pvfc_controller_reset(h_.get())); }
+  std::size_t dof() const noexcept { return pvfc_controller_dof(h_.get()); }
+  const pvfc_controller *get() const noexcept { return h_.get(); }
+
+ private:
+  explicit Controller(pvfc_controller *p) : h_(p) {}
+  detail::Handle<pvfc_controller, pvfc_controller_destroy> h_;
+};
+
+/// The passive digital controller: passive by construction at its samples.
+class PassiveController {
+ public:
+  /// The passive form of `ctl` (its internal states as they are now).
+  explicit PassiveController(const Controller &ctl,
+                             const PassiveOptions &options = PassiveOptions()) {
+    pvfc_passive *p = nullptr;
+    check(pvfc_passive_new(ctl.get(), &options, &p));
+    h_ = detail::Handle<pvfc_passive, pvfc_passive_destroy>(p);
+  }
+  /// One step at the measured positions `q` (velocities `qdot`, or empty to estimate them;
+  /// `applied` the torque the drive applied, or empty for the last command).
+  pvfc_energy_account step(In q, double dt, Out torque, In qdot = In(), In applied = In()) {
+    if ((qdot.size() && qdot.size() != q.size()) ||
+        (applied.size() && applied.size() != q.size())) {
+      throw WrongSizeError(PVFC_ERROR_WRONG_SIZE, "q, qdot and applied differ in length");
+    }
+    pvfc_energy_account a;
+    check(pvfc_passive_step(h_.get(), q.data(), qdot.size() ? qdot.data() : nullptr,
+                            applied.size() ? applied.data() : nullptr, q.size(), dt,
+                            torque.data(), torque.size(), &a));
+    return a;
+  }
+  /// The storage as accounted (J).
+  double storage() const noexcept { return pvfc_passive_storage(h_.get()); }
+
+ private:
+  detail::Handle<pvfc_passive, pvfc_passive_destroy> h_;
+};
+
+/// The library's version.
+inline std::string version() { return pvfc_version(); }
+
+}  // namespace pvfc
+
+#endif  // PVFC_HPP

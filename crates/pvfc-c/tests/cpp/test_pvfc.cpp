@@ -1,0 +1,159 @@
+// The C++ header (pvfc.hpp) against the C library, with GoogleTest: RAII handles, exceptions
+// by kind with the library's messages, views over std::array, std::vector and raw pointers,
+// and the same torques as the C ABI. The URDF's path comes from the environment
+// (PVFC_UR5_URDF) or the repository layout.
+#include "pvfc.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace {
+
+std::string ur5_urdf() {
+  const char *p = std::getenv("PVFC_UR5_URDF");
+  return p ? p : "models/ur5/ur5_robot.urdf";
+}
+
+const std::vector<double> kWaypoints = {
+    0.0, -1.2, 1.4, -1.8, -1.57, 0.0,   //
+    0.3, -1.0, 1.2, -1.7, -1.57, 0.2,   //
+    -0.2, -1.3, 1.5, -1.9, -1.57, -0.1,
+};
+
+pvfc::Settings settings() {
+  pvfc::Settings s;
+  s.energy = 40.0;
+  s.self_pacing = 50.0;
+  return s;
+}
+
+template <class E>
+void expect_throw_containing(void (*f)(), const std::string &fragment) {
+  try {
+    f();
+    ADD_FAILURE() << "no exception";
+  } catch (const E &e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+
+TEST(Robot, ReadsTheUr5AndNamesWhatIsWrong) {
+  const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
+  EXPECT_EQ(robot.dof(), 6u);
+  try {
+    pvfc::Robot::from_urdf_file("/nonexistent/robot.urdf");
+    ADD_FAILURE() << "no exception";
+  } catch (const pvfc::IoError &e) {
+    EXPECT_EQ(e.status(), PVFC_ERROR_IO);
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/robot.urdf"), std::string::npos);
+  }
+  EXPECT_THROW(pvfc::Robot::from_urdf_file(ur5_urdf(), "nowhere"), pvfc::UrdfError);
+  EXPECT_THROW(pvfc::Robot::from_urdf_string("<robot", "", "", "broken.urdf"), pvfc::UrdfError);
+  // Every kind is a pvfc::Error and a std::runtime_error.
+  EXPECT_THROW(pvfc::Robot::from_urdf_file(ur5_urdf(), "nowhere"), std::runtime_error);
+}
+
+TEST(Controller, StepsWithArraysAndVectorsAsTheCAbiDoes) {
+  const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
+  pvfc::Controller ctl = pvfc::Controller::waypoints(robot, kWaypoints, 1.5, {}, settings());
+  ASSERT_EQ(ctl.dof(), 6u);
+  // The same controller through the C ABI.
+  pvfc_settings s = settings();
+  pvfc_controller *c = nullptr;
+  ASSERT_EQ(pvfc_controller_new_waypoints(robot.get(), kWaypoints.data(), 3, 6, 1.5, nullptr, 0,
+                                          &s, &c),
+            PVFC_OK);
+  std::array<double, 6> q = {0.1, -1.1, 1.3, -1.7, -1.5, 0.1};
+  const std::vector<double> v = {0.2, -0.1, 0.05, 0.0, 0.1, -0.2};
+  std::array<double, 6> torque{};
+  double expected[6];
+  for (int k = 0; k < 20; ++k) {
+    const pvfc_diagnostics d = ctl.step(q, v, 1e-3, torque);
+    ASSERT_EQ(pvfc_controller_step(c, q.data(), v.data(), 6, 1e-3, expected, 6, nullptr), PVFC_OK);
+    for (int i = 0; i < 6; ++i) EXPECT_EQ(torque[i], expected[i]);
+    EXPECT_TRUE(std::isfinite(d.beta));
+    q[0] += 1e-3;
+  }
+  pvfc_controller_destroy(c);
+  // A raw pointer and a length are a view too.
+  std::vector<double> out(6);
+  ctl.step(pvfc::In(q.data(), q.size()), v, 1e-3, pvfc::Out(out.data(), out.size()));
+  const std::vector<double> xd = ctl.contour_point(0.0);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(xd[i], kWaypoints[i], 1e-12);
+}
+
+TEST(Controller, BadInputThrowsTheErrorOfItsKindAndChangesNothing) {
+  const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
+  pvfc::Controller ctl = pvfc::Controller::waypoints(robot, kWaypoints, 1.5, {}, settings());
+  std::array<double, 6> q = {0.1, -1.1, 1.3, -1.7, -1.5, 0.1};
+  const std::array<double, 6> v{};
+  std::array<double, 6> first{}, again{};
+  ctl.step(q, v, 1e-3, first);
+  ctl.reset();
+  std::array<double, 6> bad = q;
+  bad[2] = std::numeric_limits<double>::quiet_NaN();
+  try {
+    ctl.step(bad, v, 1e-3, again);
+    ADD_FAILURE() << "no exception";
+  } catch (const pvfc::NonFiniteError &e) {
+    EXPECT_NE(std::string(e.what()).find("q[2]"), std::string::npos) << e.what();
+  }
+  std::array<double, 5> short_q{};
+  std::array<double, 5> short_v{};
+  EXPECT_THROW(ctl.step(short_q, short_v, 1e-3, again), pvfc::WrongSizeError);
+  EXPECT_THROW(ctl.step(q, v, -1.0, again), pvfc::InvalidArgumentError);
+  std::array<double, 3> small{};
+  EXPECT_THROW(ctl.step(q, v, 1e-3, small), pvfc::WrongSizeError);
+  ctl.step(q, v, 1e-3, again);
+  EXPECT_EQ(first, again);
+  pvfc::Settings s = settings();
+  s.energy = -1.0;
+  EXPECT_THROW(pvfc::Controller::waypoints(robot, kWaypoints, 1.5, {}, s),
+               pvfc::InvalidArgumentError);
+  const std::vector<double> ragged(kWaypoints.begin(), kWaypoints.end() - 1);
+  EXPECT_THROW(pvfc::Controller::waypoints(robot, ragged, 1.5), pvfc::WrongSizeError);
+}
+
+TEST(Handles, MoveAndFreeOnce) {
+  pvfc::Robot a = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
+  pvfc::Robot b = std::move(a);
+  EXPECT_EQ(b.dof(), 6u);
+  EXPECT_EQ(a.dof(), 0u);  // NOLINT: a moved-from handle is empty
+  pvfc::Controller c = pvfc::Controller::waypoints(b, kWaypoints, 1.5);
+  pvfc::Controller d = std::move(c);
+  EXPECT_EQ(d.dof(), 6u);
+  d = pvfc::Controller::waypoints(b, kWaypoints, 2.0);
+  EXPECT_EQ(d.dof(), 6u);
+}
+
+TEST(Passive, StaysWithinItsTorqueLimits) {
+  const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
+  const pvfc::Controller ctl = pvfc::Controller::waypoints(robot, kWaypoints, 1.5, {}, settings());
+  const std::array<double, 6> limit = {150, 150, 150, 28, 28, 28};
+  pvfc::PassiveOptions o;
+  o.torque_limit = limit.data();
+  o.n = limit.size();
+  pvfc::PassiveController p(ctl, o);
+  const std::array<double, 6> q = {0.1, -1.1, 1.3, -1.7, -1.5, 0.1};
+  std::array<double, 6> torque{};
+  for (int k = 0; k < 10; ++k) {
+    const pvfc_energy_account a = p.step(q, 1e-3, torque);
+    for (int i = 0; i < 6; ++i) EXPECT_LE(std::abs(torque[i]), limit[i]);
+    EXPECT_GE(a.scale, 0.0);
+    EXPECT_LE(a.scale, 1.0);
+  }
+  EXPECT_TRUE(std::isfinite(p.storage()));
+  o.n = 2;
+  EXPECT_THROW(pvfc::PassiveController(ctl, o), pvfc::WrongSizeError);
+}
+
+TEST(Version, IsNotEmpty) { EXPECT_FALSE(pvfc::version().empty()); }
