@@ -2,8 +2,8 @@
 # All the tests: the Rust workspace (cargo test), the C ABI from C (under valgrind when it is
 # installed), then the Python wheel built into a fresh virtual environment with its pytest
 # suite and the stub check (mypy.stubtest).
-# Needs Rust (rustup), a C and a C++ compiler, and Python ≥ 3.9 with venv; installs the rest
-# itself.
+# Needs Rust (rustup), a C and a C++ compiler, CMake, and Python ≥ 3.9 with venv; installs the
+# rest itself.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 stage() { echo "=== $* (${SECONDS} s so far)"; }
@@ -43,6 +43,20 @@ for t in "${c_tests[@]}"; do
     echo "valgrind not found: running $t without it"
     "$t" models/ur5/ur5_robot.urdf
   fi
+done
+
+stage "CMake: install the pvfc package, then find_package(pvfc) from a project outside the tree"
+prefix="$PWD/target/cmake-install"
+rm -rf target/cmake-build "$prefix"
+cmake -S crates/pvfc-c -B target/cmake-build -DCMAKE_INSTALL_PREFIX="$prefix" >/dev/null
+cmake --build target/cmake-build
+cmake --install target/cmake-build >/dev/null
+for static in OFF ON; do
+  rm -rf "target/cmake-example-$static"
+  cmake -S examples/cpp -B "target/cmake-example-$static" -DCMAKE_PREFIX_PATH="$prefix" \
+    -DPVFC_STATIC="$static" >/dev/null
+  cmake --build "target/cmake-example-$static" >/dev/null
+  "target/cmake-example-$static/ur5_contour" models/ur5/ur5_robot.urdf
 done
 
 stage "Python: build the wheel into a fresh virtual environment"
