@@ -11,7 +11,7 @@ stage() { echo "=== $* (${SECONDS} s so far)"; }
 stage "cargo test"
 cargo test --locked
 
-stage "C and C++: the C ABI (crates/pvfc-c) from C and from C++ (GoogleTest), under valgrind"
+stage "C and C++: the C ABI (crates/pvfc-c) from C and from C++ (GoogleTest), with sanitizers and under valgrind"
 # The static library of the test profile that `cargo test` built (no second profile).
 cargo build --locked -p pvfc-c --profile test
 mkdir -p target/c
@@ -32,6 +32,17 @@ else
   echo "GoogleTest not found: skipping the C++ tests"
 fi
 export PVFC_UR5_URDF=models/ur5/ur5_robot.urdf
+# The same tests with AddressSanitizer and UndefinedBehaviorSanitizer (leaks included).
+asan=(-g -fsanitize=address,undefined -fno-omit-frame-pointer)
+cc -std=c99 "${asan[@]}" crates/pvfc-c/tests/c/test_pvfc.c -Icrates/pvfc-c/include \
+  target/debug/libpvfc_c.a -lm -lpthread -ldl -o target/c/test_pvfc_asan
+ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1 \
+  target/c/test_pvfc_asan models/ur5/ur5_robot.urdf
+if [ -f target/c/test_pvfc_cpp ]; then
+  c++ -std=c++17 "${asan[@]}" -Icrates/pvfc-c/include crates/pvfc-c/tests/cpp/test_pvfc.cpp \
+    target/debug/libpvfc_c.a -lgtest -lgtest_main -lpthread -ldl -lm -o target/c/test_pvfc_cpp_asan
+  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1 target/c/test_pvfc_cpp_asan >/dev/null
+fi
 for t in "${c_tests[@]}"; do
   if command -v valgrind >/dev/null; then
     valgrind --error-exitcode=1 --leak-check=full --errors-for-leak-kinds=definite,indirect \

@@ -229,3 +229,113 @@ fn bad_pointers_and_sizes_are_codes_with_messages() {
         pvfc_robot_destroy(robot);
     }
 }
+
+/// Steps the C controller and the Rust one on `urdf` (tip `tip`) through the contour
+/// `waypoints` (row-major) from `(q, v)`, moving `q` a little each step: the torques agree
+/// bit for bit.
+fn agree(urdf: &str, tip: &str, waypoints: &[f64], mut q: Vec<f64>, v: Vec<f64>) {
+    let n = q.len();
+    let path = CString::new(format!(
+        "{}/../../models/{urdf}",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let tip_c = CString::new(tip).unwrap();
+    let mut robot = std::ptr::null_mut();
+    let mut ctl = std::ptr::null_mut();
+    let s = pvfc_settings_default();
+    // SAFETY: valid strings, arrays and out pointers.
+    unsafe {
+        assert_eq!(
+            pvfc_robot_from_urdf_file(path.as_ptr(), std::ptr::null(), tip_c.as_ptr(), &mut robot),
+            pvfc_status::PVFC_OK
+        );
+        assert_eq!(
+            pvfc_controller_new_waypoints(
+                robot,
+                waypoints.as_ptr(),
+                waypoints.len() / n,
+                n,
+                1.5,
+                std::ptr::null(),
+                0,
+                &s,
+                &mut ctl
+            ),
+            pvfc_status::PVFC_OK,
+            "{}",
+            last_error()
+        );
+    }
+    let r = pvfc_sim::model::robot::Robot::from_urdf(
+        std::path::Path::new(path.to_str().unwrap()),
+        None,
+        Some(tip),
+    )
+    .unwrap();
+    let settings = pvfc_sim::model::arm::ArmSettings {
+        contour: pvfc_sim::model::arm::JointContourSpec::Waypoints {
+            points: waypoints.chunks(n).map(<[f64]>::to_vec).collect(),
+            spacing: 1.5,
+        },
+        field: pvfc_sim::model::arm_field::FieldSpec::Joint,
+        h: vec![1.0; n],
+        self_pacing: s.self_pacing,
+        energy: s.energy,
+        flywheel_inertia: s.flywheel_inertia,
+        gamma: s.gamma,
+        gravity_compensation: s.gravity_compensation,
+        friction_compensation: None,
+        friction_band: 0.0,
+        nominal_speed: None,
+        tau0: 0.0,
+    };
+    let mut rust = pvfc_sim::model::arm::ArmController::new(&r, &settings).unwrap();
+    let mut torque = vec![0.0; n];
+    for k in 0..30 {
+        let expected = rust.step(&q, &v, 1e-3).unwrap();
+        // SAFETY: arrays of n, a valid handle.
+        let st = unsafe {
+            pvfc_controller_step(
+                ctl,
+                q.as_ptr(),
+                v.as_ptr(),
+                n,
+                1e-3,
+                torque.as_mut_ptr(),
+                n,
+                std::ptr::null_mut(),
+            )
+        };
+        assert_eq!(st, pvfc_status::PVFC_OK);
+        assert_eq!(torque, expected.torque, "{urdf}, step {k}");
+        q[0] += 1e-3;
+    }
+    // SAFETY: handles made above, freed once.
+    unsafe {
+        pvfc_controller_destroy(ctl);
+        pvfc_robot_destroy(robot);
+    }
+}
+
+#[test]
+fn the_c_step_agrees_with_rust_on_the_scara_and_the_panda() {
+    agree(
+        "scara.urdf",
+        "tool",
+        &[0.0, 1.0, 1.0, 0.0, 0.0, -1.0, -1.0, 0.0],
+        vec![0.1, 0.9],
+        vec![0.1, -0.2],
+    );
+    agree(
+        "panda/panda.urdf",
+        "panda_hand_tcp",
+        &[
+            0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8, //
+            0.4, -0.1, 0.2, -2.0, 0.2, 2.1, 1.0, //
+            0.7, -0.4, 0.3, -1.8, 0.1, 1.8, 1.2,
+        ],
+        vec![0.1, -0.2, 0.1, -2.1, 0.1, 2.0, 0.9],
+        vec![0.1, 0.0, -0.1, 0.2, 0.0, 0.1, 0.0],
+    );
+}
