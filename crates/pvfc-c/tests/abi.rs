@@ -1,6 +1,6 @@
 //! The C ABI called as C would call it: the step gives the same torque as the Rust
-//! controller, allocates nothing (a counting global allocator), and bad pointers are error
-//! codes with messages.
+//! controller (UR5, SCARA, Panda), the steps allocate nothing (a counting global allocator),
+//! and bad pointers are error codes with messages.
 #![allow(unsafe_code)]
 
 use pvfc_c::*;
@@ -73,7 +73,7 @@ fn controller(robot: *const pvfc_robot) -> *mut pvfc_controller {
 }
 
 #[test]
-fn the_c_step_is_the_rust_step_and_allocates_nothing() {
+fn the_steps_allocate_nothing() {
     let path = urdf();
     let mut robot = std::ptr::null_mut();
     // SAFETY: valid strings and out pointer.
@@ -87,34 +87,9 @@ fn the_c_step_is_the_rust_step_and_allocates_nothing() {
     };
     assert_eq!(status, pvfc_status::PVFC_OK, "{}", last_error());
     let ctl = controller(robot);
-    // The same controller in Rust.
-    let r = pvfc_sim::model::robot::Robot::from_urdf(
-        std::path::Path::new(path.to_str().unwrap()),
-        None,
-        Some("tool0"),
-    )
-    .unwrap();
-    let settings = pvfc_sim::model::arm::ArmSettings {
-        contour: pvfc_sim::model::arm::JointContourSpec::Waypoints {
-            points: WAYPOINTS.chunks(6).map(<[f64]>::to_vec).collect(),
-            spacing: 1.5,
-        },
-        field: pvfc_sim::model::arm_field::FieldSpec::Joint,
-        h: vec![1.0; 6],
-        self_pacing: 50.0,
-        energy: 40.0,
-        flywheel_inertia: 1.0,
-        gamma: 1.0,
-        gravity_compensation: true,
-        friction_compensation: None,
-        friction_band: 0.0,
-        nominal_speed: None,
-        tau0: 0.0,
-    };
-    let mut rust = pvfc_sim::model::arm::ArmController::new(&r, &settings).unwrap();
     let mut q = [0.1, -1.1, 1.3, -1.7, -1.5, 0.1];
     let v = [0.2, -0.1, 0.05, 0.0, 0.1, -0.2];
-    let mut torque = [0.0; 6];
+    let (mut torque, mut held) = ([0.0; 6], [0.0; 6]);
     let mut d = pvfc_diagnostics::default();
     let mut options = pvfc_passive_options_default();
     let limit = [150.0, 150.0, 150.0, 28.0, 28.0, 28.0];
@@ -128,7 +103,6 @@ fn the_c_step_is_the_rust_step_and_allocates_nothing() {
     );
     let mut account = pvfc_energy_account::default();
     for k in 0..50 {
-        let expected = rust.step(&q, &v, 1e-3).unwrap();
         let before = ALLOCATIONS.load(Ordering::SeqCst);
         // SAFETY: arrays of 6, valid handles.
         let (a, b) = unsafe {
@@ -150,7 +124,7 @@ fn the_c_step_is_the_rust_step_and_allocates_nothing() {
                     std::ptr::null(),
                     6,
                     1e-3,
-                    [0.0; 6].as_mut_ptr(),
+                    held.as_mut_ptr(),
                     6,
                     &mut account,
                 ),
@@ -159,8 +133,6 @@ fn the_c_step_is_the_rust_step_and_allocates_nothing() {
         let allocated = ALLOCATIONS.load(Ordering::SeqCst) - before;
         assert_eq!((a, b), (pvfc_status::PVFC_OK, pvfc_status::PVFC_OK));
         assert_eq!(allocated, 0, "step {k} allocated {allocated} times");
-        assert_eq!(torque.to_vec(), expected.torque, "step {k}");
-        assert_eq!(d.beta, expected.beta);
         q[0] += 1e-3;
     }
     // SAFETY: handles made above, freed once.
@@ -319,7 +291,14 @@ fn agree(urdf: &str, tip: &str, waypoints: &[f64], mut q: Vec<f64>, v: Vec<f64>)
 }
 
 #[test]
-fn the_c_step_agrees_with_rust_on_the_scara_and_the_panda() {
+fn the_c_step_agrees_with_rust_on_the_ur5_the_scara_and_the_panda() {
+    agree(
+        "ur5/ur5_robot.urdf",
+        "tool0",
+        &WAYPOINTS,
+        vec![0.1, -1.1, 1.3, -1.7, -1.5, 0.1],
+        vec![0.2, -0.1, 0.05, 0.0, 0.1, -0.2],
+    );
     agree(
         "scara.urdf",
         "tool",
