@@ -264,30 +264,35 @@ where
         w_dot: &SVector<T, M>,
         along: &SVector<T, M>,
     ) -> Pulled<T, N> {
-        // The damped inverse and its rate (A is symmetric positive definite as μ > 0).
+        // The damped inverse and its rate (A is symmetric positive definite as μ > 0), applied
+        // to vectors only: J⁺y = Jᵀ(A⁻¹y), and d(J⁺)/dt y = J̇ᵀz − J⁺(J̇(Jᵀz) + J(J̇ᵀz)) with
+        // z = A⁻¹y (Ȧ = J̇Jᵀ + JJ̇ᵀ), so no N×N or N×M product is formed.
         let mu2 = self.damping * self.damping;
         let a = jac * jac.transpose() + SMatrix::<T, M, M>::identity() * mu2;
         let a_inv = a.try_inverse().unwrap_or_else(SMatrix::<T, M, M>::zeros);
-        let a_dot = jac_dot * jac.transpose() + jac * jac_dot.transpose();
-        let pinv = jac.transpose() * a_inv;
-        let pinv_dot = jac_dot.transpose() * a_inv - pinv * a_dot * a_inv;
-        let mut velocity = pinv * w;
-        let mut rate = pinv_dot * w + pinv * w_dot;
+        let pinv = |y: &SVector<T, M>| jac.tr_mul(&(a_inv * y));
+        let pinv_dot = |y: &SVector<T, M>| {
+            let z = a_inv * y;
+            jac_dot.tr_mul(&z) - pinv(&(jac_dot * jac.tr_mul(&z) + jac * jac_dot.tr_mul(&z)))
+        };
+        let mut velocity = pinv(w);
+        let mut rate = pinv_dot(w) + pinv(w_dot);
         if let Some((rest, gain)) = &self.rest {
             let to_rest = q
                 .inverse()
                 .compose(&JointSpace::new(*rest, q.kinds()))
                 .log()
                 * *gain;
-            let p = SMatrix::<T, N, N>::identity() - pinv * jac;
-            let p_dot = -(pinv_dot * jac + pinv * jac_dot);
-            velocity += p * to_rest;
-            rate += p_dot * to_rest - p * (v * *gain);
+            // The projector P = I − J⁺J and its rate Ṗ = −(d(J⁺)/dt J + J⁺J̇), applied.
+            let project = |x: &SVector<T, N>| x - pinv(&(jac * x));
+            let pulled = v * *gain;
+            velocity += project(&to_rest);
+            rate += -(pinv_dot(&(jac * to_rest)) + pinv(&(jac_dot * to_rest))) - project(&pulled);
         }
         Pulled {
             velocity,
             rate,
-            along: pinv * along,
+            along: pinv(along),
         }
     }
 
