@@ -5,17 +5,26 @@
 
 use pvfc_c::*;
 use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
 use std::ffi::{CStr, CString};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 struct Counting;
 
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    /// Allocations made by this thread (the tests run in parallel threads: a global count
+    /// would see the others').
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn allocations() -> usize {
+    ALLOCATIONS.with(Cell::get)
+}
 
 // SAFETY: forwards to the system allocator, counting.
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        // `try_with`: the thread's counter may be gone while the thread exits.
+        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
         // SAFETY: forwarded.
         unsafe { System.alloc(layout) }
     }
@@ -103,7 +112,7 @@ fn the_steps_allocate_nothing() {
     );
     let mut account = pvfc_energy_account::default();
     for k in 0..50 {
-        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        let before = allocations();
         // SAFETY: arrays of 6, valid handles.
         let (a, b) = unsafe {
             (
@@ -130,7 +139,7 @@ fn the_steps_allocate_nothing() {
                 ),
             )
         };
-        let allocated = ALLOCATIONS.load(Ordering::SeqCst) - before;
+        let allocated = allocations() - before;
         assert_eq!((a, b), (pvfc_status::PVFC_OK, pvfc_status::PVFC_OK));
         assert_eq!(allocated, 0, "step {k} allocated {allocated} times");
         q[0] += 1e-3;
