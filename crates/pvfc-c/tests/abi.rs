@@ -43,14 +43,6 @@ const WAYPOINTS: [f64; 18] = [
     -0.2, -1.3, 1.5, -1.9, -1.57, -0.1,
 ];
 
-fn urdf() -> CString {
-    let p = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../models/ur5/ur5_robot.urdf"
-    );
-    CString::new(p).unwrap()
-}
-
 fn last_error() -> String {
     // SAFETY: a valid C string owned by the library.
     unsafe { CStr::from_ptr(pvfc_last_error()) }
@@ -81,20 +73,26 @@ fn controller(robot: *const pvfc_robot) -> *mut pvfc_controller {
     ctl
 }
 
-#[test]
-fn the_steps_allocate_nothing() {
-    let path = urdf();
+/// The robot of `models/{file}` with tip `tip`, through the C ABI.
+fn open_robot(file: &str, tip: &str) -> *mut pvfc_robot {
+    let path = CString::new(format!(
+        "{}/../../models/{file}",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let tip = CString::new(tip).unwrap();
     let mut robot = std::ptr::null_mut();
     // SAFETY: valid strings and out pointer.
     let status = unsafe {
-        pvfc_robot_from_urdf_file(
-            path.as_ptr(),
-            std::ptr::null(),
-            c"tool0".as_ptr(),
-            &mut robot,
-        )
+        pvfc_robot_from_urdf_file(path.as_ptr(), std::ptr::null(), tip.as_ptr(), &mut robot)
     };
     assert_eq!(status, pvfc_status::PVFC_OK, "{}", last_error());
+    robot
+}
+
+#[test]
+fn the_steps_allocate_nothing() {
+    let robot = open_robot("ur5/ur5_robot.urdf", "tool0");
     let ctl = controller(robot);
     let mut q = [0.1, -1.1, 1.3, -1.7, -1.5, 0.1];
     let v = [0.2, -0.1, 0.05, 0.0, 0.1, -0.2];
@@ -154,17 +152,7 @@ fn the_steps_allocate_nothing() {
 
 #[test]
 fn bad_pointers_and_sizes_are_codes_with_messages() {
-    let mut robot = std::ptr::null_mut();
-    let path = urdf();
-    // SAFETY: valid strings and out pointer.
-    unsafe {
-        pvfc_robot_from_urdf_file(
-            path.as_ptr(),
-            std::ptr::null(),
-            c"tool0".as_ptr(),
-            &mut robot,
-        )
-    };
+    let robot = open_robot("ur5/ur5_robot.urdf", "tool0");
     let ctl = controller(robot);
     let q = [0.0; 6];
     let mut t = [0.0; 6];
@@ -216,21 +204,11 @@ fn bad_pointers_and_sizes_are_codes_with_messages() {
 /// bit for bit.
 fn agree(urdf: &str, tip: &str, waypoints: &[f64], mut q: Vec<f64>, v: Vec<f64>) {
     let n = q.len();
-    let path = CString::new(format!(
-        "{}/../../models/{urdf}",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap();
-    let tip_c = CString::new(tip).unwrap();
-    let mut robot = std::ptr::null_mut();
+    let robot = open_robot(urdf, tip);
     let mut ctl = std::ptr::null_mut();
     let s = pvfc_settings_default();
-    // SAFETY: valid strings, arrays and out pointers.
+    // SAFETY: valid arrays and out pointers.
     unsafe {
-        assert_eq!(
-            pvfc_robot_from_urdf_file(path.as_ptr(), std::ptr::null(), tip_c.as_ptr(), &mut robot),
-            pvfc_status::PVFC_OK
-        );
         assert_eq!(
             pvfc_controller_new_waypoints(
                 robot,
@@ -249,7 +227,9 @@ fn agree(urdf: &str, tip: &str, waypoints: &[f64], mut q: Vec<f64>, v: Vec<f64>)
         );
     }
     let r = pvfc_sim::model::robot::Robot::from_urdf(
-        std::path::Path::new(path.to_str().unwrap()),
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../models")
+            .join(urdf),
         None,
         Some(tip),
     )

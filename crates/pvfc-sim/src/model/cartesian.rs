@@ -540,8 +540,8 @@ impl CartesianSpec {
         if self.orientations.is_empty() {
             return Ok(None);
         }
-        let corners = self.corner_orientations()?;
         let path = self.path(Path::new("."))?;
+        let corners = self.corner_orientations_on(&path)?;
         Ok(Some(
             samples
                 .iter()
@@ -553,6 +553,11 @@ impl CartesianSpec {
     /// The orientations at the corners, for a path with `orientations` (checked: one per
     /// point, finite, no half turn between neighbours).
     pub fn corner_orientations(&self) -> Result<CornerOrientations> {
+        self.corner_orientations_on(&self.path(Path::new("."))?)
+    }
+
+    /// [`corner_orientations`](Self::corner_orientations) on the path already built.
+    fn corner_orientations_on(&self, path: &ToolPath) -> Result<CornerOrientations> {
         let n = self.points.len();
         if self.orientations.len() != n || n == 0 {
             return Err(bad(format!(
@@ -568,7 +573,7 @@ impl CartesianSpec {
             .iter()
             .map(|[r, p, y]| nalgebra::UnitQuaternion::from_euler_angles(*r, *p, *y))
             .collect();
-        CornerOrientations::new(&self.path(Path::new("."))?, &corners, &rotations).map_err(bad)
+        CornerOrientations::new(path, &corners, &rotations).map_err(bad)
     }
 }
 
