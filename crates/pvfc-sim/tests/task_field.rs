@@ -58,6 +58,14 @@ fn field_of<const N: usize>(chain: SerialChain<f64, N>) -> Field<N> {
     .unwrap()
 }
 
+/// The Panda's rest posture (the seed of its tilted circle).
+const PANDA_REST: [f64; 7] = [0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8];
+
+/// The Panda's chain (to its hand's tool centre point).
+fn panda_chain() -> SerialChain<f64, 7> {
+    SerialChain::try_from(robot("models/panda/panda.urdf", "panda_hand_tcp").model()).unwrap()
+}
+
 /// The UR5's chain.
 fn ur5_chain() -> SerialChain<f64, 6> {
     SerialChain::try_from(robot("models/ur5/ur5_robot.urdf", "tool0").model()).unwrap()
@@ -114,9 +122,8 @@ fn the_rate_is_the_derivative_along_the_motion_ur5_and_panda() {
         chain.kinds(),
         SVector::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0]),
     );
-    let panda = robot("models/panda/panda.urdf", "panda_hand_tcp");
-    let chain = SerialChain::<f64, 7>::try_from(panda.model()).unwrap();
-    let rest = SVector::from([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8]);
+    let chain = panda_chain();
+    let rest = SVector::from(PANDA_REST);
     let field = field_of(chain).with_rest(rest, 2.0).unwrap();
     check_rate(&field, chain.kinds(), rest);
 }
@@ -139,9 +146,8 @@ fn the_rate_is_the_derivative_along_the_motion_with_the_orientation_held() {
         chain.kinds(),
         SVector::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0]),
     );
-    let panda = robot("models/panda/panda.urdf", "panda_hand_tcp");
-    let chain = SerialChain::<f64, 7>::try_from(panda.model()).unwrap();
-    let rest = SVector::from([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8]);
+    let chain = panda_chain();
+    let rest = SVector::from(PANDA_REST);
     let field = field_of(chain)
         .with_rest(rest, 2.0)
         .unwrap()
@@ -194,9 +200,8 @@ fn the_rate_is_the_derivative_along_the_motion_with_a_moving_orientation() {
         chain.kinds(),
         SVector::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0]),
     );
-    let panda = robot("models/panda/panda.urdf", "panda_hand_tcp");
-    let chain = SerialChain::<f64, 7>::try_from(panda.model()).unwrap();
-    let rest = SVector::from([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8]);
+    let chain = panda_chain();
+    let rest = SVector::from(PANDA_REST);
     let field = field_of(chain)
         .with_rest(rest, 2.0)
         .unwrap()
