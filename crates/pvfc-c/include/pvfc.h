@@ -34,6 +34,9 @@ typedef enum pvfc_status {
   PVFC_ERROR_INTERNAL = 10,
 } pvfc_status;
 
+// A contour (opaque).
+typedef struct pvfc_contour pvfc_contour;
+
 // A PVFC controller of an arm (opaque).
 typedef struct pvfc_controller pvfc_controller;
 
@@ -42,6 +45,37 @@ typedef struct pvfc_passive pvfc_passive;
 
 // A serial arm read from URDF (opaque).
 typedef struct pvfc_robot pvfc_robot;
+
+// How a Cartesian tool path becomes a controller's contour. Get them from
+// [`pvfc_cartesian_options_default`], then set at least `seed`.
+typedef struct pvfc_cartesian_options {
+  // `sizeof(pvfc_cartesian_options)` as the caller was compiled with.
+  size_t size;
+  // The joint posture the inverse kinematics starts from at the path's first point (the
+  // robot's joints; required).
+  const double *seed;
+  // The number of entries at `seed`.
+  size_t seed_len;
+  // How many joint waypoints the path is sampled into (4 to 1024; 0: as many as it takes
+  // for the joint contour to stay within `tolerance` of the path).
+  size_t samples;
+  // The adaptive sampling's largest distance between the path and the joint contour (m).
+  double tolerance;
+  // Hold the tool's orientation at the seed's (else it is free).
+  bool fixed_orientation;
+  // Follow the exact path with the task-space field (else the joint contour through the
+  // waypoints).
+  bool task_field;
+  // The task-space field's `k` of `U = ½ k |e|²` (1/s).
+  double task_stiffness;
+  // The task-space field's `k_R` of `U_R = k_R (1 − cos θ)` (1/s; 0: `task_stiffness`).
+  double task_orientation_stiffness;
+  // The damping `μ` of the task-space field's Jacobian inverse (m).
+  double task_damping;
+  // The task-space field's pull towards the seed in the task's null space (1/s), for
+  // arms with more joints than the task has coordinates.
+  double task_rest_gain;
+} pvfc_cartesian_options;
 
 // The settings of a controller, apart from its robot, contour and navigation weights. Get
 // them from [`pvfc_settings_default`] and change what you need: `size` lets later versions
@@ -131,60 +165,138 @@ typedef struct pvfc_energy_account {
 extern "C" {
 #endif // __cplusplus
 
-// The message of the last error on this thread (empty if none). The pointer stays valid
-// until the next call of a pvfc function on this thread.
-const char *pvfc_last_error(void);
-
-// The library's version, e.g. "0.1.0" (a static string).
-const char *pvfc_version(void);
-
-// Reads a serial arm from the URDF file `path`: `base` and `tip` name its base and tip links
-// (NULL: the URDF's root, and its only leaf).
+// A closed joint-space contour: the periodic C² spline through `n_waypoints` waypoints
+// (row-major, `n_waypoints × dof` doubles, 3 to 1024 rows), one every `spacing` of `τ`.
 //
 // # Safety
-// `path` is a NUL-terminated string; `base`, `tip` are NULL or such strings; `out` is
+// `waypoints` points to `n_waypoints × dof` readable doubles; `out` is writable.
+enum pvfc_status pvfc_contour_waypoints(const double *waypoints,
+                                        size_t n_waypoints,
+                                        size_t dof,
+                                        double spacing,
+                                        struct pvfc_contour **out);
+
+// A Lissajous curve in joint space, `x_i = c_i + a_i sin(2πτ/T_i + φ_i)` for `i < n`,
+// closed with the common period `period` (a multiple of every `T_i`): `amplitude` `a`,
+// `periods` `T`, `phase` `φ` (NULL: zeros), `offset` `c` (NULL: zeros), `n` each.
+//
+// # Safety
+// The arrays are NULL (where allowed) or hold `n` readable doubles; `out` is writable.
+enum pvfc_status pvfc_contour_lissajous(const double *amplitude,
+                                        const double *periods,
+                                        const double *phase,
+                                        const double *offset,
+                                        size_t n,
+                                        double period,
+                                        struct pvfc_contour **out);
+
+// An ellipse in joint space, `x_d(τ) = c + u cos(2πτ/T) + w sin(2πτ/T)`: `center` `c`,
+// the conjugate semi-axes `u` and `w` (`n` doubles each), the period `T` in `τ`.
+//
+// # Safety
+// The arrays hold `n` readable doubles; `out` is writable.
+enum pvfc_status pvfc_contour_ellipse(const double *center,
+                                      const double *u,
+                                      const double *w,
+                                      size_t n,
+                                      double period,
+                                      struct pvfc_contour **out);
+
+// The default options: no seed (set it), adaptive sampling to 10 µm, the orientation free,
+// the joint contour (not the task-space field), and the task-space field's defaults
+// `k = 4/s`, `k_R = k`, `μ = 0.01 m`, rest gain 1/s.
+struct pvfc_cartesian_options pvfc_cartesian_options_default(void);
+
+// A closed polygon of the tool's position through `n_corners` corners (row-major `x, y, z`,
+// m, in the robot's base frame; the last joins the first) with its corners rounded to
+// `corner_radius` (m; 0: sharp), traced once every `period` of `τ`, with `options` (NULL:
+// the defaults, which lack the seed).
+//
+// # Safety
+// `corners` holds `3 × n_corners` readable doubles; `options` is NULL or readable; `out` is
 // writable.
-enum pvfc_status pvfc_robot_from_urdf_file(const char *path,
-                                           const char *base,
-                                           const char *tip,
-                                           struct pvfc_robot **out);
+enum pvfc_status pvfc_contour_cartesian_polygon(const double *corners,
+                                                size_t n_corners,
+                                                double corner_radius,
+                                                double period,
+                                                const struct pvfc_cartesian_options *options,
+                                                struct pvfc_contour **out);
 
-// Reads a serial arm from the text of a URDF (`name` names it in error messages; NULL:
-// "urdf").
+// A circle of the tool's position (`semi_minor` 0), or an ellipse: `center` and `normal`
+// (3 doubles each; it turns right-handed about the normal), `radius` the semi-axis along
+// `major_axis` (3 doubles, NULL: any direction in the plane; the path starts there),
+// `semi_minor` the other; traced once every `period` of `τ`, with `options`.
 //
 // # Safety
-// `urdf` is a NUL-terminated string; `name`, `base`, `tip` are NULL or such strings; `out`
-// is writable.
-enum pvfc_status pvfc_robot_from_urdf_string(const char *urdf,
-                                             const char *name,
-                                             const char *base,
-                                             const char *tip,
-                                             struct pvfc_robot **out);
+// `center`, `normal` hold 3 readable doubles, `major_axis` is NULL or does; `options` is
+// NULL or readable; `out` is writable.
+enum pvfc_status pvfc_contour_cartesian_circle(const double *center,
+                                               const double *normal,
+                                               double radius,
+                                               const double *major_axis,
+                                               double semi_minor,
+                                               double period,
+                                               const struct pvfc_cartesian_options *options,
+                                               struct pvfc_contour **out);
 
-// The number of joints of `robot` (0 for NULL).
+// Any Cartesian tool path a scenario file can give: `toml` holds the keys of its
+// `[contour.cartesian]` table (points, circle, csv, orientations, rest, `[task]`, …; the
+// user's manual lists them), a CSV file's name relative to `base_dir` (NULL: the working
+// directory). Traced once every `period` of `τ` with adaptive sampling; with fixed
+// `samples`, `spacing` is the `τ` between waypoints (0: `period / samples`).
 //
 // # Safety
-// `robot` is NULL or a live handle.
-size_t pvfc_robot_dof(const struct pvfc_robot *robot);
+// `toml` is a NUL-terminated string, `base_dir` NULL or one; `out` is writable.
+enum pvfc_status pvfc_contour_cartesian_toml(const char *toml,
+                                             const char *base_dir,
+                                             double period,
+                                             double spacing,
+                                             struct pvfc_contour **out);
 
-// Frees a robot (NULL: nothing).
+// The distance (m) from `point` (3 doubles, base frame) to a Cartesian contour's exact path,
+// into `*distance`, and the closest point into `closest` (3 doubles; NULL: not wanted).
+// Allocates nothing. An error for a joint-space contour.
 //
 // # Safety
-// `robot` is NULL or a live handle, not used afterwards.
-void pvfc_robot_destroy(struct pvfc_robot *robot);
+// `contour` is NULL or a live handle; `point` holds 3 readable doubles; `closest` is NULL
+// or has room for 3; `distance` is writable.
+enum pvfc_status pvfc_contour_distance(const struct pvfc_contour *contour,
+                                       const double *point,
+                                       double *distance,
+                                       double *closest);
+
+// Frees a contour (NULL: nothing). Controllers made from it keep what they need.
+//
+// # Safety
+// `contour` is NULL or a live handle, not used afterwards.
+void pvfc_contour_destroy(struct pvfc_contour *contour);
 
 // The default settings: no self-pacing, `Ē = 10`, `M_F = 1`, `γ = 1`, gravity
 // compensation on, no friction compensation, no nominal-speed control, `τ₀ = 0`.
 struct pvfc_settings pvfc_settings_default(void);
 
-// Makes a controller of `robot` that follows the closed joint-space contour through
-// `n_waypoints` waypoints (row-major, `n_waypoints × dof` doubles, `dof` the robot's), one
-// every `spacing` of `τ`, with navigation weights `h` (`h_len` = dof; NULL: all 1) and
-// `settings` (NULL: [`pvfc_settings_default`]).
+// Makes a controller of `robot` that follows `contour` (a Cartesian path's inverse
+// kinematics is solved here; errors name the waypoint), with navigation weights `h`
+// (`h_len` = the robot's joints; NULL: all 1; unused by the task-space field) and
+// `settings` (NULL: [`pvfc_settings_default`]). The contour may be destroyed afterwards.
 //
 // # Safety
-// The pointers are NULL or point to the documented number of readable values; `out` is
-// writable.
+// `robot`, `contour` are NULL or live handles; `h` is NULL or holds `h_len` doubles;
+// `settings` is NULL or readable (its arrays as documented); `out` is writable.
+enum pvfc_status pvfc_controller_new(const struct pvfc_robot *robot,
+                                     const struct pvfc_contour *contour,
+                                     const double *h,
+                                     size_t h_len,
+                                     const struct pvfc_settings *settings,
+                                     struct pvfc_controller **out);
+
+// Makes a controller of `robot` that follows the closed joint-space contour through
+// `n_waypoints` waypoints (row-major, `n_waypoints × dof` doubles, `dof` the robot's), one
+// every `spacing` of `τ`: [`pvfc_contour_waypoints`] and [`pvfc_controller_new`] in one
+// call.
+//
+// # Safety
+// As [`pvfc_contour_waypoints`] and [`pvfc_controller_new`].
 enum pvfc_status pvfc_controller_new_waypoints(const struct pvfc_robot *robot,
                                                const double *waypoints,
                                                size_t n_waypoints,
@@ -281,6 +393,109 @@ double pvfc_passive_storage(const struct pvfc_passive *p);
 // # Safety
 // `p` is NULL or a live handle, not used afterwards.
 void pvfc_passive_destroy(struct pvfc_passive *p);
+
+// Reads a serial arm from the URDF file `path`: `base` and `tip` name its base and tip links
+// (NULL: the URDF's root, and its only leaf).
+//
+// # Safety
+// `path` is a NUL-terminated string; `base`, `tip` are NULL or such strings; `out` is
+// writable.
+enum pvfc_status pvfc_robot_from_urdf_file(const char *path,
+                                           const char *base,
+                                           const char *tip,
+                                           struct pvfc_robot **out);
+
+// Reads a serial arm from the text of a URDF (`name` names it in error messages; NULL:
+// "urdf").
+//
+// # Safety
+// `urdf` is a NUL-terminated string; `name`, `base`, `tip` are NULL or such strings; `out`
+// is writable.
+enum pvfc_status pvfc_robot_from_urdf_string(const char *urdf,
+                                             const char *name,
+                                             const char *base,
+                                             const char *tip,
+                                             struct pvfc_robot **out);
+
+// The number of joints of `robot` (0 for NULL).
+//
+// # Safety
+// `robot` is NULL or a live handle.
+size_t pvfc_robot_dof(const struct pvfc_robot *robot);
+
+// The joint-space inertia `M(q)` (composite rigid body algorithm, CRBA) into `m_out`
+// (`m_len` = dof², row-major). Allocates nothing.
+//
+// # Safety
+// `robot` is NULL or a live handle; `q` holds `n` doubles; `m_out` has room for `m_len`.
+enum pvfc_status pvfc_robot_inertia(const struct pvfc_robot *robot,
+                                    const double *q,
+                                    size_t n,
+                                    double *m_out,
+                                    size_t m_len);
+
+// The gravity torque `g(q)` into `g_out` (`n` = dof). Allocates nothing.
+//
+// # Safety
+// `robot` is NULL or a live handle; `q` holds `n` doubles; `g_out` has room for `n`.
+enum pvfc_status pvfc_robot_gravity(const struct pvfc_robot *robot,
+                                    const double *q,
+                                    size_t n,
+                                    double *g_out);
+
+// Inverse dynamics by the recursive Newton–Euler algorithm (RNEA): `M(q) a + C(q, v) v +
+// g(q)` into `tau_out` (`n` = dof each). Allocates nothing.
+//
+// # Safety
+// `robot` is NULL or a live handle; `q`, `v`, `a` hold `n` doubles; `tau_out` has room for
+// `n`.
+enum pvfc_status pvfc_robot_rnea(const struct pvfc_robot *robot,
+                                 const double *q,
+                                 const double *v,
+                                 const double *a,
+                                 size_t n,
+                                 double *tau_out);
+
+// `M(q)`, the Coriolis matrix `C(q, v)` (with `Ṁ = C + Cᵀ`, the factorisation PVFC's
+// passivity rests on) and `g(q)` in one pass over the chain: `m_out`, `c_out` (dof²,
+// row-major) and `g_out` (dof). Allocates nothing.
+//
+// # Safety
+// `robot` is NULL or a live handle; `q`, `v` hold `n` doubles; `m_out`, `c_out` have room
+// for `n × n` doubles and `g_out` for `n`.
+enum pvfc_status pvfc_robot_dynamics(const struct pvfc_robot *robot,
+                                     const double *q,
+                                     const double *v,
+                                     size_t n,
+                                     double *m_out,
+                                     double *c_out,
+                                     double *g_out);
+
+// The tool frame's pose at `q` (`n` = dof): its rotation into `rotation_out` (9 doubles,
+// row-major) and its position into `position_out` (3 doubles, m), in the base frame. Either
+// output may be NULL. Allocates nothing.
+//
+// # Safety
+// `robot` is NULL or a live handle; `q` holds `n` doubles; the outputs are NULL or have room
+// for 9 and 3 doubles.
+enum pvfc_status pvfc_robot_tool_pose(const struct pvfc_robot *robot,
+                                      const double *q,
+                                      size_t n,
+                                      double *rotation_out,
+                                      double *position_out);
+
+// Frees a robot (NULL: nothing).
+//
+// # Safety
+// `robot` is NULL or a live handle, not used afterwards.
+void pvfc_robot_destroy(struct pvfc_robot *robot);
+
+// The message of the last error on this thread (empty if none). The pointer stays valid
+// until the next call of a pvfc function on this thread.
+const char *pvfc_last_error(void);
+
+// The library's version, e.g. "0.1.0" (a static string).
+const char *pvfc_version(void);
 
 #ifdef __cplusplus
 }  // extern "C"

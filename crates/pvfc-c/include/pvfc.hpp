@@ -1,13 +1,14 @@
 // pvfc from C++17: header-only RAII classes over the C ABI of pvfc.h.
 //
-// * Move-only handles (`pvfc::Robot`, `pvfc::Controller`, `pvfc::PassiveController`) free
-//   their C objects when they go out of scope.
+// * Move-only handles (`pvfc::Robot`, `pvfc::Contour`, `pvfc::Controller`,
+//   `pvfc::PassiveController`) free their C objects when they go out of scope.
 // * Every error is an exception derived from `pvfc::Error` (itself a `std::runtime_error`),
 //   one class per kind of `pvfc_status`, with the library's message (which names the
 //   argument, joint, link or URDF element).
 // * Arrays are passed as views (`pvfc::In`, `pvfc::Out`) built without copying from
 //   `std::array`, `std::vector`, Eigen vectors and maps, or a pointer and a length.
-// * The step functions allocate nothing (the C ABI does not; these wrappers add nothing).
+// * The step functions and the dynamics allocate nothing (the C ABI does not; these wrappers
+//   add nothing).
 #ifndef PVFC_HPP
 #define PVFC_HPP
 
@@ -103,6 +104,17 @@ class Out {
 };
 
 namespace detail {
+/// Throws WrongSizeError unless the view has `n` entries (for arrays whose length the C
+/// function takes from another argument).
+template <class View>
+inline void size_check(const View &x, std::size_t n, const char *name) {
+  if (x.size() != n) {
+    throw WrongSizeError(PVFC_ERROR_WRONG_SIZE, std::string(name) + ": " +
+                                                    std::to_string(x.size()) + " entries, " +
+                                                    std::to_string(n) + " needed");
+  }
+}
+
 /// A move-only owner of a C handle freed by `Destroy`.
 template <class T, void (*Destroy)(T *)>
 class Handle {
@@ -126,6 +138,8 @@ class Handle {
 };
 }  // namespace detail
 
+using detail::size_check;
+
 /// A serial arm read from URDF.
 class Robot {
  public:
@@ -148,6 +162,39 @@ class Robot {
     return Robot(p);
   }
   std::size_t dof() const noexcept { return pvfc_robot_dof(h_.get()); }
+  /// `M(q)` (CRBA) into `m` (dof², row-major).
+  void inertia(In q, Out m) const {
+    check(pvfc_robot_inertia(h_.get(), q.data(), q.size(), m.data(), m.size()));
+  }
+  /// `g(q)` into `g` (dof).
+  void gravity(In q, Out g) const {
+    size_check(g, q.size(), "g");
+    check(pvfc_robot_gravity(h_.get(), q.data(), q.size(), g.data()));
+  }
+  /// Inverse dynamics (RNEA), `M a + C v + g`, into `tau`.
+  void rnea(In q, In v, In a, Out tau) const {
+    size_check(v, q.size(), "v");
+    size_check(a, q.size(), "a");
+    size_check(tau, q.size(), "tau");
+    check(pvfc_robot_rnea(h_.get(), q.data(), v.data(), a.data(), q.size(), tau.data()));
+  }
+  /// `M(q)`, `C(q, v)` (dof², row-major) and `g(q)` in one pass.
+  void dynamics(In q, In v, Out m, Out c, Out g) const {
+    const std::size_t n = q.size();
+    size_check(v, n, "v");
+    size_check(m, n * n, "m");
+    size_check(c, n * n, "c");
+    size_check(g, n, "g");
+    check(pvfc_robot_dynamics(h_.get(), q.data(), v.data(), n, m.data(), c.data(), g.data()));
+  }
+  /// The tool's rotation (9, row-major; may be empty) and position (3; may be empty).
+  void tool_pose(In q, Out rotation, Out position) const {
+    size_check(rotation, rotation.size() ? 9 : 0, "rotation");
+    size_check(position, position.size() ? 3 : 0, "position");
+    check(pvfc_robot_tool_pose(h_.get(), q.data(), q.size(),
+                               rotation.size() ? rotation.data() : nullptr,
+                               position.size() ? position.data() : nullptr));
+  }
   const pvfc_robot *get() const noexcept { return h_.get(); }
 
  private:
@@ -165,9 +212,107 @@ struct PassiveOptions : pvfc_passive_options {
   PassiveOptions() : pvfc_passive_options(pvfc_passive_options_default()) {}
 };
 
+/// How a Cartesian path becomes a contour, starting from `pvfc_cartesian_options_default()`:
+/// set `seed` (the robot's joints) and what else you need.
+struct CartesianOptions : pvfc_cartesian_options {
+  CartesianOptions() : pvfc_cartesian_options(pvfc_cartesian_options_default()) {}
+  /// The inverse kinematics' start (kept by pointer: it must outlive the contour's making).
+  CartesianOptions &with_seed(In q) {
+    seed = q.data();
+    seed_len = q.size();
+    return *this;
+  }
+};
+
+/// What a controller follows: a closed curve in joint space or a tool path in Cartesian space.
+class Contour {
+ public:
+  /// The periodic C² spline through `waypoints` (row-major, `dof` columns), one every
+  /// `spacing` of τ.
+  static Contour waypoints(In waypoints, std::size_t dof, double spacing) {
+    if (dof == 0 || waypoints.size() % dof != 0) {
+      throw WrongSizeError(PVFC_ERROR_WRONG_SIZE,
+                           "waypoints: " + std::to_string(waypoints.size()) +
+                               " values are not whole rows of " + std::to_string(dof));
+    }
+    return make(pvfc_contour_waypoints, waypoints.data(), waypoints.size() / dof, dof, spacing);
+  }
+  /// `x_i = c_i + a_i sin(2πτ/T_i + φ_i)`, closed with `period`; `phase`, `offset` may be
+  /// empty (zeros).
+  static Contour lissajous(In amplitude, In periods, double period, In phase = In(),
+                           In offset = In()) {
+    const std::size_t n = amplitude.size();
+    size_check(periods, n, "periods");
+    if (phase.size()) size_check(phase, n, "phase");
+    if (offset.size()) size_check(offset, n, "offset");
+    return make(pvfc_contour_lissajous, amplitude.data(), periods.data(),
+                phase.size() ? phase.data() : nullptr, offset.size() ? offset.data() : nullptr,
+                n, period);
+  }
+  /// `x_d(τ) = c + u cos(2πτ/T) + w sin(2πτ/T)`.
+  static Contour ellipse(In center, In u, In w, double period) {
+    size_check(u, center.size(), "u");
+    size_check(w, center.size(), "w");
+    return make(pvfc_contour_ellipse, center.data(), u.data(), w.data(), center.size(), period);
+  }
+  /// A closed polygon of the tool's position (corners row-major `x, y, z`, m, base frame)
+  /// with rounded corners, traced once every `period` of τ.
+  static Contour cartesian_polygon(In corners, double corner_radius, double period,
+                                   const CartesianOptions &options) {
+    if (corners.size() % 3 != 0) {
+      throw WrongSizeError(PVFC_ERROR_WRONG_SIZE, "corners: not whole rows of x, y, z");
+    }
+    return make(pvfc_contour_cartesian_polygon, corners.data(), corners.size() / 3,
+                corner_radius, period, &options);
+  }
+  /// A circle of the tool's position (`semi_minor` 0) or an ellipse, about `normal`.
+  static Contour cartesian_circle(In center, In normal, double radius, double period,
+                                  const CartesianOptions &options, double semi_minor = 0.0,
+                                  In major_axis = In()) {
+    size_check(center, 3, "center");
+    size_check(normal, 3, "normal");
+    if (major_axis.size()) size_check(major_axis, 3, "major_axis");
+    return make(pvfc_contour_cartesian_circle, center.data(), normal.data(), radius,
+                major_axis.size() ? major_axis.data() : nullptr, semi_minor, period, &options);
+  }
+  /// Any `[contour.cartesian]` table of a scenario file, as TOML text.
+  static Contour cartesian_toml(const std::string &toml, double period,
+                                const std::string &base_dir = "", double spacing = 0.0) {
+    return make(pvfc_contour_cartesian_toml, toml.c_str(),
+                base_dir.empty() ? nullptr : base_dir.c_str(), period, spacing);
+  }
+  /// The distance (m) from `point` (3) to a Cartesian contour's exact path.
+  double distance(In point) const {
+    size_check(point, 3, "point");
+    double d = 0.0;
+    check(pvfc_contour_distance(h_.get(), point.data(), &d, nullptr));
+    return d;
+  }
+  const pvfc_contour *get() const noexcept { return h_.get(); }
+
+ private:
+  explicit Contour(pvfc_contour *p) : h_(p) {}
+  template <class F, class... A>
+  static Contour make(F f, A... args) {
+    pvfc_contour *p = nullptr;
+    check(f(args..., &p));
+    return Contour(p);
+  }
+  detail::Handle<pvfc_contour, pvfc_contour_destroy> h_;
+};
+
 /// A PVFC controller of an arm.
 class Controller {
  public:
+  /// Follows `contour` (a Cartesian path's inverse kinematics is solved here), with
+  /// navigation weights `h` (empty: all 1).
+  Controller(const Robot &robot, const Contour &contour, In h = In(),
+             const Settings &settings = Settings()) {
+    pvfc_controller *p = nullptr;
+    check(pvfc_controller_new(robot.get(), contour.get(), h.size() ? h.data() : nullptr,
+                              h.size(), &settings, &p));
+    h_ = detail::Handle<pvfc_controller, pvfc_controller_destroy>(p);
+  }
   /// On the closed joint contour through `waypoints` (row-major, `dof` columns), one every
   /// `spacing` of τ, with navigation weights `h` (empty: all 1).
   static Controller waypoints(const Robot &robot, In waypoints, double spacing, In h = In(),

@@ -91,7 +91,7 @@ fn open_robot(file: &str, tip: &str) -> *mut pvfc_robot {
 }
 
 #[test]
-fn the_steps_allocate_nothing() {
+fn the_steps_and_the_dynamics_allocate_nothing() {
     let robot = open_robot("ur5/ur5_robot.urdf", "tool0");
     let ctl = controller(robot);
     let mut q = [0.1, -1.1, 1.3, -1.7, -1.5, 0.1];
@@ -109,6 +109,8 @@ fn the_steps_allocate_nothing() {
         pvfc_status::PVFC_OK
     );
     let mut account = pvfc_energy_account::default();
+    let (mut m, mut cor, mut g) = ([0.0; 36], [0.0; 36], [0.0; 6]);
+    let (mut rot, mut pos) = ([0.0; 9], [0.0; 3]);
     for k in 0..50 {
         let before = allocations();
         // SAFETY: arrays of 6, valid handles.
@@ -137,7 +139,24 @@ fn the_steps_allocate_nothing() {
                 ),
             )
         };
+        // SAFETY: arrays of the documented sizes, a valid handle.
+        let c = unsafe {
+            pvfc_robot_dynamics(
+                robot,
+                q.as_ptr(),
+                v.as_ptr(),
+                6,
+                m.as_mut_ptr(),
+                cor.as_mut_ptr(),
+                g.as_mut_ptr(),
+            )
+        };
+        // SAFETY: as above.
+        let e = unsafe {
+            pvfc_robot_tool_pose(robot, q.as_ptr(), 6, rot.as_mut_ptr(), pos.as_mut_ptr())
+        };
         let allocated = allocations() - before;
+        assert_eq!((c, e), (pvfc_status::PVFC_OK, pvfc_status::PVFC_OK));
         assert_eq!((a, b), (pvfc_status::PVFC_OK, pvfc_status::PVFC_OK));
         assert_eq!(allocated, 0, "step {k} allocated {allocated} times");
         q[0] += 1e-3;

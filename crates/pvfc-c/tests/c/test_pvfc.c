@@ -146,6 +146,48 @@ int main(int argc, char **argv) {
               "options.torque_limit");
   CHECK(bad_passive == NULL);
 
+  /* Dynamics: M symmetric, rnea(q, v, 0) = C v + g. */
+  double m[DOF * DOF], c[DOF * DOF], g[DOF], tau[DOF], zero[DOF] = {0};
+  const double vel[DOF] = {0.4, -0.3, 0.2, 0.5, -0.6, 0.1};
+  CHECK(pvfc_robot_dynamics(robot, q, vel, DOF, m, c, g) == PVFC_OK);
+  CHECK(pvfc_robot_rnea(robot, q, vel, zero, DOF, tau) == PVFC_OK);
+  for (int i = 0; i < DOF; i++) {
+    double cv = g[i];
+    for (int j = 0; j < DOF; j++) {
+      CHECK(m[i * DOF + j] == m[j * DOF + i]);
+      cv += c[i * DOF + j] * vel[j];
+    }
+    CHECK(fabs(tau[i] - cv) < 1e-10 * (1.0 + fabs(cv)));
+  }
+  CHECK_ERROR(pvfc_robot_inertia(robot, q, DOF, m, DOF), PVFC_ERROR_WRONG_SIZE, "m_out");
+  CHECK_ERROR(pvfc_robot_gravity(robot, q, DOF, NULL), PVFC_ERROR_NULL_POINTER, "g_out");
+
+  /* A Cartesian circle, followed with the task-space field; the tool's distance to it. */
+  const double center[3] = {0.55, 0.0, 0.3}, normal[3] = {0.0, 0.0, 1.0};
+  const double seed[DOF] = {0.0, -1.2, 1.4, -1.8, -1.57, 0.0};
+  pvfc_cartesian_options cartesian = pvfc_cartesian_options_default();
+  pvfc_contour *circle = NULL;
+  CHECK_ERROR(pvfc_contour_cartesian_circle(center, normal, 0.1, NULL, 0.0, 10.0, &cartesian,
+                                            &circle),
+              PVFC_ERROR_NULL_POINTER, "options.seed");
+  cartesian.seed = seed;
+  cartesian.seed_len = DOF;
+  cartesian.fixed_orientation = true;
+  cartesian.task_field = true;
+  CHECK(pvfc_contour_cartesian_circle(center, normal, 0.1, NULL, 0.0, 10.0, &cartesian,
+                                      &circle) == PVFC_OK);
+  pvfc_controller *task = NULL;
+  CHECK(pvfc_controller_new(robot, circle, NULL, 0, &settings, &task) == PVFC_OK);
+  CHECK(pvfc_controller_step(task, q, v, DOF, 1e-3, torque, DOF, &d) == PVFC_OK);
+  CHECK(d.potential > 0.0);
+  double p[3], distance = -1.0;
+  CHECK(pvfc_robot_tool_pose(robot, seed, DOF, NULL, p) == PVFC_OK);
+  CHECK(pvfc_contour_distance(circle, p, &distance, NULL) == PVFC_OK);
+  CHECK(distance > 0.0 && distance < 1.0);
+  pvfc_controller_destroy(task);
+  pvfc_contour_destroy(circle);
+  pvfc_contour_destroy(NULL);
+
   pvfc_passive_destroy(passive);
   pvfc_controller_destroy(ctl);
   pvfc_robot_destroy(robot);

@@ -156,4 +156,80 @@ TEST(Passive, StaysWithinItsTorqueLimits) {
   EXPECT_THROW(pvfc::PassiveController(ctl, o), pvfc::WrongSizeError);
 }
 
+TEST(Contour, ACartesianCircleWithTheTaskFieldFromEigenFreeViews) {
+  const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
+  const std::array<double, 6> seed = {0.0, -1.2, 1.4, -1.8, -1.57, 0.0};
+  pvfc::CartesianOptions options;
+  options.with_seed(seed);
+  options.fixed_orientation = true;
+  options.task_field = true;
+  const std::array<double, 3> center = {0.55, 0.0, 0.3}, normal = {0.0, 0.0, 1.0};
+  const pvfc::Contour circle =
+      pvfc::Contour::cartesian_circle(center, normal, 0.1, 10.0, options);
+  pvfc::Controller ctl(robot, circle, {}, settings());
+  std::array<double, 6> torque{};
+  const std::array<double, 6> qdot{};
+  const pvfc_diagnostics d = ctl.step(seed, qdot, 1e-3, torque);
+  EXPECT_GT(d.potential, 0.0);
+  // The same circle from its TOML table: the same controller.
+  const pvfc::Contour same = pvfc::Contour::cartesian_toml(
+      "seed = [0.0, -1.2, 1.4, -1.8, -1.57, 0.0]\nfixed_orientation = true\ntask = {}\n"
+      "circle = { center = [0.55, 0.0, 0.3], radius = 0.1, normal = [0.0, 0.0, 1.0] }\n",
+      10.0);
+  pvfc::Controller twin(robot, same, {}, settings());
+  std::array<double, 6> torque2{};
+  twin.step(seed, qdot, 1e-3, torque2);
+  EXPECT_EQ(torque, torque2);
+  // The tool at the seed is off the circle by a known amount.
+  std::array<double, 3> p{};
+  robot.tool_pose(seed, pvfc::Out(nullptr, 0), p);
+  const double radial = std::hypot(p[0] - 0.55, p[1]) - 0.1;
+  EXPECT_NEAR(circle.distance(p), std::hypot(radial, p[2] - 0.3), 1e-12);
+  EXPECT_THROW(pvfc::Contour::cartesian_toml("radious = 1", 10.0), pvfc::InvalidArgumentError);
+  // A circle beyond the UR5's reach: the waypoint is named.
+  const pvfc::Contour far = pvfc::Contour::cartesian_circle(center, normal, 1.0, 10.0, options);
+  try {
+    pvfc::Controller unreachable(robot, far);
+    ADD_FAILURE() << "no exception";
+  } catch (const pvfc::WaypointError &e) {
+    EXPECT_NE(std::string(e.what()).find("waypoint"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Contour, JointCurvesAreTheirFormulas) {
+  const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
+  const std::vector<double> c = {0.0, -1.2, 1.4, -1.8, -1.57, 0.0};
+  const std::vector<double> u = {0.1, 0, 0, 0, 0, 0}, w = {0, 0.2, 0, 0, 0, 0};
+  const pvfc::Controller ellipse(robot, pvfc::Contour::ellipse(c, u, w, 3.0));
+  const std::vector<double> x = ellipse.contour_point(0.75);  // a quarter turn: c + w
+  for (std::size_t i = 0; i < 6; ++i) EXPECT_NEAR(x[i], c[i] + w[i], 1e-12);
+  const std::vector<double> a = {0.2, 0.1, 0.1, 0.1, 0.1, 0.1}, t = {4, 4, 4, 4, 4, 4};
+  const pvfc::Controller lissajous(robot, pvfc::Contour::lissajous(a, t, 4.0, {}, c));
+  const std::vector<double> y = lissajous.contour_point(1.0);  // sin(π/2) = 1
+  for (std::size_t i = 0; i < 6; ++i) EXPECT_NEAR(y[i], c[i] + a[i], 1e-12);
+  EXPECT_THROW(pvfc::Contour::ellipse(c, u, std::vector<double>{0.0}, 3.0), pvfc::WrongSizeError);
+}
+
+TEST(Robot, DynamicsInOnePassAndRnea) {
+  const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
+  const std::array<double, 6> q = {0.3, -1.1, 1.2, -0.7, -1.4, 0.5};
+  const std::array<double, 6> v = {0.4, -0.3, 0.2, 0.5, -0.6, 0.1};
+  const std::array<double, 6> a = {1.0, -0.5, 0.3, 0.0, 2.0, -1.0};
+  std::array<double, 36> m{}, c{}, m2{};
+  std::array<double, 6> g{}, tau{};
+  robot.dynamics(q, v, m, c, g);
+  robot.inertia(q, m2);
+  robot.rnea(q, v, a, tau);
+  for (std::size_t i = 0; i < 6; ++i) {
+    double expected = g[i];
+    for (std::size_t j = 0; j < 6; ++j) {
+      EXPECT_NEAR(m[6 * i + j], m2[6 * i + j], 1e-12);
+      expected += m[6 * i + j] * a[j] + c[6 * i + j] * v[j];
+    }
+    EXPECT_NEAR(tau[i], expected, 1e-10 * (1.0 + std::abs(expected)));
+  }
+  std::array<double, 5> small{};
+  EXPECT_THROW(robot.gravity(q, small), pvfc::WrongSizeError);
+}
+
 TEST(Version, IsNotEmpty) { EXPECT_FALSE(pvfc::version().empty()); }

@@ -226,6 +226,36 @@ impl CartesianSpec {
         }))
     }
 
+    /// The joint contour of the path for `robot`: the periodic spline through its joint
+    /// waypoints, one every `spacing` of `τ` with fixed `samples`, and as many as the pass's
+    /// `period` holds with adaptive sampling (`samples = 0`, where `spacing` must be `None`).
+    pub fn joint_contour(
+        &self,
+        robot: &Robot,
+        base_dir: &Path,
+        period: f64,
+        spacing: Option<f64>,
+    ) -> Result<JointContourSpec> {
+        let points = self.joint_waypoints(robot, base_dir)?;
+        let spacing = match (self.samples, spacing) {
+            (0, None) => period / points.len() as f64,
+            (0, Some(_)) => {
+                return Err(SimError::Setting(
+                    "contour: with contour.cartesian.samples = 0 (adaptive) give the pass's \
+                     period (contour.period), not contour.spacing"
+                        .into(),
+                ))
+            }
+            (_, Some(s)) => s,
+            (_, None) => {
+                return Err(SimError::Setting(
+                    "contour.spacing is needed with waypoints".into(),
+                ))
+            }
+        };
+        Ok(JointContourSpec::Waypoints { points, spacing })
+    }
+
     /// The joint waypoints of the path for `robot` (those of [`joint_path`](Self::joint_path)).
     pub fn joint_waypoints(&self, robot: &Robot, base_dir: &Path) -> Result<Vec<Vec<f64>>> {
         Ok(self.joint_path(robot, base_dir)?.waypoints)

@@ -4,7 +4,7 @@
 use crate::error::{Result, SimError};
 use crate::urdf::chain::{ChainDescription, MAX_JOINTS};
 use crate::with_dof;
-use nalgebra::{DMatrix, DVector, Matrix3, SVector, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, SVector, Vector3};
 use pvfc_core::mechanics::{Pose, SerialChain};
 use std::path::Path;
 
@@ -119,6 +119,52 @@ impl Robot {
         })
     }
 
+    /// `M(q)` into `m` (`dof × dof`, row-major), allocating nothing.
+    pub fn inertia_into(&self, q: &[f64], m: &mut [f64]) -> Result<()> {
+        on_chain!(&self.model, c, N => {
+            let q = self.vector::<N>(q, "q")?;
+            row_major(&c.crba(&q), m, "M")
+        })
+    }
+
+    /// `g(q)` into `g` (`dof`), allocating nothing.
+    pub fn gravity_into(&self, q: &[f64], g: &mut [f64]) -> Result<()> {
+        on_chain!(&self.model, c, N => {
+            let q = self.vector::<N>(q, "q")?;
+            copy(&c.gravity_torque(&q), g, "g")
+        })
+    }
+
+    /// The recursive Newton–Euler algorithm `M a + C v + g` into `tau` (`dof`), allocating
+    /// nothing.
+    pub fn rnea_into(&self, q: &[f64], v: &[f64], a: &[f64], tau: &mut [f64]) -> Result<()> {
+        on_chain!(&self.model, c, N => {
+            let q = self.vector::<N>(q, "q")?;
+            let v = self.vector::<N>(v, "v")?;
+            let a = self.vector::<N>(a, "a")?;
+            copy(&c.rnea(&q, &v, &a), tau, "tau")
+        })
+    }
+
+    /// `M(q)`, `C(q, v)` and `g(q)` in one pass over the chain into `m`, `c` (`dof × dof`,
+    /// row-major) and `g` (`dof`), allocating nothing.
+    pub fn dynamics_into(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        m: &mut [f64],
+        c_out: &mut [f64],
+        g: &mut [f64],
+    ) -> Result<()> {
+        on_chain!(&self.model, c, N => {
+            let (q, v) = (self.vector::<N>(q, "q")?, self.vector::<N>(v, "v")?);
+            let (mm, cc, gg) = c.dynamics(&q, &v);
+            row_major(&mm, m, "M")?;
+            row_major(&cc, c_out, "C")?;
+            copy(&gg, g, "g")
+        })
+    }
+
     /// The tool frame's pose in the world frame: `(R, p)`.
     pub fn tool_pose(&self, q: &[f64]) -> Result<(Matrix3<f64>, Vector3<f64>)> {
         on_chain!(&self.model, c, N => {
@@ -172,6 +218,35 @@ impl Robot {
             Ok(dm(&j))
         })
     }
+}
+
+/// Writes `x` into `out`, which must hold exactly its entries.
+fn copy<const N: usize>(x: &SVector<f64, N>, out: &mut [f64], name: &str) -> Result<()> {
+    if out.len() != N {
+        return Err(SimError::Setting(format!(
+            "{name}: room for {} entries, the robot has {N} joints",
+            out.len()
+        )));
+    }
+    out.copy_from_slice(x.as_slice());
+    Ok(())
+}
+
+/// Writes the `N × N` matrix `x` into `out` row by row.
+fn row_major<const N: usize>(x: &SMatrix<f64, N, N>, out: &mut [f64], name: &str) -> Result<()> {
+    if out.len() != N * N {
+        return Err(SimError::Setting(format!(
+            "{name}: room for {} entries, the {N}-joint robot's matrix has {}",
+            out.len(),
+            N * N
+        )));
+    }
+    for (i, row) in out.chunks_exact_mut(N).enumerate() {
+        for (j, o) in row.iter_mut().enumerate() {
+            *o = x[(i, j)];
+        }
+    }
+    Ok(())
 }
 
 fn dm<const R: usize, const C: usize>(m: &nalgebra::SMatrix<f64, R, C>) -> DMatrix<f64> {

@@ -181,20 +181,7 @@ impl Scenario {
                     spacing: spacing()?,
                 },
                 (None, Some(p), None, None) => {
-                    let points = p.joint_waypoints(robot, &self.base_dir)?;
-                    // Fixed samples: `spacing` apart; adaptive: as many as the pass `period`
-                    // holds.
-                    let spacing =
-                        match (p.samples, k.spacing) {
-                            (0, None) => k.period / points.len() as f64,
-                            (0, Some(_)) => return Err(SimError::Setting(
-                                "contour: with contour.cartesian.samples = 0 (adaptive) give the \
-                                 pass's period (contour.period), not contour.spacing"
-                                    .into(),
-                            )),
-                            _ => spacing()?,
-                        };
-                    JointContourSpec::Waypoints { points, spacing }
+                    p.joint_contour(robot, &self.base_dir, k.period, k.spacing)?
                 }
                 (None, None, Some(l), None) => JointContourSpec::Lissajous {
                     amplitude: l.amplitude.clone(),

@@ -1,0 +1,157 @@
+//! The checks of what the caller passes: pointers, lengths, finite numbers, strings,
+//! handles.
+
+use crate::status::*;
+use std::ffi::{c_char, CStr};
+
+/// The error of a NULL pointer that must not be.
+pub(crate) fn null(name: &str) -> Failure {
+    Failure(PVFC_ERROR_NULL_POINTER, format!("{name}: NULL pointer"))
+}
+
+/// The `n` doubles at `p`, checked: not NULL (unless `n` is 0) and finite.
+///
+/// # Safety
+/// `p` must point to `n` readable doubles that outlive the returned slice.
+pub(crate) unsafe fn doubles<'a>(
+    p: *const f64,
+    n: usize,
+    name: &str,
+) -> Result<&'a [f64], Failure> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if p.is_null() {
+        return Err(null(name));
+    }
+    // SAFETY: the caller gives n readable doubles at p (the header documents it).
+    let x = unsafe { std::slice::from_raw_parts(p, n) };
+    if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+        return Err(Failure(
+            PVFC_ERROR_NON_FINITE,
+            format!("{name}[{i}] is {}", x[i]),
+        ));
+    }
+    Ok(x)
+}
+
+/// The doubles of a joint vector: exactly `dof` of them.
+///
+/// # Safety
+/// As [`doubles`].
+pub(crate) unsafe fn joints<'a>(
+    p: *const f64,
+    n: usize,
+    dof: usize,
+    name: &str,
+) -> Result<&'a [f64], Failure> {
+    if n != dof {
+        return Err(Failure(
+            PVFC_ERROR_WRONG_SIZE,
+            format!("{name}: {n} entries for the {dof}-joint robot"),
+        ));
+    }
+    // SAFETY: forwarded from the caller.
+    unsafe { doubles(p, n, name) }
+}
+
+/// The caller's output array of `dof` doubles.
+///
+/// # Safety
+/// `p` must point to `n` writable doubles.
+pub(crate) unsafe fn output<'a>(
+    p: *mut f64,
+    n: usize,
+    dof: usize,
+    name: &str,
+) -> Result<&'a mut [f64], Failure> {
+    if p.is_null() {
+        return Err(null(name));
+    }
+    if n != dof {
+        return Err(Failure(
+            PVFC_ERROR_WRONG_SIZE,
+            format!("{name}: room for {n} entries, the robot has {dof} joints"),
+        ));
+    }
+    // SAFETY: the caller gives n writable doubles at p.
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
+}
+
+/// An optional C string (NULL: `None`), as UTF-8.
+///
+/// # Safety
+/// `p` is NULL or a NUL-terminated string.
+pub(crate) unsafe fn text<'a>(p: *const c_char, name: &str) -> Result<Option<&'a str>, Failure> {
+    if p.is_null() {
+        return Ok(None);
+    }
+    // SAFETY: the caller gives a NUL-terminated string.
+    let s = unsafe { CStr::from_ptr(p) };
+    s.to_str()
+        .map(Some)
+        .map_err(|_| Failure(PVFC_ERROR_INVALID_ARGUMENT, format!("{name}: not UTF-8")))
+}
+
+/// The object behind a handle.
+///
+/// # Safety
+/// `p` is NULL or a live handle of this type.
+pub(crate) unsafe fn object<'a, T>(p: *const T, name: &str) -> Result<&'a T, Failure> {
+    // SAFETY: a live handle made by this library.
+    unsafe { p.as_ref() }.ok_or_else(|| null(name))
+}
+
+/// The object behind a handle, to change.
+///
+/// # Safety
+/// `p` is NULL or a live handle of this type, not used elsewhere meanwhile.
+pub(crate) unsafe fn object_mut<'a, T>(p: *mut T, name: &str) -> Result<&'a mut T, Failure> {
+    // SAFETY: a live handle made by this library, used by one thread at a time.
+    unsafe { p.as_mut() }.ok_or_else(|| null(name))
+}
+
+/// Stores a new object in `*out`.
+///
+/// # Safety
+/// `out` is NULL or writable.
+pub(crate) unsafe fn give<T>(out: *mut *mut T, x: T) -> Result<(), Failure> {
+    if out.is_null() {
+        return Err(null("out"));
+    }
+    // SAFETY: out is writable (checked not NULL).
+    unsafe { *out = Box::into_raw(Box::new(x)) };
+    Ok(())
+}
+
+/// A settings struct whose first field is its `size` as the caller was compiled with.
+pub(crate) trait SizedStruct {
+    /// The `size` field.
+    fn size(&self) -> usize;
+}
+
+/// The struct at `p` (NULL: `default`), checked for its `size` (a caller compiled against
+/// another version of the header gets an error, not a misread struct).
+///
+/// # Safety
+/// `p` is NULL or points to a readable `T`.
+pub(crate) unsafe fn sized<T: SizedStruct + Copy>(
+    p: *const T,
+    default: T,
+    name: &str,
+) -> Result<T, Failure> {
+    // SAFETY: NULL or readable.
+    let s = unsafe { p.as_ref() }.copied().unwrap_or(default);
+    let expected = std::mem::size_of::<T>();
+    if s.size() != expected {
+        return Err(Failure(
+            PVFC_ERROR_WRONG_SIZE,
+            format!(
+                "{name}: size {} but this library's {} is {expected} bytes (start from its _default function)",
+                s.size(),
+                std::any::type_name::<T>().rsplit("::").next().unwrap_or("struct"),
+            ),
+        ));
+    }
+    Ok(s)
+}

@@ -1,0 +1,310 @@
+//! The controller handle: the continuous-time PVFC law of an arm on a contour, its settings
+//! and its step.
+
+use crate::args::*;
+use crate::contour::{pvfc_contour, pvfc_contour_destroy, pvfc_contour_waypoints};
+use crate::robot::pvfc_robot;
+use crate::status::*;
+use pvfc_sim::model::arm::{ArmController, ArmSettings};
+
+/// The settings of a controller, apart from its robot, contour and navigation weights. Get
+/// them from [`pvfc_settings_default`] and change what you need: `size` lets later versions
+/// add fields without breaking callers.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct pvfc_settings {
+    /// `sizeof(pvfc_settings)` as the caller was compiled with.
+    pub size: usize,
+    /// Self-pacing `R` of eq. (21) (0: off).
+    pub self_pacing: f64,
+    /// The energy level `Ē` (J).
+    pub energy: f64,
+    /// The flywheel's inertia `M_F`.
+    pub flywheel_inertia: f64,
+    /// The coupling gain `γ` (eq. 7).
+    pub gamma: f64,
+    /// Adds `g(q)` to the torque (1) or not (0).
+    pub gravity_compensation: bool,
+    /// Coulomb levels of the friction compensation (eq. 35), one per joint; NULL: none.
+    pub friction_compensation: *const f64,
+    /// The number of entries at `friction_compensation`.
+    pub friction_compensation_len: usize,
+    /// The velocity band of the friction compensation's sign (0: a pure sign).
+    pub friction_band: f64,
+    /// Nominal-speed control (eq. 36): the gain `c` (0: off).
+    pub nominal_speed_c: f64,
+    /// Nominal-speed control: the speed `r`.
+    pub nominal_speed_r: f64,
+    /// The contour parameter `τ` to start at.
+    pub tau0: f64,
+}
+
+/// The default settings: no self-pacing, `Ē = 10`, `M_F = 1`, `γ = 1`, gravity
+/// compensation on, no friction compensation, no nominal-speed control, `τ₀ = 0`.
+#[no_mangle]
+pub extern "C" fn pvfc_settings_default() -> pvfc_settings {
+    pvfc_settings {
+        size: std::mem::size_of::<pvfc_settings>(),
+        self_pacing: 0.0,
+        energy: 10.0,
+        flywheel_inertia: 1.0,
+        gamma: 1.0,
+        gravity_compensation: true,
+        friction_compensation: std::ptr::null(),
+        friction_compensation_len: 0,
+        friction_band: 0.0,
+        nominal_speed_c: 0.0,
+        nominal_speed_r: 1.0,
+        tau0: 0.0,
+    }
+}
+
+/// The numbers of one control step besides the torque.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct pvfc_diagnostics {
+    /// The navigation function `U`.
+    pub potential: f64,
+    /// `β`: the augmented velocity's multiple of the field.
+    pub beta: f64,
+    /// The augmented kinetic energy `κ_a` (J).
+    pub kinetic_energy: f64,
+    /// The contour parameter `τ` (wrapped to its period) before the step.
+    pub tau: f64,
+    /// `τ̇` before the step.
+    pub tau_dot: f64,
+    /// The flywheel's speed `q̇_F` before the step.
+    pub flywheel_speed: f64,
+}
+
+/// A PVFC controller of an arm (opaque).
+pub struct pvfc_controller {
+    pub(crate) ctl: ArmController,
+    initial: ArmController,
+}
+
+impl SizedStruct for pvfc_settings {
+    fn size(&self) -> usize {
+        self.size
+    }
+}
+
+/// Makes a controller of `robot` that follows `contour` (a Cartesian path's inverse
+/// kinematics is solved here; errors name the waypoint), with navigation weights `h`
+/// (`h_len` = the robot's joints; NULL: all 1; unused by the task-space field) and
+/// `settings` (NULL: [`pvfc_settings_default`]). The contour may be destroyed afterwards.
+///
+/// # Safety
+/// `robot`, `contour` are NULL or live handles; `h` is NULL or holds `h_len` doubles;
+/// `settings` is NULL or readable (its arrays as documented); `out` is writable.
+#[no_mangle]
+pub unsafe extern "C" fn pvfc_controller_new(
+    robot: *const pvfc_robot,
+    contour: *const pvfc_contour,
+    h: *const f64,
+    h_len: usize,
+    settings: *const pvfc_settings,
+    out: *mut *mut pvfc_controller,
+) -> pvfc_status {
+    guard(|| {
+        // SAFETY: handles and arrays as documented.
+        let robot = &unsafe { object(robot, "robot") }?.robot;
+        let contour = unsafe { object(contour, "contour") }?;
+        let n = robot.dof();
+        let h = if h.is_null() {
+            vec![1.0; n]
+        } else {
+            unsafe { joints(h, h_len, n, "h") }?.to_vec()
+        };
+        let s = unsafe { sized(settings, pvfc_settings_default(), "settings") }?;
+        let friction = if s.friction_compensation.is_null() {
+            None
+        } else {
+            Some(
+                unsafe {
+                    joints(
+                        s.friction_compensation,
+                        s.friction_compensation_len,
+                        n,
+                        "settings.friction_compensation",
+                    )
+                }?
+                .to_vec(),
+            )
+        };
+        let (contour, field) = contour.resolve(robot)?;
+        let settings = ArmSettings {
+            contour,
+            field,
+            h,
+            self_pacing: s.self_pacing,
+            energy: s.energy,
+            flywheel_inertia: s.flywheel_inertia,
+            gamma: s.gamma,
+            gravity_compensation: s.gravity_compensation,
+            friction_compensation: friction,
+            friction_band: s.friction_band,
+            nominal_speed: (s.nominal_speed_c != 0.0)
+                .then_some((s.nominal_speed_c, s.nominal_speed_r)),
+            tau0: s.tau0,
+        };
+        let ctl = ArmController::new(robot, &settings)?;
+        unsafe {
+            give(
+                out,
+                pvfc_controller {
+                    initial: ctl.clone(),
+                    ctl,
+                },
+            )
+        }
+    })
+}
+
+/// Makes a controller of `robot` that follows the closed joint-space contour through
+/// `n_waypoints` waypoints (row-major, `n_waypoints × dof` doubles, `dof` the robot's), one
+/// every `spacing` of `τ`: [`pvfc_contour_waypoints`] and [`pvfc_controller_new`] in one
+/// call.
+///
+/// # Safety
+/// As [`pvfc_contour_waypoints`] and [`pvfc_controller_new`].
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn pvfc_controller_new_waypoints(
+    robot: *const pvfc_robot,
+    waypoints: *const f64,
+    n_waypoints: usize,
+    dof: usize,
+    spacing: f64,
+    h: *const f64,
+    h_len: usize,
+    settings: *const pvfc_settings,
+    out: *mut *mut pvfc_controller,
+) -> pvfc_status {
+    // SAFETY: as documented.
+    let n = unsafe { robot.as_ref() }.map(|r| r.robot.dof());
+    if let Some(n) = n.filter(|n| *n != dof) {
+        return guard(|| {
+            Err(Failure(
+                PVFC_ERROR_WRONG_SIZE,
+                format!("waypoints: {dof} columns for the {n}-joint robot"),
+            ))
+        });
+    }
+    let mut contour = std::ptr::null_mut();
+    let status =
+        unsafe { pvfc_contour_waypoints(waypoints, n_waypoints, dof, spacing, &mut contour) };
+    if status != PVFC_OK {
+        return status;
+    }
+    let status = unsafe { pvfc_controller_new(robot, contour, h, h_len, settings, out) };
+    unsafe { pvfc_contour_destroy(contour) };
+    status
+}
+
+/// One control step at the measured joint positions `q` and velocities `qdot` (`n` = the
+/// robot's joints each): writes the motor torques into `torque_out` (`torque_len` = n) and,
+/// if `diagnostics` is not NULL, the step's numbers; advances the internal states over `dt`
+/// (s). Allocates nothing. On error nothing changes.
+///
+/// # Safety
+/// The pointers are NULL or point to the documented number of values; `ctl` is used by one
+/// thread at a time.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn pvfc_controller_step(
+    ctl: *mut pvfc_controller,
+    q: *const f64,
+    qdot: *const f64,
+    n: usize,
+    dt: f64,
+    torque_out: *mut f64,
+    torque_len: usize,
+    diagnostics: *mut pvfc_diagnostics,
+) -> pvfc_status {
+    guard(|| {
+        // SAFETY: handle and arrays as documented.
+        let c = &mut unsafe { object_mut(ctl, "ctl") }?.ctl;
+        let dof = c.dof();
+        let (q, v) = unsafe { (joints(q, n, dof, "q")?, joints(qdot, n, dof, "qdot")?) };
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(Failure(
+                PVFC_ERROR_INVALID_ARGUMENT,
+                "dt: finite and > 0".into(),
+            ));
+        }
+        let torque = unsafe { output(torque_out, torque_len, dof, "torque_out") }?;
+        let d = c.step_into(q, v, dt, torque)?;
+        // SAFETY: NULL or writable.
+        if let Some(out) = unsafe { diagnostics.as_mut() } {
+            *out = pvfc_diagnostics {
+                potential: d.potential,
+                beta: d.beta,
+                kinetic_energy: d.kinetic_energy,
+                tau: d.internal.0,
+                tau_dot: d.internal.1,
+                flywheel_speed: d.internal.2,
+            };
+        }
+        Ok(())
+    })
+}
+
+/// The number of joints of the controller's robot (0 for NULL).
+///
+/// # Safety
+/// `ctl` is NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn pvfc_controller_dof(ctl: *const pvfc_controller) -> usize {
+    // SAFETY: NULL or a live handle.
+    unsafe { ctl.as_ref() }.map_or(0, |c| c.ctl.dof())
+}
+
+/// The joint contour's point `x_d(τ)` at `tau`, into `out` (`out_len` = the robot's joints).
+///
+/// # Safety
+/// `ctl` is NULL or a live handle; `out` is NULL or has room for `out_len` doubles.
+#[no_mangle]
+pub unsafe extern "C" fn pvfc_controller_contour_point(
+    ctl: *const pvfc_controller,
+    tau: f64,
+    out: *mut f64,
+    out_len: usize,
+) -> pvfc_status {
+    guard(|| {
+        // SAFETY: as documented.
+        let c = &unsafe { object(ctl, "ctl") }?.ctl;
+        if !tau.is_finite() {
+            return Err(Failure(PVFC_ERROR_NON_FINITE, format!("tau is {tau}")));
+        }
+        let o = unsafe { output(out, out_len, c.dof(), "out") }?;
+        o.copy_from_slice(&c.contour_point(tau));
+        Ok(())
+    })
+}
+
+/// Puts the controller back to its initial internal states.
+///
+/// # Safety
+/// `ctl` is NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn pvfc_controller_reset(ctl: *mut pvfc_controller) -> pvfc_status {
+    guard(|| {
+        // SAFETY: as documented.
+        let c = unsafe { object_mut(ctl, "ctl") }?;
+        c.ctl = c.initial.clone();
+        Ok(())
+    })
+}
+
+/// Frees a controller (NULL: nothing).
+///
+/// # Safety
+/// `ctl` is NULL or a live handle, not used afterwards.
+#[no_mangle]
+pub unsafe extern "C" fn pvfc_controller_destroy(ctl: *mut pvfc_controller) {
+    if !ctl.is_null() {
+        // SAFETY: a handle made by Box::into_raw in this library, freed once.
+        drop(unsafe { Box::from_raw(ctl) });
+    }
+}
