@@ -97,6 +97,25 @@ target/cmake-example-mujoco/mujoco_ur5 models/ur5/ur5_robot.urdf 30
 VALGRIND_EXTRA=--show-mismatched-frees=no run_checked \
   target/cmake-example-mujoco/mujoco_ur5 models/ur5/ur5_robot.urdf 1
 
+stage "Pinocchio's C++ beside pvfc's C ABI (benches/cpp): the same M, C, g and RNEA, and the timing table"
+if [ -f /usr/include/eigen3/Eigen/Core ] && [ -f /usr/include/urdf_model/model.h ]; then
+  cmeel_prefix=$("$py" -c "import cmeel, os; print(os.path.join(os.path.dirname(os.path.dirname(cmeel.__file__)), 'cmeel.prefix'))")
+  rm -rf target/cmake-bench
+  # (Quiet: CMake 3.25 warns about every component of the wheel's newer Boost.)
+  cmake -S benches/cpp -B target/cmake-bench -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_PREFIX_PATH="$prefix;$cmeel_prefix" -Wno-dev >target/cmake-bench.log 2>&1 \
+    || { cat target/cmake-bench.log; exit 1; }
+  cmake --build target/cmake-bench >/dev/null
+  # A short run: it fails if the two libraries' M, C, g or RNEA differ (the timing is a
+  # benchmark's: run it alone, with the default 1,000 states and 31 rounds, to quote it).
+  target/cmake-bench/dynamics_vs_pinocchio models 200 5
+elif [ -n "${PVFC_REQUIRE_VALGRIND:-}" ]; then
+  echo "Eigen and urdfdom's headers (libeigen3-dev, liburdfdom-headers-dev) are needed in CI" >&2
+  exit 1
+else
+  echo "Eigen or urdfdom's headers not found: skipping the Pinocchio benchmark"
+fi
+
 stage "pytest"
 (cd crates/pvfc-py && "$py" -m pytest -q -p no:cacheprovider --durations=10)
 
