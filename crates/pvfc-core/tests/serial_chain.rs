@@ -408,3 +408,26 @@ fn bad_chains_are_typed_errors() {
         ErrorKind::InvalidParameter
     );
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(CASES))]
+
+    /// The ten-number world inertia is the 6×6 spatial inertia of Featherstone eq. 2.63 of the
+    /// body moved to its pose; applying it is the matrix product; `v ×* f` without forming
+    /// `v×*` is the 6×6 product.
+    #[test]
+    fn the_world_inertia_is_the_spatial_inertia(mut d in draws(40)) {
+        let chain = random_chain::<1>(&mut d, false);
+        let body = chain.links()[0];
+        let pose = Pose { rotation: pvfc_core::mechanics::axis_angle(&d.v3(1.0).normalize(), d.take() * 3.0), translation: d.v3(1.0) };
+        let w = pvfc_core::mechanics::WorldInertia::of(&body, &pose);
+        let reference = body.transformed(&pose).spatial();
+        let scale = 1.0 + reference.amax();
+        prop_assert!((w.matrix() - reference).amax() <= 1e-14 * scale);
+        let v = SVector::<f64, 6>::from_fn(|_, _| d.take());
+        let f6 = SVector::<f64, 6>::from_fn(|_, _| d.take());
+        prop_assert!((w.apply(&v) - reference * v).amax() <= 1e-14 * scale);
+        let fx = pvfc_core::mechanics::force_cross_apply(&v, &f6);
+        prop_assert!((fx - pvfc_core::mechanics::force_cross(&v) * f6).amax() <= 1e-15 * 4.0);
+    }
+}

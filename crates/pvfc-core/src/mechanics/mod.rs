@@ -14,7 +14,8 @@ pub use rigid_body::RigidBody;
 pub use scara::{Scara, ScaraParameters};
 pub use serial_chain::{ChainJoint, ChainKinematics, SerialChain, STANDARD_GRAVITY};
 pub use spatial::{
-    axis_angle, force_cross, force_cross_bar, motion_cross, Pose, RigidInertia, Spatial, Spatial6,
+    axis_angle, force_cross, force_cross_apply, force_cross_bar, motion_cross, Pose, RigidInertia,
+    Spatial, Spatial6, WorldInertia,
 };
 pub use stage::LinearStage;
 

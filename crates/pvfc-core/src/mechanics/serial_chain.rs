@@ -3,7 +3,8 @@
 //! matrix, gravity, forward kinematics, Jacobians).
 
 use super::spatial::{
-    axis_angle, force_cross, force_cross_bar, motion_cross, Pose, RigidInertia, Spatial, Spatial6,
+    axis_angle, force_cross_apply, force_cross_bar, Pose, RigidInertia, Spatial, Spatial6,
+    WorldInertia,
 };
 use super::{LawProducts, MechanicalSystem};
 use crate::contour::VectorGroup;
@@ -309,16 +310,15 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
     /// the accelerations `a` at the state `(q, v)`, gravity included.
     pub fn rnea(&self, q: &SVector<T, N>, v: &SVector<T, N>, a: &SVector<T, N>) -> SVector<T, N> {
         let k = self.kinematics(q);
-        let mut inertias = [Spatial6::zeros(); N];
-        self.world_inertias(&k, &mut inertias);
         let mut forces = [Spatial::zeros(); N];
         let mut vel = Spatial::zeros();
         let mut acc = self.gravity_acceleration();
         for i in 0..N {
             let s = k.axes[i];
+            let inertia = WorldInertia::of(&self.links[i], &k.link_poses[i]);
             vel += s * v[i];
-            acc += motion_cross(&vel) * s * v[i] + s * a[i];
-            forces[i] = inertias[i] * acc + force_cross(&vel) * (inertias[i] * vel);
+            acc += motion_cross_apply(&vel, &s) * v[i] + s * a[i];
+            forces[i] = inertia.apply(&acc) + force_cross_apply(&vel, &inertia.apply(&vel));
         }
         let mut tau = SVector::zeros();
         let mut f = Spatial::zeros();
@@ -387,10 +387,10 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
     pub fn crba(&self, q: &SVector<T, N>) -> SMatrix<T, N, N> {
         let k = self.kinematics(q);
         let mut m = SMatrix::<T, N, N>::zeros();
-        let mut ic = Spatial6::zeros();
+        let mut ic = WorldInertia::zeros();
         for j in (0..N).rev() {
-            ic += self.links[j].transformed(&k.link_poses[j]).spatial();
-            let ics = ic * k.axes[j];
+            ic += WorldInertia::of(&self.links[j], &k.link_poses[j]);
+            let ics = ic.apply(&k.axes[j]);
             for i in 0..=j {
                 let mij = k.axes[i].dot(&ics);
                 m[(i, j)] = mij;
@@ -400,17 +400,19 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         m
     }
 
-    /// `g(q)`, the torques that hold the chain still against gravity.
+    /// `g(q)`, the torques that hold the chain still against gravity: `g_j = S_jᵀ I^c_j a_0`
+    /// with `a_0 = [0; −g]`, which needs of the composite inertia only its mass and first
+    /// moment, `I^c a_0 = [h × (−g); −m g]`.
     pub fn gravity_torque(&self, q: &SVector<T, N>) -> SVector<T, N> {
         let k = self.kinematics(q);
-        let mut inertias = [Spatial6::zeros(); N];
-        self.world_inertias(&k, &mut inertias);
-        let a0 = self.gravity_acceleration();
+        let up = -self.gravity;
         let mut g = SVector::zeros();
-        let mut ic = Spatial6::zeros();
+        let (mut mass, mut moment) = (T::zero(), Vector3::zeros());
         for j in (0..N).rev() {
-            ic += inertias[j];
-            g[j] = k.axes[j].dot(&(ic * a0));
+            let l = &self.links[j];
+            mass += l.mass;
+            moment += k.link_poses[j].transform_point(&l.com) * l.mass;
+            g[j] = k.axes[j].dot(&spatial(moment.cross(&up), up * mass));
         }
         g
     }

@@ -196,6 +196,91 @@ impl<T: Real> RigidInertia<T> {
     }
 }
 
+/// A spatial inertia in the world frame in ten numbers: the mass `m`, the first moment
+/// `h = m c` (`c` the centre of mass) and the rotational inertia `I_o` about the world origin.
+/// It stands for the 6×6 `[[I_o, h×], [−h×, m 1]]` (Featherstone eq. 2.63 with
+/// `I_o = I_c − m c×c×`): adding two is adding their numbers, and applying one to a motion
+/// vector costs 24 products instead of 36, so the algorithms that need only `I S` (CRBA,
+/// RNEA, gravity) do not form the 6×6 matrix.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WorldInertia<T: Real> {
+    /// Mass (kg).
+    pub mass: T,
+    /// First moment `m c` (kg·m).
+    pub first_moment: Vector3<T>,
+    /// Rotational inertia about the origin, `R I_c Rᵀ + m (|c|² 1 − c cᵀ)` (kg·m²).
+    pub rotational: Matrix3<T>,
+}
+
+impl<T: Real> WorldInertia<T> {
+    /// No body.
+    pub fn zeros() -> Self {
+        WorldInertia {
+            mass: T::zero(),
+            first_moment: Vector3::zeros(),
+            rotational: Matrix3::zeros(),
+        }
+    }
+
+    /// The body `body` with the pose `pose` in the world.
+    #[inline]
+    pub fn of(body: &RigidInertia<T>, pose: &Pose<T>) -> Self {
+        let b = body.transformed(pose);
+        let c = b.com;
+        let shift = Matrix3::identity() * c.dot(&c) - c * c.transpose();
+        WorldInertia {
+            mass: b.mass,
+            first_moment: c * b.mass,
+            rotational: b.inertia + shift * b.mass,
+        }
+    }
+
+    /// `I v` for the motion vector `v = [ω; u]`: the force `[I_o ω + h × u; m u − h × ω]`.
+    #[inline]
+    pub fn apply(&self, v: &Spatial<T>) -> Spatial<T> {
+        let w = Vector3::new(v[0], v[1], v[2]);
+        let u = Vector3::new(v[3], v[4], v[5]);
+        let h = &self.first_moment;
+        let top = self.rotational * w + h.cross(&u);
+        let bottom = u * self.mass - h.cross(&w);
+        Spatial::new(top[0], top[1], top[2], bottom[0], bottom[1], bottom[2])
+    }
+
+    /// The 6×6 matrix it stands for.
+    pub fn matrix(&self) -> Spatial6<T> {
+        let hx = self.first_moment.cross_matrix();
+        let mut out = Spatial6::zeros();
+        out.fixed_view_mut::<3, 3>(0, 0).copy_from(&self.rotational);
+        out.fixed_view_mut::<3, 3>(0, 3).copy_from(&hx);
+        out.fixed_view_mut::<3, 3>(3, 0).copy_from(&(-hx));
+        out.fixed_view_mut::<3, 3>(3, 3)
+            .copy_from(&(Matrix3::identity() * self.mass));
+        out
+    }
+}
+
+impl<T: Real> core::ops::AddAssign for WorldInertia<T> {
+    #[inline]
+    fn add_assign(&mut self, o: Self) {
+        self.mass += o.mass;
+        self.first_moment += o.first_moment;
+        self.rotational += o.rotational;
+    }
+}
+
+/// `v ×* f` for a motion vector `v = [ω; u]` and a force `f = [n; f]` (Featherstone eq. 2.32):
+/// `[ω × n + u × f; ω × f]`, without forming `v×*`.
+#[inline]
+pub fn force_cross_apply<T: Real>(v: &Spatial<T>, f: &Spatial<T>) -> Spatial<T> {
+    let w = Vector3::new(v[0], v[1], v[2]);
+    let u = Vector3::new(v[3], v[4], v[5]);
+    let n = Vector3::new(f[0], f[1], f[2]);
+    let l = Vector3::new(f[3], f[4], f[5]);
+    let top = w.cross(&n) + u.cross(&l);
+    let bottom = w.cross(&l);
+    Spatial::new(top[0], top[1], top[2], bottom[0], bottom[1], bottom[2])
+}
+
 /// The motion cross product `v×` (Featherstone eq. 2.31): `(v×) m` is the rate of a motion
 /// vector `m` fixed in a body moving with `v`.
 #[inline]
