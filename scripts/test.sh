@@ -17,12 +17,21 @@ cargo build --locked -p pvfc-c --profile test
 mkdir -p target/c
 cc -std=c99 -Wall -Wextra -Werror -pedantic crates/pvfc-c/tests/c/test_pvfc.c \
   -Icrates/pvfc-c/include target/debug/libpvfc_c.a -lm -lpthread -ldl -o target/c/test_pvfc
+# The real-time calls make no system call (seccomp's strict mode kills the process if one
+# does; natively, as valgrind makes system calls of its own).
+cc -std=gnu99 -Wall -Wextra -Werror crates/pvfc-c/tests/c/test_no_syscall.c \
+  -Icrates/pvfc-c/include target/debug/libpvfc_c.a -lm -lpthread -ldl -o target/c/test_no_syscall
+target/c/test_no_syscall models/ur5/ur5_robot.urdf
 # The header also compiles as C++ (cbindgen's cpp_compat).
 c++ -std=c++17 -Wall -Wextra -Werror -fsyntax-only -x c++ crates/pvfc-c/include/pvfc.h
 c_tests=(target/c/test_pvfc)
-# The C++ header (pvfc.hpp) with GoogleTest (Debian's libgtest-dev), when it is installed.
+# The C++ header (pvfc.hpp) with GoogleTest (Debian's libgtest-dev), when it is installed,
+# and with Eigen's vectors and maps when Debian's libeigen3-dev is.
+eigen=()
+[ -f /usr/include/eigen3/Eigen/Core ] && eigen=(-I/usr/include/eigen3)
+
 if [ -f /usr/include/gtest/gtest.h ]; then
-  c++ -std=c++17 -Wall -Wextra -Werror -Icrates/pvfc-c/include crates/pvfc-c/tests/cpp/test_pvfc.cpp \
+  c++ -std=c++17 -Wall -Wextra -Werror "${eigen[@]}" -Icrates/pvfc-c/include crates/pvfc-c/tests/cpp/test_pvfc.cpp \
     target/debug/libpvfc_c.a -lgtest -lgtest_main -lpthread -ldl -lm -o target/c/test_pvfc_cpp
   c_tests+=(target/c/test_pvfc_cpp)
 elif [ -n "${PVFC_REQUIRE_VALGRIND:-}" ]; then
@@ -39,7 +48,7 @@ cc -std=c99 "${asan[@]}" crates/pvfc-c/tests/c/test_pvfc.c -Icrates/pvfc-c/inclu
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1 \
   target/c/test_pvfc_asan models/ur5/ur5_robot.urdf
 if [ -f target/c/test_pvfc_cpp ]; then
-  c++ -std=c++17 "${asan[@]}" -Icrates/pvfc-c/include crates/pvfc-c/tests/cpp/test_pvfc.cpp \
+  c++ -std=c++17 "${asan[@]}" "${eigen[@]}" -Icrates/pvfc-c/include crates/pvfc-c/tests/cpp/test_pvfc.cpp \
     target/debug/libpvfc_c.a -lgtest -lgtest_main -lpthread -ldl -lm -o target/c/test_pvfc_cpp_asan
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1 target/c/test_pvfc_cpp_asan >/dev/null
 fi

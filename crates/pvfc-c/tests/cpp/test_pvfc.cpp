@@ -6,6 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#if __has_include(<Eigen/Core>)
+#include <Eigen/Core>
+#define PVFC_TEST_EIGEN 1
+#endif
+
 #include <array>
 #include <cmath>
 #include <cstdlib>
@@ -231,5 +236,34 @@ TEST(Robot, DynamicsInOnePassAndRnea) {
   std::array<double, 5> small{};
   EXPECT_THROW(robot.gravity(q, small), pvfc::WrongSizeError);
 }
+
+#ifdef PVFC_TEST_EIGEN
+TEST(Views, TakeEigenVectorsAndMapsWithoutCopying) {
+  const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
+  pvfc::Controller a = pvfc::Controller::waypoints(robot, kWaypoints, 1.5, {}, settings());
+  pvfc::Controller b = pvfc::Controller::waypoints(robot, kWaypoints, 1.5, {}, settings());
+  Eigen::Matrix<double, 6, 1> q;
+  q << 0.1, -1.1, 1.3, -1.7, -1.5, 0.1;
+  const Eigen::VectorXd qdot = Eigen::VectorXd::Constant(6, 0.1);
+  Eigen::VectorXd torque(6);
+  a.step(q, qdot, 1e-3, torque);
+  // A map over a raw buffer, and a std::array: the same torque.
+  std::array<double, 12> buffer{};
+  Eigen::Map<Eigen::VectorXd> out(buffer.data() + 3, 6);
+  const std::array<double, 6> q_array = {0.1, -1.1, 1.3, -1.7, -1.5, 0.1};
+  b.step(q_array, qdot, 1e-3, out);
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(torque[i], buffer[3 + i]);
+  EXPECT_EQ(buffer[0], 0.0);
+  EXPECT_EQ(buffer[9], 0.0);
+  // The views point at the Eigen storage itself.
+  const pvfc::In view(q);
+  EXPECT_EQ(view.data(), q.data());
+  // M into a row-major Eigen matrix.
+  Eigen::Matrix<double, 6, 6, Eigen::RowMajor> m;
+  pvfc::Out m_view(m.data(), 36);
+  robot.inertia(q, m_view);
+  EXPECT_NEAR((m - m.transpose()).cwiseAbs().maxCoeff(), 0.0, 1e-15);
+}
+#endif
 
 TEST(Version, IsNotEmpty) { EXPECT_FALSE(pvfc::version().empty()); }
