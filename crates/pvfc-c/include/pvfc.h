@@ -161,6 +161,31 @@ typedef struct pvfc_energy_account {
   double potential;
 } pvfc_energy_account;
 
+// One joint of a serial arm given as numbers, and the link it moves (URDF's conventions:
+// the joint's frame in its parent link's frame, then the link's inertial in the joint's
+// frame).
+typedef struct pvfc_joint_spec {
+  // 0: revolute (continuous when `lower == upper == 0`), 1: prismatic.
+  bool prismatic;
+  // The joint frame's position in the parent link's frame (m).
+  double origin_xyz[3];
+  // The joint frame's roll, pitch, yaw in the parent link's frame (rad).
+  double origin_rpy[3];
+  // The joint's axis in its own frame (normalised by the library).
+  double axis[3];
+  // The lower limit (rad or m).
+  double lower;
+  // The upper limit (rad or m).
+  double upper;
+  // The link's mass (kg, > 0).
+  double mass;
+  // The link's centre of mass in the joint's frame (m).
+  double com[3];
+  // The link's rotational inertia about its centre of mass, in the joint frame's axes:
+  // `ixx, ixy, ixz, iyy, iyz, izz` (kg·m²).
+  double inertia[6];
+} pvfc_joint_spec;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -416,6 +441,21 @@ enum pvfc_status pvfc_robot_from_urdf_string(const char *urdf,
                                              const char *base,
                                              const char *tip,
                                              struct pvfc_robot **out);
+
+// Makes a serial arm of `n` joints from numbers: `joints[0]` is attached to the base, each
+// next one to the link before; the tool frame sits at `tool_xyz`, `tool_rpy` (3 doubles
+// each; NULL: zeros) in the last link's frame. The same checks as a URDF's apply (an error
+// names the joint, `joint{i}`, or link, `link{i}`). Gravity is `−9.80665 m/s²` along the
+// base's z.
+//
+// # Safety
+// `joints` holds `n` readable specs; `tool_xyz`, `tool_rpy` are NULL or hold 3 doubles;
+// `out` is writable.
+enum pvfc_status pvfc_robot_from_arrays(const struct pvfc_joint_spec *joints,
+                                        size_t n,
+                                        const double *tool_xyz,
+                                        const double *tool_rpy,
+                                        struct pvfc_robot **out);
 
 // The number of joints of `robot` (0 for NULL).
 //

@@ -161,6 +161,17 @@ class Robot {
                                       tip.empty() ? nullptr : tip.c_str(), &p));
     return Robot(p);
   }
+  /// From numbers: `n` joints (`pvfc_joint_spec`, URDF's conventions), the tool frame's
+  /// position and roll, pitch, yaw in the last link (3 each, or empty: zeros).
+  static Robot from_arrays(const pvfc_joint_spec *joints, std::size_t n, In tool_xyz = In(),
+                           In tool_rpy = In()) {
+    if (tool_xyz.size()) size_check(tool_xyz, 3, "tool_xyz");
+    if (tool_rpy.size()) size_check(tool_rpy, 3, "tool_rpy");
+    pvfc_robot *p = nullptr;
+    check(pvfc_robot_from_arrays(joints, n, tool_xyz.size() ? tool_xyz.data() : nullptr,
+                                 tool_rpy.size() ? tool_rpy.data() : nullptr, &p));
+    return Robot(p);
+  }
   std::size_t dof() const noexcept { return pvfc_robot_dof(h_.get()); }
   /// `M(q)` (CRBA) into `m` (dof², row-major).
   void inertia(In q, Out m) const {

@@ -59,6 +59,155 @@ pub unsafe extern "C" fn pvfc_robot_from_urdf_string(
     })
 }
 
+/// One joint of a serial arm given as numbers, and the link it moves (URDF's conventions:
+/// the joint's frame in its parent link's frame, then the link's inertial in the joint's
+/// frame).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct pvfc_joint_spec {
+    /// 0: revolute (continuous when `lower == upper == 0`), 1: prismatic.
+    pub prismatic: bool,
+    /// The joint frame's position in the parent link's frame (m).
+    pub origin_xyz: [f64; 3],
+    /// The joint frame's roll, pitch, yaw in the parent link's frame (rad).
+    pub origin_rpy: [f64; 3],
+    /// The joint's axis in its own frame (normalised by the library).
+    pub axis: [f64; 3],
+    /// The lower limit (rad or m).
+    pub lower: f64,
+    /// The upper limit (rad or m).
+    pub upper: f64,
+    /// The link's mass (kg, > 0).
+    pub mass: f64,
+    /// The link's centre of mass in the joint's frame (m).
+    pub com: [f64; 3],
+    /// The link's rotational inertia about its centre of mass, in the joint frame's axes:
+    /// `ixx, ixy, ixz, iyy, iyz, izz` (kg·m²).
+    pub inertia: [f64; 6],
+}
+
+/// Makes a serial arm of `n` joints from numbers: `joints[0]` is attached to the base, each
+/// next one to the link before; the tool frame sits at `tool_xyz`, `tool_rpy` (3 doubles
+/// each; NULL: zeros) in the last link's frame. The same checks as a URDF's apply (an error
+/// names the joint, `joint{i}`, or link, `link{i}`). Gravity is `−9.80665 m/s²` along the
+/// base's z.
+///
+/// # Safety
+/// `joints` holds `n` readable specs; `tool_xyz`, `tool_rpy` are NULL or hold 3 doubles;
+/// `out` is writable.
+#[no_mangle]
+pub unsafe extern "C" fn pvfc_robot_from_arrays(
+    joints: *const pvfc_joint_spec,
+    n: usize,
+    tool_xyz: *const f64,
+    tool_rpy: *const f64,
+    out: *mut *mut pvfc_robot,
+) -> pvfc_status {
+    guard(|| {
+        if joints.is_null() {
+            return Err(null("joints"));
+        }
+        // SAFETY: n readable specs, as documented.
+        let specs = unsafe { std::slice::from_raw_parts(joints, n) };
+        let three = |p: *const f64, name: &str| -> Result<[f64; 3], Failure> {
+            if p.is_null() {
+                return Ok([0.0; 3]);
+            }
+            // SAFETY: 3 readable doubles, as documented.
+            let x = unsafe { doubles(p, 3, name) }?;
+            Ok([x[0], x[1], x[2]])
+        };
+        let urdf = urdf_of(
+            specs,
+            three(tool_xyz, "tool_xyz")?,
+            three(tool_rpy, "tool_rpy")?,
+        )?;
+        let d = ChainDescription::from_str(&urdf, Path::new("arrays"), Some("base"), Some("tool"))?;
+        let robot = Robot::from_description(d)?;
+        unsafe { give(out, pvfc_robot { robot }) }
+    })
+}
+
+/// The URDF of a chain given as numbers (every number written exactly: Rust's shortest
+/// round-trip form), so that an arm from arrays takes the one path every arm takes.
+fn urdf_of(
+    specs: &[pvfc_joint_spec],
+    tool_xyz: [f64; 3],
+    tool_rpy: [f64; 3],
+) -> Result<String, Failure> {
+    use std::fmt::Write;
+    let v3 = |x: &[f64; 3]| format!("{:?} {:?} {:?}", x[0], x[1], x[2]);
+    let mut u = String::from("<robot name=\"arrays\">\n  <link name=\"base\"/>\n");
+    for (i, j) in specs.iter().enumerate() {
+        let scalars = [j.lower, j.upper, j.mass];
+        let mut numbers = j
+            .origin_xyz
+            .iter()
+            .chain(&j.origin_rpy)
+            .chain(&j.axis)
+            .chain(&scalars)
+            .chain(&j.com)
+            .chain(&j.inertia);
+        if let Some(x) = numbers.find(|x| !x.is_finite()) {
+            return Err(Failure(
+                PVFC_ERROR_NON_FINITE,
+                format!("joints[{i}]: a number is {x}"),
+            ));
+        }
+        let kind = match (j.prismatic, j.lower == 0.0 && j.upper == 0.0) {
+            (true, _) => "prismatic",
+            (false, true) => "continuous",
+            (false, false) => "revolute",
+        };
+        let parent = if i == 0 {
+            "base".to_string()
+        } else {
+            format!("link{}", i - 1)
+        };
+        let limit = if kind == "continuous" {
+            String::new()
+        } else {
+            format!(
+                "    <limit lower=\"{:?}\" upper=\"{:?}\" effort=\"0\" velocity=\"0\"/>\n",
+                j.lower, j.upper
+            )
+        };
+        let _ = write!(
+            u,
+            "  <joint name=\"joint{i}\" type=\"{kind}\">\n    <parent link=\"{parent}\"/>\n    \
+             <child link=\"link{i}\"/>\n    <origin xyz=\"{}\" rpy=\"{}\"/>\n    \
+             <axis xyz=\"{}\"/>\n{limit}  </joint>\n  <link name=\"link{i}\">\n    <inertial>\n      \
+             <origin xyz=\"{}\" rpy=\"0 0 0\"/>\n      <mass value=\"{:?}\"/>\n      \
+             <inertia ixx=\"{:?}\" ixy=\"{:?}\" ixz=\"{:?}\" iyy=\"{:?}\" iyz=\"{:?}\" izz=\"{:?}\"/>\n    \
+             </inertial>\n  </link>\n",
+            v3(&j.origin_xyz),
+            v3(&j.origin_rpy),
+            v3(&j.axis),
+            v3(&j.com),
+            j.mass,
+            j.inertia[0],
+            j.inertia[1],
+            j.inertia[2],
+            j.inertia[3],
+            j.inertia[4],
+            j.inertia[5],
+        );
+    }
+    let last = match specs.len() {
+        0 => "base".to_string(),
+        n => format!("link{}", n - 1),
+    };
+    let _ = write!(
+        u,
+        "  <joint name=\"tool_joint\" type=\"fixed\">\n    <parent link=\"{last}\"/>\n    \
+         <child link=\"tool\"/>\n    <origin xyz=\"{}\" rpy=\"{}\"/>\n  </joint>\n  \
+         <link name=\"tool\"/>\n</robot>\n",
+        v3(&tool_xyz),
+        v3(&tool_rpy)
+    );
+    Ok(u)
+}
+
 /// The number of joints of `robot` (0 for NULL).
 ///
 /// # Safety

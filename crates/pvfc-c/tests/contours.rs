@@ -477,3 +477,88 @@ radious = 3.0
         pvfc_robot_destroy(robot);
     }
 }
+
+fn scara_joints() -> [pvfc_joint_spec; 2] {
+    let joint = |xyz: [f64; 3], mass: f64, com: f64, i: [f64; 6]| pvfc_joint_spec {
+        prismatic: false,
+        origin_xyz: xyz,
+        origin_rpy: [0.0; 3],
+        axis: [0.0, 0.0, 1.0],
+        lower: 0.0,
+        upper: 0.0,
+        mass,
+        com: [com, 0.0, 0.0],
+        inertia: i,
+    };
+    [
+        joint([0.0, 0.0, 0.5], 15.0, 0.2, [0.05, 0.0, 0.0, 0.4, 0.0, 0.4]),
+        joint(
+            [0.4, 0.0, 0.0],
+            6.0,
+            0.15,
+            [0.02, 0.0, 0.0, 0.15, 0.0, 0.15],
+        ),
+    ]
+}
+
+#[test]
+fn an_arm_from_arrays_is_the_arm_of_its_urdf() {
+    // models/scara.urdf, given as numbers.
+    let joints = scara_joints();
+    let tool = [0.35, 0.0, 0.0];
+    let mut robot = null_mut();
+    // SAFETY: valid arrays and out pointer.
+    let st =
+        unsafe { pvfc_robot_from_arrays(joints.as_ptr(), 2, tool.as_ptr(), null(), &mut robot) };
+    assert_eq!(st, OK, "{}", last_error());
+    let path = CString::new(repo().join("models/scara.urdf").to_str().unwrap()).unwrap();
+    let tip = CString::new("tool").unwrap();
+    let mut urdf = null_mut();
+    // SAFETY: valid strings and out pointer.
+    let st = unsafe { pvfc_robot_from_urdf_file(path.as_ptr(), null(), tip.as_ptr(), &mut urdf) };
+    assert_eq!(st, OK, "{}", last_error());
+    let (q, v) = ([0.3, -1.2], [0.5, 0.7]);
+    let mut out = ([0.0; 4], [0.0; 4], [0.0; 2], [0.0; 3]);
+    let mut reference = out;
+    for (r, (m, c, g, p)) in [(robot, &mut out), (urdf, &mut reference)] {
+        // SAFETY: arrays of the documented sizes, valid handles.
+        unsafe {
+            assert_eq!(
+                pvfc_robot_dynamics(
+                    r,
+                    q.as_ptr(),
+                    v.as_ptr(),
+                    2,
+                    m.as_mut_ptr(),
+                    c.as_mut_ptr(),
+                    g.as_mut_ptr()
+                ),
+                OK
+            );
+            assert_eq!(
+                pvfc_robot_tool_pose(r, q.as_ptr(), 2, null_mut(), p.as_mut_ptr()),
+                OK
+            );
+        }
+    }
+    assert_eq!(out, reference);
+    // Bad numbers are named.
+    let mut bad = scara_joints();
+    bad[1].mass = -1.0;
+    let mut none = null_mut();
+    // SAFETY: valid arrays and out pointer.
+    let st = unsafe { pvfc_robot_from_arrays(bad.as_ptr(), 2, null(), null(), &mut none) };
+    assert_eq!(st, pvfc_status::PVFC_ERROR_URDF, "{}", last_error());
+    assert!(last_error().contains("link1"), "{}", last_error());
+    bad[1].mass = f64::NAN;
+    // SAFETY: as above.
+    let st = unsafe { pvfc_robot_from_arrays(bad.as_ptr(), 2, null(), null(), &mut none) };
+    assert_eq!(st, pvfc_status::PVFC_ERROR_NON_FINITE);
+    assert!(last_error().contains("joints[1]"), "{}", last_error());
+    assert!(none.is_null());
+    // SAFETY: made above.
+    unsafe {
+        pvfc_robot_destroy(robot);
+        pvfc_robot_destroy(urdf);
+    }
+}

@@ -266,4 +266,32 @@ TEST(Views, TakeEigenVectorsAndMapsWithoutCopying) {
 }
 #endif
 
+TEST(Robot, FromArraysIsTheScaraOfItsUrdf) {
+  pvfc_joint_spec joints[2] = {};
+  joints[0].origin_xyz[2] = 0.5;
+  joints[1].origin_xyz[0] = 0.4;
+  const double mass[2] = {15.0, 6.0}, com[2] = {0.2, 0.15}, ixx[2] = {0.05, 0.02},
+               iyy[2] = {0.4, 0.15};
+  for (int i = 0; i < 2; ++i) {
+    joints[i].axis[2] = 1.0;
+    joints[i].mass = mass[i];
+    joints[i].com[0] = com[i];
+    joints[i].inertia[0] = ixx[i];
+    joints[i].inertia[3] = iyy[i];
+    joints[i].inertia[5] = iyy[i];
+  }
+  const pvfc::Robot a =
+      pvfc::Robot::from_arrays(joints, 2, std::array<double, 3>{0.35, 0.0, 0.0});
+  const char *p = std::getenv("PVFC_UR5_URDF");
+  const std::string dir = p ? std::string(p).substr(0, std::string(p).rfind("/ur5/")) : "models";
+  const pvfc::Robot b = pvfc::Robot::from_urdf_file(dir + "/scara.urdf", "tool");
+  const std::array<double, 2> q = {0.3, -1.2};
+  std::array<double, 4> ma{}, mb{};
+  a.inertia(q, ma);
+  b.inertia(q, mb);
+  EXPECT_EQ(ma, mb);
+  joints[1].mass = -1.0;
+  EXPECT_THROW(pvfc::Robot::from_arrays(joints, 2), pvfc::UrdfError);
+}
+
 TEST(Version, IsNotEmpty) { EXPECT_FALSE(pvfc::version().empty()); }
