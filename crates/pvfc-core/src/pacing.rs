@@ -27,7 +27,8 @@ pub trait SelfPacing<T: Real> {
 }
 
 /// Eq. (21): `λ₁ = exp(−R U)`, `λ₂ = 2 − exp(−R U)`. `R = 0` turns self-pacing off
-/// (`λ₁ = λ₂ = 1`).
+/// (`λ₁ = λ₂ = 1`). In `f32`, `λ₁` below `2⁻⁴⁰` is taken as 0 (the contour halts until the
+/// error shrinks; [`Real::PACING_FLOOR`](crate::Real::PACING_FLOOR) says why).
 ///
 /// ```
 /// use pvfc_core::pacing::{ExponentialPacing, SelfPacing};
@@ -73,6 +74,8 @@ impl<T: Real> SelfPacing<T> for ExponentialPacing<T> {
     #[inline]
     fn gains(&self, u: T) -> PacingGains<T> {
         let l1 = (-self.r * u).exp_fast();
+        // Below the scalar's floor, 0: its products would be subnormal (`Real::PACING_FLOOR`).
+        let l1 = if l1 < T::PACING_FLOOR { T::zero() } else { l1 };
         let d1 = -self.r * l1;
         PacingGains {
             lambda1: l1,
