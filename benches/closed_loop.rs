@@ -3,7 +3,10 @@
 //! * continuous: controller states integrated with the plant, RK4 at 1 kHz (10,000 steps);
 //! * sampled: controller at 1 kHz with zero-order hold, plant RK4 at 10 kHz (the default).
 
-use criterion::{criterion_group, criterion_main, Criterion};
+#[path = "common/machine.rs"]
+mod machine;
+
+use criterion::{criterion_group, Criterion};
 use pvfc::sim::run::simulate;
 use pvfc::sim::scenario::presets;
 use pvfc::sim::scenario::Mode;
@@ -28,4 +31,8 @@ fn closed_loop(c: &mut Criterion) {
 }
 
 criterion_group!(benches, closed_loop);
-criterion_main!(benches);
+fn main() {
+    machine::print_machine();
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}

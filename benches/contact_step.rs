@@ -3,7 +3,10 @@
 //! runs of Rapier's collision pipeline, four evaluations of the contact law and of the control
 //! law — from a state where the tool presses on the wall. Also one contact query alone.
 
-use criterion::{criterion_group, criterion_main, Criterion};
+#[path = "common/machine.rs"]
+mod machine;
+
+use criterion::{criterion_group, Criterion};
 use nalgebra::Vector2;
 use pvfc::core::prelude::*;
 use pvfc::sim::contact::{ContactWorld, Environment};
@@ -159,4 +162,8 @@ fn spatial_contact_step(c: &mut Criterion) {
 }
 
 criterion_group!(benches, contact_step, spatial_contact_step);
-criterion_main!(benches);
+fn main() {
+    machine::print_machine();
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}

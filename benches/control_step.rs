@@ -18,6 +18,9 @@ use pvfc::sim::ClosedLoop;
 use std::hint::black_box;
 use std::time::Instant;
 
+#[path = "common/machine.rs"]
+mod machine;
+
 const STEPS: usize = 1000;
 const DT: f64 = 1e-3;
 
@@ -253,9 +256,59 @@ fn passive_overhead() {
     }
 }
 
+/// Sets or clears the SSE flush-to-zero and denormals-are-zero bits of this thread (x86-64).
+#[cfg(target_arch = "x86_64")]
+#[allow(deprecated, unsafe_code)]
+fn flush_to_zero(on: bool) {
+    use std::arch::x86_64::{_mm_getcsr, _mm_setcsr};
+    // SAFETY: only the FTZ (bit 15) and DAZ (bit 6) control bits change.
+    unsafe {
+        let csr = _mm_getcsr();
+        _mm_setcsr(if on { csr | 0x8040 } else { csr & !0x8040 });
+    }
+}
+
+/// The f32 SCARA step over the f64 one, interleaved, and again with flush-to-zero set: on an
+/// Intel core a step that meets subnormal numbers is slower without it.
+fn f32_over_f64() {
+    const ROUNDS: usize = 1000;
+    let (scara, samples) = scara_f64();
+    let (scara32, samples32) = scara_f32(&samples);
+    let measure = || {
+        interleaved(
+            ROUNDS,
+            || run_steps(scara, &samples, DT),
+            || run_steps(scara32, &samples32, 1e-3),
+        )
+    };
+    let plain = measure();
+    #[cfg(target_arch = "x86_64")]
+    let ftz = {
+        flush_to_zero(true);
+        let r = measure();
+        flush_to_zero(false);
+        Some(r)
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let ftz: Option<[f64; 5]> = None;
+    println!("SCARA step f32 ÷ f64, interleaved, {ROUNDS} rounds of 1,000 steps each:");
+    for (name, r) in [
+        ("as the caller leaves the FPU", Some(plain)),
+        ("flush-to-zero set", ftz),
+    ] {
+        if let Some([a, b, r, lo, hi]) = r {
+            println!(
+                "  {name}: f64 {:.1} ns, f32 {:.1} ns per step (medians); f32/f64 {r:.2} (quartiles {lo:.2}, {hi:.2})",
+                a, b
+            );
+        }
+    }
+}
+
 criterion_group!(benches, control_step);
 
 fn main() {
+    machine::print_machine();
     benches();
     Criterion::default().configure_from_args().final_summary();
     // Only when benchmarking (`cargo test` runs this target once, quickly), and unless a
@@ -268,5 +321,12 @@ fn main() {
             .any(|f| "scara_lissajous_passive_interleaved".contains(f.as_str()));
     if args.iter().any(|a| a == "--bench") && wanted {
         passive_overhead();
+    }
+    let wanted = filters.is_empty()
+        || filters
+            .iter()
+            .any(|f| "scara_f32_over_f64_interleaved".contains(f.as_str()));
+    if args.iter().any(|a| a == "--bench") && wanted {
+        f32_over_f64();
     }
 }

@@ -3,7 +3,10 @@
 //! (gravity compensation, waypoint contour, self-pacing). Criterion reports the 1000 steps;
 //! divide by 1000. The paper's SCARA step runs in the same group as the baseline of the ratio.
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+#[path = "common/machine.rs"]
+mod machine;
+
+use criterion::{criterion_group, Criterion, Throughput};
 use nalgebra::{SVector, Vector2};
 use pvfc::prelude::*;
 use pvfc::sim::model::arm::{
@@ -417,4 +420,8 @@ fn task_arm<T: Real, const N: usize>(
 }
 
 criterion_group!(benches, serial_arm);
-criterion_main!(benches);
+fn main() {
+    machine::print_machine();
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}

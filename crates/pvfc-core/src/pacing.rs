@@ -28,7 +28,7 @@ pub trait SelfPacing<T: Real> {
 
 /// Eq. (21): `λ₁ = exp(−R U)`, `λ₂ = 2 − exp(−R U)`. `R = 0` turns self-pacing off
 /// (`λ₁ = λ₂ = 1`). In `f32`, `λ₁` below `2⁻⁴⁰` is taken as 0 (the contour halts until the
-/// error shrinks; [`Real::PACING_FLOOR`](crate::Real::PACING_FLOOR) says why).
+/// error shrinks; [`crate::Real::PACING_FLOOR`] says why).
 ///
 /// ```
 /// use pvfc_core::pacing::{ExponentialPacing, SelfPacing};
