@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# All the tests: the Rust workspace (cargo test), the C ABI from C (under valgrind when it is
-# installed), then the Python wheel built into a fresh virtual environment with its pytest
-# suite and the stub check (mypy.stubtest).
+# All the tests: the Rust workspace (cargo test), the C ABI from C and C++ (GoogleTest; under
+# valgrind and the sanitizers), the CMake package, the Python wheel built into a fresh virtual
+# environment, the C++ torque loop on MuJoCo and Pinocchio's C++ beside pvfc (from the wheels),
+# the pytest suite and the stub check (mypy.stubtest).
 # Needs Rust (rustup), a C and a C++ compiler, CMake, and Python ≥ 3.9 with venv; installs the
-# rest itself.
+# Python packages itself. Uses valgrind, GoogleTest, Eigen and urdfdom's headers when they are
+# installed (required with PVFC_REQUIRE_VALGRIND=1, as in CI).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 stage() { echo "=== $* (${SECONDS} s so far)"; }
