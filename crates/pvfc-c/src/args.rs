@@ -35,6 +35,31 @@ pub(crate) unsafe fn doubles<'a>(
     Ok(x)
 }
 
+/// An optional array: the `n` doubles at `p` (checked as [`doubles`]), or `None` for NULL.
+///
+/// # Safety
+/// `p` is NULL or points to `n` readable doubles.
+pub(crate) unsafe fn optional(
+    p: *const f64,
+    n: usize,
+    name: &str,
+) -> Result<Option<Vec<f64>>, Failure> {
+    if p.is_null() {
+        return Ok(None);
+    }
+    // SAFETY: forwarded from the caller.
+    Ok(Some(unsafe { doubles(p, n, name) }?.to_vec()))
+}
+
+/// An optional point or vector of 3 doubles, `None` for NULL.
+///
+/// # Safety
+/// `p` is NULL or points to 3 readable doubles.
+pub(crate) unsafe fn triple(p: *const f64, name: &str) -> Result<Option<[f64; 3]>, Failure> {
+    // SAFETY: forwarded from the caller.
+    Ok(unsafe { optional(p, 3, name) }?.map(|x| [x[0], x[1], x[2]]))
+}
+
 /// The doubles of a joint vector: exactly `dof` of them.
 ///
 /// # Safety

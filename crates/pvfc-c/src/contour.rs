@@ -138,23 +138,15 @@ pub unsafe extern "C" fn pvfc_contour_lissajous(
 ) -> pvfc_status {
     guard(|| {
         // SAFETY: as documented.
-        let or_zeros = |p: *const f64, name: &str| -> Result<Vec<f64>, Failure> {
-            if p.is_null() {
-                Ok(vec![0.0; n])
-            } else {
-                Ok(unsafe { doubles(p, n, name) }?.to_vec())
-            }
+        let required = |p: *const f64, name: &str| -> Result<Vec<f64>, Failure> {
+            unsafe { optional(p, n, name) }?.ok_or_else(|| null(name))
         };
-        if amplitude.is_null() || periods.is_null() {
-            return Err(null(if amplitude.is_null() {
-                "amplitude"
-            } else {
-                "periods"
-            }));
-        }
+        let or_zeros = |p: *const f64, name: &str| -> Result<Vec<f64>, Failure> {
+            Ok(unsafe { optional(p, n, name) }?.unwrap_or_else(|| vec![0.0; n]))
+        };
         let spec = JointContourSpec::Lissajous {
-            amplitude: or_zeros(amplitude, "amplitude")?,
-            periods: or_zeros(periods, "periods")?,
+            amplitude: required(amplitude, "amplitude")?,
+            periods: required(periods, "periods")?,
             phase: or_zeros(phase, "phase")?,
             offset: or_zeros(offset, "offset")?,
             period: Some(positive(period, "period")?),
@@ -180,10 +172,7 @@ pub unsafe extern "C" fn pvfc_contour_ellipse(
     guard(|| {
         // SAFETY: as documented.
         let vector = |p: *const f64, name: &str| -> Result<Vec<f64>, Failure> {
-            if p.is_null() {
-                return Err(null(name));
-            }
-            Ok(unsafe { doubles(p, n, name) }?.to_vec())
+            unsafe { optional(p, n, name) }?.ok_or_else(|| null(name))
         };
         let spec = JointContourSpec::Ellipse {
             center: vector(center, "center")?,
@@ -277,11 +266,12 @@ unsafe fn cartesian(
             rest_gain: Some(o.task_rest_gain),
         });
     }
-    let spacing = (o.samples != 0).then(|| period / o.samples as f64);
-    unsafe { store(spec, PathBuf::new(), period, spacing, out) }
+    unsafe { store(spec, PathBuf::new(), period, None, out) }
 }
 
-/// Checks a Cartesian spec's path and stores it.
+/// Checks a Cartesian spec's path and stores it. With fixed `samples` the waypoints are
+/// `spacing` apart in `τ` (`None`: `period / samples`); adaptive sampling fits them into the
+/// `period`.
 ///
 /// # Safety
 /// `out` is NULL or writable.
@@ -292,6 +282,11 @@ unsafe fn store(
     spacing: Option<f64>,
     out: *mut *mut pvfc_contour,
 ) -> Result<(), Failure> {
+    let spacing = match (spec.samples, spacing) {
+        (0, _) => None,
+        (_, Some(s)) => Some(positive(s, "spacing")?),
+        (n, None) => Some(period / n as f64),
+    };
     let period = positive(period, "period")?;
     spec.tolerance()?;
     let path = spec.path(&base_dir)?;
@@ -367,22 +362,14 @@ pub unsafe extern "C" fn pvfc_contour_cartesian_circle(
     guard(|| {
         // SAFETY: as documented.
         let three = |p: *const f64, name: &str| -> Result<[f64; 3], Failure> {
-            if p.is_null() {
-                return Err(null(name));
-            }
-            let x = unsafe { doubles(p, 3, name) }?;
-            Ok([x[0], x[1], x[2]])
+            unsafe { triple(p, name) }?.ok_or_else(|| null(name))
         };
         let circle = CircleSpec {
             center: three(center, "center")?,
             radius,
             normal: three(normal, "normal")?,
             semi_minor: (semi_minor != 0.0).then_some(semi_minor),
-            major_axis: if major_axis.is_null() {
-                None
-            } else {
-                Some(three(major_axis, "major_axis")?)
-            },
+            major_axis: unsafe { triple(major_axis, "major_axis") }?,
         };
         let spec = CartesianSpec {
             circle: Some(circle),
@@ -418,11 +405,7 @@ pub unsafe extern "C" fn pvfc_contour_cartesian_toml(
                 format!("contour.cartesian: {e}"),
             )
         })?;
-        let spacing = match (spec.samples, spacing) {
-            (0, _) => None,
-            (n, 0.0) => Some(period / n as f64),
-            (_, s) => Some(positive(s, "spacing")?),
-        };
+        let spacing = (spacing != 0.0).then_some(spacing);
         unsafe { store(spec, base_dir, period, spacing, out) }
     })
 }

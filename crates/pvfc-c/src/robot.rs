@@ -109,13 +109,9 @@ pub unsafe extern "C" fn pvfc_robot_from_arrays(
         }
         // SAFETY: n readable specs, as documented.
         let specs = unsafe { std::slice::from_raw_parts(joints, n) };
+        // SAFETY: NULL or 3 readable doubles, as documented.
         let three = |p: *const f64, name: &str| -> Result<[f64; 3], Failure> {
-            if p.is_null() {
-                return Ok([0.0; 3]);
-            }
-            // SAFETY: 3 readable doubles, as documented.
-            let x = unsafe { doubles(p, 3, name) }?;
-            Ok([x[0], x[1], x[2]])
+            Ok(unsafe { triple(p, name) }?.unwrap_or([0.0; 3]))
         };
         let urdf = urdf_of(
             specs,
