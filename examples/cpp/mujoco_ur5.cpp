@@ -27,7 +27,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <memory>
+#include <optional>
 #include <new>
 #include <sstream>
 #include <string>
@@ -116,21 +116,11 @@ class PvfcContourController {
   const pvfc::Contour &contour() const { return *contour_; }
 
  private:
-  // Optional only to be built in on_configure (the handles have no empty state of their own).
-  template <class T>
-  struct Slot {
-    std::unique_ptr<T> p;
-    Slot &operator=(T &&x) {
-      p.reset(new T(std::move(x)));
-      return *this;
-    }
-    T &operator*() const { return *p; }
-    T *operator->() const { return p.get(); }
-  };
-  Slot<pvfc::Robot> robot_;
-  Slot<pvfc::Contour> contour_;
-  Slot<pvfc::Controller> controller_;
-  Slot<pvfc::PassiveController> passive_;
+  // Empty until on_configure and on_activate build them (the handles have no empty state).
+  std::optional<pvfc::Robot> robot_;
+  std::optional<pvfc::Contour> contour_;
+  std::optional<pvfc::Controller> controller_;
+  std::optional<pvfc::PassiveController> passive_;
   std::array<double, kDof> q_{}, v_{}, torque_{};
   pvfc_energy_account account_{};
 };
