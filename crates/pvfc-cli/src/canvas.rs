@@ -71,7 +71,8 @@ fn bounds(series: &[Series], log_y: bool) -> ((f64, f64), (f64, f64)) {
     (pad(x0, x1), y)
 }
 
-type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+/// A panel to draw on.
+pub(crate) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
 
 fn err(path: &Path, e: impl std::fmt::Display) -> SimError {
     SimError::Plot {

@@ -3,7 +3,7 @@
 
 use crate::runs::Runs;
 use pvfc_sim::error::{Result, SimError};
-use pvfc_sim::scenario::preset_id::{Arm3dCase, ContactCase, PresetId, ToolPathCase};
+use pvfc_sim::scenario::preset_id::{Arm3dCase, ContactCase, Fig1Contour, PresetId, ToolPathCase};
 use pvfc_sim::scenario::Mode;
 use pvfc_sim::trace::metrics::*;
 use pvfc_sim::trace::Trace;
@@ -233,8 +233,13 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
         format!("PVFC: mean {ep:.2e} rad, max {mp:.2e}; timed tracker: mean {et:.2e} rad, max {mt:.2e}"),
         et > ep,
     );
-    if r.run(PresetId::Fig1Saturated { speed: 100 }).is_ok() {
-        crate::speed_sweep::fig1_saturated_claim(r, &mut push)?;
+    if r.run(PresetId::Fig1Saturated {
+        contour: Fig1Contour::Circle,
+        speed: 100,
+    })
+    .is_ok()
+    {
+        crate::speed_sweep::fig1_saturated_claims(r, &mut push)?;
     }
     contact_claims(r, &mut push)?;
     crate::report_digital::digital_claims(r, &mut push)?;
@@ -244,7 +249,7 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     }
     if r.run(PresetId::ToolPath(ToolPathCase::Free)).is_ok() {
         crate::report_paths::tool_path_claims(r, &mut push)?;
-        crate::speed_sweep::ur5_saturated_claim(r, &mut push)?;
+        crate::speed_sweep::ur5_saturated_claims(r, &mut push)?;
     }
     Ok(out)
 }

@@ -7,10 +7,10 @@ use crate::canvas::{figure, panel, Series};
 use crate::runs::Runs;
 use pvfc_sim::error::Result;
 use pvfc_sim::error::SimError;
-use pvfc_sim::scenario::preset_id::{PresetId, FIG1_SATURATED_SPEEDS, UR5_SATURATED_SPEEDS};
+use pvfc_sim::scenario::preset_id::{Fig1Contour, PresetId, SaturatedPath, FIG1_SATURATED_SPEEDS};
 use pvfc_sim::scenario::presets::{FIG1_TORQUE_LIMITS, UR5_TORQUE_LIMITS};
 use pvfc_sim::scenario::Scenario;
-use pvfc_sim::trace::metrics::contour_error;
+use pvfc_sim::trace::metrics::{contour_error, speed_along_contour};
 use pvfc_sim::trace::path_budget::path_budget;
 use pvfc_sim::trace::Trace;
 use std::path::{Path, PathBuf};
@@ -25,8 +25,9 @@ pub struct SpeedPoint {
     pub demanded: f64,
     /// The mean `τ̇` over the window.
     pub tau_rate: f64,
-    /// The mean speed along the contour (rad/s in joint space): the length of `x_d`
-    /// traversed over the time.
+    /// The mean speed the arm made along the contour (rad/s in joint space for the SCARA,
+    /// [`speed_along_contour`]; m/s along the path for the UR5, the progress of the closest
+    /// point).
     pub speed: f64,
     /// The distance of `q` to the contour (rad): mean and largest over the window.
     pub error: (f64, f64),
@@ -73,11 +74,11 @@ pub fn ur5_point(r: &Runs, name: &str, demanded: f64) -> Result<SpeedPoint> {
     })
 }
 
-/// The UR5's PVFC and timed points, by demanded speed.
-pub fn ur5_sweep(r: &Runs) -> Result<(Vec<SpeedPoint>, Vec<SpeedPoint>)> {
+/// The UR5's PVFC and timed points on `path`, by demanded speed.
+pub fn ur5_sweep(r: &Runs, path: SaturatedPath) -> Result<(Vec<SpeedPoint>, Vec<SpeedPoint>)> {
     let (mut pvfc, mut timed) = (Vec::new(), Vec::new());
-    for speed in UR5_SATURATED_SPEEDS {
-        let id = PresetId::Ur5Saturated { speed };
+    for speed in path.speeds() {
+        let id = PresetId::Ur5Saturated { path, speed };
         pvfc.push(ur5_point(r, &id.name(), f64::from(speed))?);
         timed.push(ur5_point(r, &id.timed_name(), f64::from(speed))?);
     }
@@ -91,24 +92,20 @@ pub fn speed_point(s: &Scenario, t: &Trace, demanded: f64) -> Result<SpeedPoint>
     let start = t.t.iter().position(|&x| x >= end - WINDOW).unwrap_or(0);
     let range = start..t.len();
     let duration = (end - t.t[start]).max(f64::MIN_POSITIVE);
-    let length: f64 = t.tau[range.clone()]
-        .windows(2)
-        .map(|w| (contour.coordinates(w[1])[0] - contour.coordinates(w[0])[0]).norm())
-        .sum();
     Ok(SpeedPoint {
         demanded,
         tau_rate: (t.tau[t.len() - 1] - t.tau[start]) / duration,
-        speed: length / duration,
+        speed: speed_along_contour(t, &contour, s.period(), range.clone()),
         error: contour_error(t, &contour, s.period(), range.clone()),
         saturated: at_limit(t, range, &FIG1_TORQUE_LIMITS),
     })
 }
 
-/// PVFC's and the timed tracker's points, by demanded speed.
-pub fn sweep(r: &Runs) -> Result<(Vec<SpeedPoint>, Vec<SpeedPoint>)> {
+/// PVFC's and the timed tracker's points on `contour`, by demanded speed.
+pub fn sweep(r: &Runs, contour: Fig1Contour) -> Result<(Vec<SpeedPoint>, Vec<SpeedPoint>)> {
     let (mut pvfc, mut timed) = (Vec::new(), Vec::new());
     for speed in FIG1_SATURATED_SPEEDS {
-        let id = PresetId::Fig1Saturated { speed };
+        let id = PresetId::Fig1Saturated { contour, speed };
         let demanded = f64::from(speed) / 100.0;
         let (s, t) = r.run(id)?;
         pvfc.push(speed_point(s, t, demanded)?);
@@ -117,37 +114,49 @@ pub fn sweep(r: &Runs) -> Result<(Vec<SpeedPoint>, Vec<SpeedPoint>)> {
     Ok((pvfc, timed))
 }
 
-/// The claim: once the timed tracker's drives saturate (at their limit in over half the
-/// samples), its contour error grows with the demanded speed, while PVFC makes less speed
-/// than demanded and stays nearer the contour.
-pub(crate) fn fig1_saturated_claim(
+/// The claims, one per contour: once the timed tracker's drives saturate (at their limit in
+/// over half the samples), its contour error grows with the demanded speed, while PVFC makes
+/// less speed than demanded and stays nearer the contour.
+pub(crate) fn fig1_saturated_claims(
     r: &Runs,
     push: &mut impl FnMut(&str, &str, &str, String, bool),
 ) -> Result<()> {
-    let (pvfc, timed) = sweep(r)?;
-    let holds = verdict(&pvfc, &timed, 0.5, |p| p.tau_rate < p.demanded);
-    let rows: Vec<String> = pvfc
-        .iter()
-        .zip(&timed)
-        .map(|(p, t)| {
-            format!(
-                "r = {}: PVFC τ̇ {:.2}, error {:.1e} rad (at limit {:.0} %); timed error {:.1e} rad (at limit {:.0} %)",
-                p.demanded,
-                p.tau_rate,
-                p.error.0,
-                100.0 * p.saturated,
-                t.error.0,
-                100.0 * t.saturated
-            )
-        })
-        .collect();
-    push(
-        "fig1.saturated",
-        "On drives that saturate, a timed tracker leaves the contour to keep pace as the demanded speed grows; PVFC slows down and stays nearer the contour",
-        "SCARA on a circle of 1 rad in joint space, torques limited to 15 / 5 N·m on both controllers; demanded speed r (PVFC: eq. 36 at the energy of β = r, passive 1 kHz; timed: τ̇ = r, computed torque + PD at 20 rad/s); mean distance to the contour over the last 12 s; holds if, over the speeds where the tracker is at its limit in over half the samples, its error grows with r and PVFC's is smaller at a τ̇ below r",
-        rows.join("; "),
-        holds,
-    );
+    for contour in Fig1Contour::ALL {
+        let (pvfc, timed) = sweep(r, contour)?;
+        let holds = verdict(&pvfc, &timed, 0.5, |p| p.tau_rate < p.demanded);
+        let rows: Vec<String> = pvfc
+            .iter()
+            .zip(&timed)
+            .map(|(p, t)| {
+                format!(
+                    "r = {}: PVFC τ̇ {:.2}, error {:.1e} rad (at limit {:.0} %); timed error {:.1e} rad (at limit {:.0} %)",
+                    p.demanded,
+                    p.tau_rate,
+                    p.error.0,
+                    100.0 * p.saturated,
+                    t.error.0,
+                    100.0 * t.saturated
+                )
+            })
+            .collect();
+        let (id, shape) = match contour {
+            Fig1Contour::Circle => (
+                "fig1.saturated",
+                "SCARA on a circle of 1 rad in joint space",
+            ),
+            Fig1Contour::Lissajous => (
+                "fig1.saturated.lissajous",
+                "SCARA on the paper's Lissajous curve (as fig1)",
+            ),
+        };
+        push(
+            id,
+            "On drives that saturate, a timed tracker leaves the contour to keep pace as the demanded speed grows; PVFC slows down and stays nearer the contour",
+            &format!("{shape}, torques limited to 15 / 5 N·m on both controllers; demanded speed r (PVFC: eq. 36 at the energy of β = r, passive 1 kHz; timed: τ̇ = r, computed torque + PD at 20 rad/s); mean distance to the contour over the last 12 s; holds if, over the speeds where the tracker is at its limit in over half the samples, its error grows with r and PVFC's is smaller at a τ̇ below r"),
+            rows.join("; "),
+            holds,
+        );
+    }
     Ok(())
 }
 
@@ -172,49 +181,69 @@ fn verdict(
     !saturated.is_empty() && grows && pvfc_nearer
 }
 
-/// The UR5's claim: over the speeds where the timed tracker's drives reach a limit (in over
-/// 1 % of the samples: at the rounded corners), its distance to the path along the surface
-/// is larger than PVFC's, and grows with the speed.
-pub(crate) fn ur5_saturated_claim(
+/// The UR5's claims, one per path: over the speeds where the timed tracker's drives reach a
+/// limit (in over 1 % of the samples: at the rounded corners of the rectangle), its distance
+/// to the path along the surface is larger than PVFC's, and grows with the speed.
+pub(crate) fn ur5_saturated_claims(
     r: &Runs,
     push: &mut impl FnMut(&str, &str, &str, String, bool),
 ) -> Result<()> {
-    let (pvfc, timed) = ur5_sweep(r)?;
-    let holds = verdict(&pvfc, &timed, 0.01, |_| true);
-    let rows: Vec<String> = pvfc
-        .iter()
-        .zip(&timed)
-        .map(|(p, t)| {
-            format!(
-                "r = {}: PVFC {:.0} mm/s, {:.3} / {:.2} mm (at limit {:.0} %); timed {:.0} mm/s, {:.3} / {:.2} mm (at limit {:.0} %)",
-                p.demanded,
-                p.speed * 1e3,
-                p.error.0 * 1e3,
-                p.error.1 * 1e3,
-                100.0 * p.saturated,
-                t.speed * 1e3,
-                t.error.0 * 1e3,
-                t.error.1 * 1e3,
-                100.0 * t.saturated
-            )
-        })
-        .collect();
-    push(
-        "fig1.saturated.ur5",
-        "On the UR5's saturating drives, the timed tracker leaves the tool path further than PVFC as the demanded speed grows",
-        "UR5 rounded rectangle (ur5_cartesian) at r times its speed, both controllers limited to 60/60/30/5/5/5 N·m (PVFC passive 1 kHz at the energy of β = r, γ/r³; timed: τ̇ = r, computed torque + PD at 100 rad/s); the tool's distance to the path along the surface (mean / max) and speed along it over the steady passes; holds if, where the tracker reaches a limit (in over 1 % of the samples), its mean distance grows with r and exceeds PVFC's",
-        rows.join("; "),
-        holds,
-    );
+    for path in SaturatedPath::ALL {
+        let (pvfc, timed) = ur5_sweep(r, path)?;
+        let holds = verdict(&pvfc, &timed, 0.01, |_| true);
+        let rows: Vec<String> = pvfc
+            .iter()
+            .zip(&timed)
+            .map(|(p, t)| {
+                format!(
+                    "r = {}: PVFC {:.0} mm/s, {:.3} / {:.2} mm (at limit {:.0} %); timed {:.0} mm/s, {:.3} / {:.2} mm (at limit {:.0} %)",
+                    p.demanded,
+                    p.speed * 1e3,
+                    p.error.0 * 1e3,
+                    p.error.1 * 1e3,
+                    100.0 * p.saturated,
+                    t.speed * 1e3,
+                    t.error.0 * 1e3,
+                    t.error.1 * 1e3,
+                    100.0 * t.saturated
+                )
+            })
+            .collect();
+        let (id, statement, setting) = match path {
+            SaturatedPath::Rectangle => (
+                "fig1.saturated.ur5",
+                "On the UR5's saturating drives, the timed tracker leaves the tool path further than PVFC as the demanded speed grows",
+                "UR5 rounded rectangle (ur5_cartesian) at r times its speed, both controllers limited to 60/60/30/5/5/5 N·m (PVFC passive 1 kHz at the energy of β = r, γ/r³; timed: τ̇ = r, computed torque + PD at 100 rad/s); the tool's distance to the path along the surface (mean / max) and speed along it over the steady passes; holds if, where the tracker reaches a limit (in over 1 % of the samples), its mean distance grows with r and exceeds PVFC's",
+            ),
+            SaturatedPath::Circle => (
+                "fig1.saturated.ur5.circle",
+                "On the UR5's saturating drives, the timed tracker leaves a circular tool path further than PVFC as the demanded speed grows",
+                "UR5 circle of 10 cm radius (ur5_circle, 52 mm/s at r = 1) at r times its speed, both controllers limited to 60/60/30/5/5/5 N·m (PVFC passive 1 kHz at the energy of β = r, γ/r³; timed: τ̇ = r, computed torque + PD at 100 rad/s); the tool's distance to the path along the surface (mean / max) and speed along it over the steady passes; holds if, where the tracker reaches a limit (in over 1 % of the samples), its mean distance grows with r and exceeds PVFC's",
+            ),
+        };
+        push(id, statement, setting, rows.join("; "), holds);
+    }
     Ok(())
 }
 
-/// The speed–accuracy figure: mean speed along the contour against the mean contour error,
-/// both controllers, each point a demanded speed.
+/// The speed–accuracy figure: for the SCARA on each contour, mean speed along the contour
+/// against the mean contour error, both controllers, each point a demanded speed; the speed
+/// each made against the speed demanded; and, with the UR5's runs, the same for its rectangle
+/// and its circle.
 pub fn figure_saturated(r: &Runs, dir: &Path) -> Result<PathBuf> {
-    let (pvfc, timed) = sweep(r)?;
-    let ur5 = if r.run(PresetId::Ur5Saturated { speed: 1 }).is_ok() {
-        Some(ur5_sweep(r)?)
+    let (circle, lissajous) = (
+        sweep(r, Fig1Contour::Circle)?,
+        sweep(r, Fig1Contour::Lissajous)?,
+    );
+    let first = |path: SaturatedPath| PresetId::Ur5Saturated {
+        path,
+        speed: path.speeds()[0],
+    };
+    let ur5 = if r.run(first(SaturatedPath::Rectangle)).is_ok() {
+        Some((
+            ur5_sweep(r, SaturatedPath::Rectangle)?,
+            ur5_sweep(r, SaturatedPath::Circle)?,
+        ))
     } else {
         None
     };
@@ -234,24 +263,57 @@ pub fn figure_saturated(r: &Runs, dir: &Path) -> Result<PathBuf> {
         points: v.iter().map(|x| (x.speed * 1e3, x.error.0 * 1e3)).collect(),
         reference: false,
     };
-    figure(&p, if ur5.is_some() { 3 } else { 2 }, |i, a| match i {
-        0 => panel(
+    let by_demand = |label: &str, v: &[SpeedPoint]| Series {
+        label: label.into(),
+        points: v.iter().map(|x| (x.demanded, x.error.0 * 1e3)).collect(),
+        reference: false,
+    };
+    let scara = |a: &crate::canvas::Area<'_>,
+                 title: &str,
+                 (pv, tm): &(Vec<SpeedPoint>, Vec<SpeedPoint>)| {
+        panel(
             a,
             &p,
-            "Fig. 1 on saturating drives: speed against accuracy",
+            title,
             "mean speed along the contour [rad/s]",
             "mean distance to the contour [rad]",
-            &[series("PVFC", &pvfc), series("timed tracker", &timed)],
+            &[series("PVFC", pv), series("timed tracker", tm)],
             true,
+        )
+    };
+    figure(&p, if ur5.is_some() { 5 } else { 3 }, |i, a| match i {
+        0 => scara(
+            a,
+            "Fig. 1 on saturating drives, a circle: speed against accuracy",
+            &circle,
         ),
-        2 => match &ur5 {
-            Some((pv, tm)) => panel(
+        1 => scara(
+            a,
+            "Fig. 1 on saturating drives, the paper's Lissajous curve: speed against accuracy",
+            &lissajous,
+        ),
+        3 => match &ur5 {
+            Some(((pv, tm), _)) => panel(
                 a,
                 &p,
                 "UR5 rectangle on saturating drives: speed against accuracy",
                 "mean speed along the path [mm/s]",
                 "mean distance along the surface [mm]",
                 &[mm("PVFC", pv), mm("timed tracker", tm)],
+                true,
+            ),
+            None => Ok(()),
+        },
+        // Against the demanded speed: a tracker that has lost the circle makes no speed along
+        // it worth plotting (its closest point may even run backwards).
+        4 => match &ur5 {
+            Some((_, (pv, tm))) => panel(
+                a,
+                &p,
+                "UR5 circle on saturating drives: demanded speed against accuracy",
+                "demanded speed r (times 52 mm/s)",
+                "mean distance along the surface [mm]",
+                &[by_demand("PVFC", pv), by_demand("timed tracker", tm)],
                 true,
             ),
             None => Ok(()),
@@ -263,8 +325,9 @@ pub fn figure_saturated(r: &Runs, dir: &Path) -> Result<PathBuf> {
             "demanded speed r",
             "mean dτ/dt",
             &[
-                demanded("PVFC", &pvfc),
-                demanded("timed tracker", &timed),
+                demanded("PVFC, circle", &circle.0),
+                demanded("timed tracker, circle", &circle.1),
+                demanded("PVFC, Lissajous", &lissajous.0),
                 Series {
                     label: "demanded".into(),
                     points: vec![(0.0, 0.0), (4.0, 4.0)],

@@ -130,6 +130,52 @@ impl ToolPathCase {
     }
 }
 
+/// The SCARA's contour of Fig. 1 on saturating drives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Fig1Contour {
+    /// A circle of 1 rad in joint space (the paper's Lissajous curve with equal periods):
+    /// leaving it is a radial reduction.
+    Circle,
+    /// The paper's Lissajous curve (amplitudes 1 and 1.5 rad, periods 3 and 6), as in `fig1`.
+    Lissajous,
+}
+
+impl Fig1Contour {
+    /// Every contour, in the report's order.
+    pub const ALL: [Fig1Contour; 2] = [Fig1Contour::Circle, Fig1Contour::Lissajous];
+}
+
+/// The UR5's tool path of Fig. 1 on saturating drives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SaturatedPath {
+    /// `ur5_cartesian`'s rounded rectangle (87 mm/s at `r = 1`).
+    Rectangle,
+    /// `ur5_circle`'s circle of 10 cm radius (52 mm/s at `r = 1`): leaving it is a radial
+    /// reduction, as in the paper's Fig. 1.
+    Circle,
+}
+
+impl SaturatedPath {
+    /// Every path, in the report's order.
+    pub const ALL: [SaturatedPath; 2] = [SaturatedPath::Rectangle, SaturatedPath::Circle];
+
+    /// The demanded speeds `r` of its sweep (times the path's nominal speed).
+    pub fn speeds(self) -> [u32; 6] {
+        match self {
+            SaturatedPath::Rectangle => [1, 2, 4, 6, 8, 10],
+            SaturatedPath::Circle => [4, 8, 12, 16, 20, 24],
+        }
+    }
+
+    /// The free run it starts from (a scenario of `scenarios/`).
+    pub fn base(self) -> &'static str {
+        match self {
+            SaturatedPath::Rectangle => "ur5_cartesian",
+            SaturatedPath::Circle => "ur5_circle",
+        }
+    }
+}
+
 /// A built-in scenario. [`name`](Self::name) is the scenario's (and its run's, log's and
 /// figure's) name; its timed baseline's run is `NAME-timed`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -179,8 +225,10 @@ pub enum PresetId {
     /// Fig. 8 (`R = 100`) with the continuous-time controller.
     Fig8Continuous,
     /// Fig. 1 on drives that saturate: PVFC asked for the nominal speed `r` and the timed
-    /// tracker running at `τ̇ = r`, on a circle.
+    /// tracker running at `τ̇ = r`, on a circle or the paper's Lissajous curve.
     Fig1Saturated {
+        /// The contour.
+        contour: Fig1Contour,
         /// The demanded speed `r`, in hundredths.
         speed: u32,
     },
@@ -190,19 +238,17 @@ pub enum PresetId {
     ToolPath(ToolPathCase),
     /// The same tool path followed with the task-space field (`NAME_task`).
     ToolPathTask(ToolPathCase),
-    /// Fig. 1 on the UR5's saturating drives: the rounded rectangle at `r` times its speed.
+    /// Fig. 1 on the UR5's saturating drives: a tool path at `r` times its speed.
     Ur5Saturated {
-        /// The demanded speed `r` (times the rectangle's 87 mm/s).
+        /// The path.
+        path: SaturatedPath,
+        /// The demanded speed `r` (times the path's nominal speed).
         speed: u32,
     },
 }
 
 /// The demanded speeds of Fig. 1 on saturating drives (`r`, in hundredths).
 pub const FIG1_SATURATED_SPEEDS: [u32; 6] = [50, 100, 150, 200, 300, 400];
-
-/// The demanded speeds of Fig. 1 on the UR5's saturating drives (`r`, times the rectangle's
-/// nominal speed).
-pub const UR5_SATURATED_SPEEDS: [u32; 6] = [1, 2, 4, 6, 8, 10];
 
 /// The rates of the digital comparison (Hz).
 pub const DIGITAL_RATES: [u32; 3] = [1000, 250, 100];
@@ -236,14 +282,26 @@ impl PresetId {
             PresetId::DigitalDrive => "digital_wall_1000hz_drive".into(),
             PresetId::Fig8Passive => "fig8_R100_passive".into(),
             PresetId::Fig8Continuous => "fig8_R100_continuous".into(),
-            PresetId::Fig1Saturated { speed } => {
-                format!("fig1_saturated_r{}", f64::from(speed) / 100.0)
-            }
+            PresetId::Fig1Saturated { contour, speed } => format!(
+                "fig1_saturated_{}r{}",
+                match contour {
+                    Fig1Contour::Circle => "",
+                    Fig1Contour::Lissajous => "lissajous_",
+                },
+                f64::from(speed) / 100.0
+            ),
             PresetId::Arm3d(a) => format!("ur5_{}", a.label()),
             PresetId::ToolPath(ToolPathCase::Free) => "ur5_cartesian".into(),
             PresetId::ToolPath(ToolPathCase::Deburr) => "ur5_deburr_fine".into(),
             PresetId::ToolPathTask(case) => format!("{}_task", PresetId::ToolPath(case).name()),
-            PresetId::Ur5Saturated { speed } => format!("ur5_saturated_r{speed}"),
+            PresetId::Ur5Saturated {
+                path: SaturatedPath::Rectangle,
+                speed,
+            } => format!("ur5_saturated_r{speed}"),
+            PresetId::Ur5Saturated {
+                path: SaturatedPath::Circle,
+                speed,
+            } => format!("ur5_circle_saturated_r{speed}"),
         }
     }
 
@@ -295,12 +353,19 @@ impl PresetId {
             PresetId::Fig8Passive,
             PresetId::Fig8Continuous,
         ]);
-        v.extend(FIG1_SATURATED_SPEEDS.map(|speed| PresetId::Fig1Saturated { speed }));
+        for contour in Fig1Contour::ALL {
+            v.extend(FIG1_SATURATED_SPEEDS.map(|speed| PresetId::Fig1Saturated { contour, speed }));
+        }
         v.extend(Arm3dCase::FILES.map(PresetId::Arm3d));
         v.push(PresetId::Arm3d(Arm3dCase::DeburrContinuous));
         v.extend(ToolPathCase::ALL.map(PresetId::ToolPath));
         v.extend(ToolPathCase::ALL.map(PresetId::ToolPathTask));
-        v.extend(UR5_SATURATED_SPEEDS.map(|speed| PresetId::Ur5Saturated { speed }));
+        for path in SaturatedPath::ALL {
+            v.extend(
+                path.speeds()
+                    .map(|speed| PresetId::Ur5Saturated { path, speed }),
+            );
+        }
         v
     }
 

@@ -15,8 +15,8 @@
 use crate::contact::{ContactLaw, ContactSpec, ForceSchedule, Keyframe, ObstacleSpec, ShapeSpec};
 use crate::model::friction::JointFriction;
 use crate::scenario::preset_id::{
-    Arm3dCase, ContactCase, Digital, DigitalCase, PresetId, ToolPathCase, DIGITAL_RATES,
-    FIG1_SATURATED_SPEEDS, UR5_SATURATED_SPEEDS,
+    Arm3dCase, ContactCase, Digital, DigitalCase, Fig1Contour, PresetId, SaturatedPath,
+    ToolPathCase, DIGITAL_RATES, FIG1_SATURATED_SPEEDS,
 };
 use crate::scenario::*;
 
@@ -303,31 +303,40 @@ pub fn all() -> Vec<Scenario> {
     v.push(energy_check(Mode::Sampled));
     v.extend(contact());
     v.extend(digital());
-    v.extend(FIG1_SATURATED_SPEEDS.map(fig1_saturated));
+    for contour in Fig1Contour::ALL {
+        v.extend(FIG1_SATURATED_SPEEDS.map(|speed| fig1_saturated(contour, speed)));
+    }
     v
 }
 
 /// The torque limits of Fig. 1 on saturating drives (N·m).
 pub const FIG1_TORQUE_LIMITS: [f64; 2] = [15.0, 5.0];
 
-/// Fig. 1 as the paper means it: drives that saturate at [`FIG1_TORQUE_LIMITS`], a circle of
-/// radius 1 rad in joint space (the Lissajous curve with equal periods), and a demanded speed
-/// `r` (in hundredths). PVFC (Fig. 8's `R = 100` run, the passive digital controller at 1 kHz
+/// Fig. 1 as the paper means it: drives that saturate at [`FIG1_TORQUE_LIMITS`], `contour` (a
+/// circle of radius 1 rad in joint space, the Lissajous curve with equal periods, or the
+/// paper's Lissajous curve of `fig1`), and a demanded speed `r` (in hundredths). PVFC (Fig. 8's `R = 100` run, the passive digital controller at 1 kHz
 /// with the limits) has the energy level of `β = r` (`Ē` × r², as `κ_a ∝ β²`) held by the
 /// nominal-speed control (36) at `r`, and `γ / r³` so that its rate `γβĒ` stays Fig. 8's;
 /// the timed tracker (computed torque + PD at 20 rad/s,
 /// its command clamped to the same limits) runs at `τ̇ = r`.
-pub fn fig1_saturated(speed: u32) -> Scenario {
+pub fn fig1_saturated(contour: Fig1Contour, speed: u32) -> Scenario {
     let r = f64::from(speed) / 100.0;
     let mut s = fig1();
-    s.name = PresetId::Fig1Saturated { speed }.name();
+    s.name = PresetId::Fig1Saturated { contour, speed }.name();
+    let shape = match contour {
+        Fig1Contour::Circle => {
+            s.contour.amplitude = [1.0, 1.0];
+            s.contour.periods = [6.0, 6.0];
+            s.contour.offset = [0.0, 0.0];
+            s.initial.q = vec![0.0, 1.0];
+            "a circle"
+        }
+        // `fig1`'s own contour and start.
+        Fig1Contour::Lissajous => "the paper's Lissajous curve",
+    };
     s.description = format!(
-        "Fig. 1 on drives limited to {FIG1_TORQUE_LIMITS:?} N·m: a circle at the demanded speed r = {r}"
+        "Fig. 1 on drives limited to {FIG1_TORQUE_LIMITS:?} N·m: {shape} at the demanded speed r = {r}"
     );
-    s.contour.amplitude = [1.0, 1.0];
-    s.contour.periods = [6.0, 6.0];
-    s.contour.offset = [0.0, 0.0];
-    s.initial.q = vec![0.0, 1.0];
     s.controller.energy *= r * r;
     // The velocity error converges at γβĒ (Remark 1), which grows as r³: γ / r³ keeps that
     // rate at Fig. 8's (50/s), which a 1 kHz controller samples well.
@@ -563,24 +572,25 @@ pub fn arms_3d() -> crate::error::Result<Vec<Scenario>> {
 
 /// The UR5's tool paths at machining accuracy, read from the workspace's `scenarios/`
 /// (`ur5_cartesian.toml`, `ur5_deburr_fine.toml`), each beside its timed baseline, then the
-/// same paths with the task-space field ([`tool_path_task`]), then the rectangle on
-/// saturating drives ([`ur5_saturated`]).
+/// same paths with the task-space field ([`tool_path_task`]), then the rectangle and the
+/// circle (`ur5_circle.toml`) on saturating drives ([`ur5_saturated`]).
 pub fn tool_paths() -> crate::error::Result<Vec<Scenario>> {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let read = |name: &str| Scenario::from_file(&dir.join(format!("{name}.toml")));
     let mut v = ToolPathCase::ALL
         .iter()
-        .map(|&case| {
-            Scenario::from_file(&dir.join(format!("{}.toml", PresetId::ToolPath(case).name())))
-        })
+        .map(|&case| read(&PresetId::ToolPath(case).name()))
         .collect::<crate::error::Result<Vec<_>>>()?;
-    let free = v[0].clone();
     let tasks: Vec<Scenario> = ToolPathCase::ALL
         .iter()
         .zip(&v)
         .map(|(&case, s)| tool_path_task(s, case))
         .collect();
     v.extend(tasks);
-    v.extend(UR5_SATURATED_SPEEDS.map(|speed| ur5_saturated(&free, speed)));
+    for path in SaturatedPath::ALL {
+        let free = read(path.base())?;
+        v.extend(path.speeds().map(|speed| ur5_saturated(&free, path, speed)));
+    }
     Ok(v)
 }
 
@@ -602,18 +612,22 @@ pub fn tool_path_task(s: &Scenario, case: ToolPathCase) -> Scenario {
 /// limits (150, 150, 150, 28, 28, 28), which the rectangle does not reach up to 700 mm/s.
 pub const UR5_TORQUE_LIMITS: [f64; 6] = [60.0, 60.0, 30.0, 5.0, 5.0, 5.0];
 
-/// Fig. 1 on the UR5's saturating drives: the rounded rectangle of `ur5_cartesian` (`free`)
-/// at `r` times its speed, both controllers limited to [`UR5_TORQUE_LIMITS`]. PVFC is the
-/// passive digital controller at 1 kHz with the limits, at the energy of `β = r` (`Ē × r²`)
-/// held by the nominal-speed control (36) at `r`, with `γ / r³` (so `γβĒ` stays
-/// `ur5_cartesian`'s); the timed tracker runs at `τ̇ = r`, its command clamped to the limits.
-/// The run lasts 2.5 passes (at least 8 s).
-pub fn ur5_saturated(free: &Scenario, speed: u32) -> Scenario {
+/// Fig. 1 on the UR5's saturating drives: the free run `free` of `path` (`ur5_cartesian`'s
+/// rounded rectangle or `ur5_circle`'s circle) at `r` times its speed, both controllers
+/// limited to [`UR5_TORQUE_LIMITS`]. PVFC is the passive digital controller at 1 kHz with the
+/// limits, at the energy of `β = r` (`Ē × r²`) held by the nominal-speed control (36) at `r`,
+/// with `γ / r³` (so `γβĒ` stays the free run's); the timed tracker runs at `τ̇ = r`, its
+/// command clamped to the limits. The run lasts 2.5 passes (at least 8 s).
+pub fn ur5_saturated(free: &Scenario, path: SaturatedPath, speed: u32) -> Scenario {
     let r = f64::from(speed);
     let mut s = free.clone();
-    s.name = PresetId::Ur5Saturated { speed }.name();
+    s.name = PresetId::Ur5Saturated { path, speed }.name();
     s.description = format!(
-        "UR5 rectangle on drives limited to {UR5_TORQUE_LIMITS:?} N·m at {r} times its speed"
+        "{} on drives limited to {UR5_TORQUE_LIMITS:?} N·m at {r} times its speed",
+        match path {
+            SaturatedPath::Rectangle => "UR5 rectangle",
+            SaturatedPath::Circle => "UR5 circle",
+        }
     );
     s.duration = (30.0 / r).max(8.0);
     s.controller.energy *= r * r;

@@ -41,6 +41,12 @@ pub fn pass_duration(trace: &Trace, period: f64) -> Option<f64> {
 /// Distance (joint space, rad) from `q` to the nearest point of the contour: a grid search
 /// over one period refined by Newton's method on `d/dτ ‖q − x_d(τ)‖² = 0`.
 pub fn contour_distance(contour: &Lissajous<f64, 2>, period: f64, q: &Vector2<f64>) -> f64 {
+    contour_closest(contour, period, q).1
+}
+
+/// The nearest point of the contour to `q`: its `τ` and the distance (as
+/// [`contour_distance`]).
+pub fn contour_closest(contour: &Lissajous<f64, 2>, period: f64, q: &Vector2<f64>) -> (f64, f64) {
     const GRID: usize = 720;
     let d2 = |tau: f64| (q - contour.coordinates(tau)[0]).norm_squared();
     let mut best = (0.0, f64::INFINITY);
@@ -62,7 +68,48 @@ pub fn contour_distance(contour: &Lissajous<f64, 2>, period: f64, q: &Vector2<f6
         }
         tau -= g / hss;
     }
-    d2(tau).min(best.1).sqrt()
+    let refined = d2(tau);
+    if refined <= best.1 {
+        (tau, refined.sqrt())
+    } else {
+        (best.0, best.1.sqrt())
+    }
+}
+
+/// The mean speed the arm made along the contour over the samples in `range` (rad/s): the
+/// joint velocity's component along the contour's unit tangent at the nearest point,
+/// integrated (trapezoidal) and divided by the time. Motion across the contour or back and
+/// forth along it adds nothing, so an arm that does not follow the contour makes about 0
+/// whatever the pace of its reference.
+pub fn speed_along_contour(
+    trace: &Trace,
+    contour: &Lissajous<f64, 2>,
+    period: f64,
+    range: std::ops::Range<usize>,
+) -> f64 {
+    let tangential = |i: usize| {
+        let q = Vector2::from_column_slice(&trace.q[i]);
+        let (tau, _) = contour_closest(contour, period, &q);
+        let tangent = contour.coordinates(tau)[1];
+        let n = tangent.norm();
+        if n > 0.0 {
+            tangent.dot(&Vector2::from_column_slice(&trace.v[i])) / n
+        } else {
+            0.0
+        }
+    };
+    let (start, end) = (range.start, range.end.min(trace.len()));
+    if end < start + 2 {
+        return 0.0;
+    }
+    let mut progress = 0.0;
+    let mut previous = tangential(start);
+    for i in start + 1..end {
+        let now = tangential(i);
+        progress += 0.5 * (trace.t[i] - trace.t[i - 1]) * (now + previous);
+        previous = now;
+    }
+    progress / (trace.t[end - 1] - trace.t[start]).max(f64::MIN_POSITIVE)
 }
 
 /// Mean and maximum distance to the contour over the samples in `range`.
