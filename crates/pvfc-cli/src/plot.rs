@@ -287,16 +287,33 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
             files.push(p);
         }
     }
-    files.extend(chain_figures(runs, dir)?);
+    // The UR5's runs on saturating drives are drawn together in `fig1_saturated.png` (each
+    // keeps its log): twelve figures of their own would be 8 MB of the output's 100.
+    let swept = |name: &str| {
+        matches!(
+            PresetId::from_name(name),
+            Some(PresetId::Ur5Saturated { .. })
+        )
+    };
+    files.extend(chain_figures_where(runs, dir, |name| !swept(name))?);
     Ok(files)
 }
 
 /// Draws the figure of every URDF arm's run into `dir/NAME.png`, beside its timed baseline
 /// when there is one; returns the files written.
 pub fn chain_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
+    chain_figures_where(runs, dir, |_| true)
+}
+
+/// [`chain_figures`] of the runs whose name passes `drawn`.
+fn chain_figures_where(
+    runs: &Runs,
+    dir: &Path,
+    drawn: impl Fn(&str) -> bool,
+) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     for (name, (s, t)) in &runs.runs {
-        if s.is_chain() && !t.is_timed() {
+        if s.is_chain() && !t.is_timed() && drawn(name) {
             let p = dir.join(format!("{name}.png"));
             let baseline = runs
                 .runs
