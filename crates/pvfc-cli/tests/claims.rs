@@ -127,8 +127,8 @@ fn every_claim_is_evaluated_and_the_table_renders() {
     let c = &all_claims().1;
     assert_eq!(
         c.len(),
-        23,
-        "13 claims of section V (Fig. 1 on saturating drives among them), 6 of contact, 4 of the digital controller"
+        24,
+        "14 claims of section V (Fig. 1 on saturating drives on a circle and on the Lissajous curve among them), 6 of contact, 4 of the digital controller"
     );
     let md = pvfc_cli::report::markdown(c);
     assert_eq!(md.lines().count(), 2 + c.len());
