@@ -10,7 +10,7 @@ use pvfc_sim::error::SimError;
 use pvfc_sim::scenario::preset_id::{Fig1Contour, PresetId, SaturatedPath, FIG1_SATURATED_SPEEDS};
 use pvfc_sim::scenario::presets::{FIG1_TORQUE_LIMITS, UR5_TORQUE_LIMITS};
 use pvfc_sim::scenario::Scenario;
-use pvfc_sim::trace::metrics::{contour_error, speed_along_contour};
+use pvfc_sim::trace::metrics::contour_following;
 use pvfc_sim::trace::path_budget::path_budget;
 use pvfc_sim::trace::Trace;
 use std::path::{Path, PathBuf};
@@ -26,7 +26,7 @@ pub struct SpeedPoint {
     /// The mean `τ̇` over the window.
     pub tau_rate: f64,
     /// The mean speed the arm made along the contour (rad/s in joint space for the SCARA,
-    /// [`speed_along_contour`]; m/s along the path for the UR5, the progress of the closest
+    /// [`ContourFollowing::speed`](pvfc_sim::trace::metrics::ContourFollowing::speed); m/s along the path for the UR5, the progress of the closest
     /// point).
     pub speed: f64,
     /// The distance of `q` to the contour (rad): mean and largest over the window.
@@ -92,11 +92,12 @@ pub fn speed_point(s: &Scenario, t: &Trace, demanded: f64) -> Result<SpeedPoint>
     let start = t.t.iter().position(|&x| x >= end - WINDOW).unwrap_or(0);
     let range = start..t.len();
     let duration = (end - t.t[start]).max(f64::MIN_POSITIVE);
+    let following = contour_following(t, &contour, s.period(), range.clone());
     Ok(SpeedPoint {
         demanded,
         tau_rate: (t.tau[t.len() - 1] - t.tau[start]) / duration,
-        speed: speed_along_contour(t, &contour, s.period(), range.clone()),
-        error: contour_error(t, &contour, s.period(), range.clone()),
+        speed: following.speed,
+        error: following.error,
         saturated: at_limit(t, range, &FIG1_TORQUE_LIMITS),
     })
 }
@@ -209,19 +210,21 @@ pub(crate) fn ur5_saturated_claims(
                 )
             })
             .collect();
-        let (id, statement, setting) = match path {
+        let (id, which, shape) = match path {
             SaturatedPath::Rectangle => (
                 "fig1.saturated.ur5",
-                "On the UR5's saturating drives, the timed tracker leaves the tool path further than PVFC as the demanded speed grows",
-                "UR5 rounded rectangle (ur5_cartesian) at r times its speed, both controllers limited to 60/60/30/5/5/5 N·m (PVFC passive 1 kHz at the energy of β = r, γ/r³; timed: τ̇ = r, computed torque + PD at 100 rad/s); the tool's distance to the path along the surface (mean / max) and speed along it over the steady passes; holds if, where the tracker reaches a limit (in over 1 % of the samples), its mean distance grows with r and exceeds PVFC's",
+                "the tool path",
+                "UR5 rounded rectangle (ur5_cartesian)",
             ),
             SaturatedPath::Circle => (
                 "fig1.saturated.ur5.circle",
-                "On the UR5's saturating drives, the timed tracker leaves a circular tool path further than PVFC as the demanded speed grows",
-                "UR5 circle of 10 cm radius (ur5_circle, 52 mm/s at r = 1) at r times its speed, both controllers limited to 60/60/30/5/5/5 N·m (PVFC passive 1 kHz at the energy of β = r, γ/r³; timed: τ̇ = r, computed torque + PD at 100 rad/s); the tool's distance to the path along the surface (mean / max) and speed along it over the steady passes; holds if, where the tracker reaches a limit (in over 1 % of the samples), its mean distance grows with r and exceeds PVFC's",
+                "a circular tool path",
+                "UR5 circle of 10 cm radius (ur5_circle, 52 mm/s at r = 1)",
             ),
         };
-        push(id, statement, setting, rows.join("; "), holds);
+        let statement = format!("On the UR5's saturating drives, the timed tracker leaves {which} further than PVFC as the demanded speed grows");
+        let setting = format!("{shape} at r times its speed, both controllers limited to 60/60/30/5/5/5 N·m (PVFC passive 1 kHz at the energy of β = r, γ/r³; timed: τ̇ = r, computed torque + PD at 100 rad/s); the tool's distance to the path along the surface (mean / max) and speed along it over the steady passes; holds if, where the tracker reaches a limit (in over 1 % of the samples), its mean distance grows with r and exceeds PVFC's");
+        push(id, &statement, &setting, rows.join("; "), holds);
     }
     Ok(())
 }

@@ -167,11 +167,12 @@ impl SaturatedPath {
         }
     }
 
-    /// The free run it starts from (a scenario of `scenarios/`).
-    pub fn base(self) -> &'static str {
+    /// The free run it starts from (a scenario of `scenarios/`): the rectangle's is the tool
+    /// path [`ToolPathCase::Free`]'s.
+    pub fn base(self) -> String {
         match self {
-            SaturatedPath::Rectangle => "ur5_cartesian",
-            SaturatedPath::Circle => "ur5_circle",
+            SaturatedPath::Rectangle => PresetId::ToolPath(ToolPathCase::Free).name(),
+            SaturatedPath::Circle => "ur5_circle".into(),
         }
     }
 }

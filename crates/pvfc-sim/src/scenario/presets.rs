@@ -588,7 +588,7 @@ pub fn tool_paths() -> crate::error::Result<Vec<Scenario>> {
         .collect();
     v.extend(tasks);
     for path in SaturatedPath::ALL {
-        let free = read(path.base())?;
+        let free = read(&path.base())?;
         v.extend(path.speeds().map(|speed| ur5_saturated(&free, path, speed)));
     }
     Ok(v)

@@ -76,40 +76,72 @@ pub fn contour_closest(contour: &Lissajous<f64, 2>, period: f64, q: &Vector2<f64
     }
 }
 
-/// The mean speed the arm made along the contour over the samples in `range` (rad/s): the
-/// joint velocity's component along the contour's unit tangent at the nearest point,
-/// integrated (trapezoidal) and divided by the time. Motion across the contour or back and
-/// forth along it adds nothing, so an arm that does not follow the contour makes about 0
-/// whatever the pace of its reference.
+/// How an arm followed its contour over the samples in `range`, from one nearest-point
+/// search per sample ([`contour_closest`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContourFollowing {
+    /// Mean and largest distance to the contour (rad).
+    pub error: (f64, f64),
+    /// The mean speed the arm made along the contour (rad/s): the joint velocity's component
+    /// along the contour's unit tangent at the nearest point, integrated (trapezoidal) and
+    /// divided by the time. Motion across the contour or back and forth along it adds
+    /// nothing, so an arm that does not follow the contour makes about 0 whatever the pace of
+    /// its reference.
+    pub speed: f64,
+}
+
+/// [`ContourFollowing`] over the samples in `range`.
+pub fn contour_following(
+    trace: &Trace,
+    contour: &Lissajous<f64, 2>,
+    period: f64,
+    range: std::ops::Range<usize>,
+) -> ContourFollowing {
+    let range = range.start..range.end.min(trace.len());
+    // Per sample: the distance and the velocity along the tangent at the nearest point.
+    let samples: Vec<(f64, f64)> = range
+        .clone()
+        .map(|i| {
+            let q = Vector2::from_column_slice(&trace.q[i]);
+            let (tau, d) = contour_closest(contour, period, &q);
+            let tangent = contour.coordinates(tau)[1];
+            let n = tangent.norm();
+            let along = if n > 0.0 {
+                tangent.dot(&Vector2::from_column_slice(&trace.v[i])) / n
+            } else {
+                0.0
+            };
+            (d, along)
+        })
+        .collect();
+    let mean = samples.iter().map(|s| s.0).sum::<f64>() / samples.len().max(1) as f64;
+    let max = samples.iter().map(|s| s.0).fold(0.0, f64::max);
+    let speed = if samples.len() < 2 {
+        0.0
+    } else {
+        let progress: f64 = (1..samples.len())
+            .map(|k| {
+                let i = range.start + k;
+                0.5 * (trace.t[i] - trace.t[i - 1]) * (samples[k].1 + samples[k - 1].1)
+            })
+            .sum();
+        progress / (trace.t[range.end - 1] - trace.t[range.start]).max(f64::MIN_POSITIVE)
+    };
+    ContourFollowing {
+        error: (mean, max),
+        speed,
+    }
+}
+
+/// The mean speed the arm made along the contour over the samples in `range` (rad/s; see
+/// [`ContourFollowing::speed`]).
 pub fn speed_along_contour(
     trace: &Trace,
     contour: &Lissajous<f64, 2>,
     period: f64,
     range: std::ops::Range<usize>,
 ) -> f64 {
-    let tangential = |i: usize| {
-        let q = Vector2::from_column_slice(&trace.q[i]);
-        let (tau, _) = contour_closest(contour, period, &q);
-        let tangent = contour.coordinates(tau)[1];
-        let n = tangent.norm();
-        if n > 0.0 {
-            tangent.dot(&Vector2::from_column_slice(&trace.v[i])) / n
-        } else {
-            0.0
-        }
-    };
-    let (start, end) = (range.start, range.end.min(trace.len()));
-    if end < start + 2 {
-        return 0.0;
-    }
-    let mut progress = 0.0;
-    let mut previous = tangential(start);
-    for i in start + 1..end {
-        let now = tangential(i);
-        progress += 0.5 * (trace.t[i] - trace.t[i - 1]) * (now + previous);
-        previous = now;
-    }
-    progress / (trace.t[end - 1] - trace.t[start]).max(f64::MIN_POSITIVE)
+    contour_following(trace, contour, period, range).speed
 }
 
 /// Mean and maximum distance to the contour over the samples in `range`.
@@ -119,13 +151,7 @@ pub fn contour_error(
     period: f64,
     range: std::ops::Range<usize>,
 ) -> (f64, f64) {
-    let d: Vec<f64> = trace
-        .q
-        .rows(range)
-        .map(|q| contour_distance(contour, period, &Vector2::from_column_slice(q)))
-        .collect();
-    let mean = d.iter().sum::<f64>() / d.len().max(1) as f64;
-    (mean, d.iter().cloned().fold(0.0, f64::max))
+    contour_following(trace, contour, period, range).error
 }
 
 /// Straightness of the approach to the contour: the straight distance from the start to the
