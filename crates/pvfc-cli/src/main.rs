@@ -33,7 +33,7 @@ enum Command {
         no_logs: bool,
         /// The logs' plot channels at this rate (Hz); 0 writes every sample (1 kHz). The
         /// claims and figures always use every sample.
-        #[arg(long, default_value_t = 250.0)]
+        #[arg(long, default_value_t = 100.0)]
         log_rate: f64,
     },
     /// Run one scenario file; write its MCAP log(s).

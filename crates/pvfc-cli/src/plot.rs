@@ -210,6 +210,15 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
                 &[1, 2, 3].map(|nominal_speed| (nominal_speed, PresetId::Fig10 { nominal_speed })),
             ),
         ),
+        (
+            "fig10_level.png",
+            "Fig. 10 at the energy levels (c = 0.5, no compensation)",
+            labelled(
+                "r",
+                &[1, 2, 3]
+                    .map(|nominal_speed| (nominal_speed, PresetId::Fig10Level { nominal_speed })),
+            ),
+        ),
     ];
     for (file, title, ids) in pass_figures {
         let p = dir.join(file);

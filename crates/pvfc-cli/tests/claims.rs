@@ -53,6 +53,11 @@ fn theorem_2_u_to_zero_and_tau_dot_to_beta_lambda1() {
 }
 
 #[test]
+fn remark_1_the_velocity_field_error_converges_at_two_gamma_beta_e_bar() {
+    assert_holds("remark1");
+}
+
+#[test]
 fn fig6_energy_dissipates_contour_followed_slower_u_grows() {
     assert_holds("fig6");
     assert_holds("fig6.audit");
@@ -81,6 +86,11 @@ fn fig9_u_is_larger_without_compensation_at_each_r() {
 #[test]
 fn fig10_u_lower_at_r2_than_r1_and_less_gain_from_2_to_3() {
     assert_holds("fig10");
+}
+
+#[test]
+fn fig10_at_the_energy_levels_beta_reaches_r_at_the_time_constant_1_over_c() {
+    assert_holds("fig10.level");
 }
 
 #[test]
@@ -127,8 +137,8 @@ fn every_claim_is_evaluated_and_the_table_renders() {
     let c = &all_claims().1;
     assert_eq!(
         c.len(),
-        24,
-        "14 claims of section V (Fig. 1 on saturating drives on a circle and on the Lissajous curve among them), 6 of contact, 4 of the digital controller"
+        26,
+        "16 claims of sections II–V (Fig. 1 on saturating drives on a circle and on the Lissajous curve, Fig. 10 at its energy levels and Remark 1's rate among them), 6 of contact, 4 of the digital controller"
     );
     let md = pvfc_cli::report::markdown(c);
     assert_eq!(md.lines().count(), 2 + c.len());

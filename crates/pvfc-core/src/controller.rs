@@ -49,6 +49,24 @@ pub struct Diagnostics<T: Real> {
     pub kinetic_energy: T,
     /// The flywheel entry `V_F` of the augmented field (eq. 6).
     pub flywheel_field_speed: T,
+    /// `Pᵀq̇_a`, the momentum along the field (`2Ēβ` on the field).
+    pub momentum_along_field: T,
+}
+
+impl<T: Real> Diagnostics<T> {
+    /// The Lyapunov function `W_β = ½‖q̇_a − βV_a‖²_a` of Remark 1 (eq. 12).
+    pub fn velocity_field_error_energy(&self) -> T {
+        crate::coupling::velocity_field_error_energy(
+            self.kinetic_energy,
+            self.beta,
+            self.momentum_along_field,
+        )
+    }
+
+    /// `μ ∈ [0, 1]` of eq. (13), `Ẇ_β = −4Ēγβμ W_β` without environment forces.
+    pub fn convergence_factor(&self) -> T {
+        crate::coupling::convergence_factor(self.kinetic_energy, self.velocity_field_error_energy())
+    }
 }
 
 impl<T: Real, G, const D: usize> From<&CouplingOutput<T, G, D>> for Diagnostics<T> {
@@ -60,6 +78,7 @@ impl<T: Real, G, const D: usize> From<&CouplingOutput<T, G, D>> for Diagnostics<
             beta: o.beta,
             kinetic_energy: o.kinetic_energy,
             flywheel_field_speed: o.field_velocity.flywheel,
+            momentum_along_field: o.momentum_along_field,
         }
     }
 }

@@ -105,11 +105,46 @@ pub struct CouplingOutput<T: Real, G, const D: usize> {
     pub beta: T,
     /// The energy level `Ē`.
     pub energy_level: T,
+    /// `Pᵀq̇_a = ⟨⟨V_a, q̇_a⟩⟩_a`, the momentum along the field: `2Ēβ` on the field.
+    pub momentum_along_field: T,
     /// The field sample (error, `U`, `λ₁`, `λ₂`, ...).
     pub field: FieldSample<T, G, D>,
 }
 
+/// `W_β` of eq. (12), `½‖e_β‖²_a` with `e_β = q̇_a − βV_a`, from `κ_a`, `β` and `Pᵀq̇_a`: as
+/// `½V_aᵀM_aV_a = Ē` (eq. 6) and `β²Ē = κ_a` (eq. 10), `W_β = κ_a − βPᵀq̇_a + β²Ē =
+/// 2κ_a − βPᵀq̇_a` (its rounding is that of `κ_a`, about `1e-16 κ_a` in f64).
+#[inline]
+pub(crate) fn velocity_field_error_energy<T: Real>(kappa: T, beta: T, along: T) -> T {
+    (kappa * cast::<T>(2.0) - beta * along).max(T::zero())
+}
+
+/// `μ` of eq. (13), `Ẇ_β = −4Ēγβμ W_β` without environment forces: `μ = ½(1 + Pᵀq̇_a/(2Ēβ))
+/// = 1 − W_β/(4κ_a)`. With `F_e = 0`, `d(Pᵀq̇_a)/dt = γ((2Ēβ)² − (Pᵀq̇_a)²)` (the `G` term
+/// cancels `q̇_aᵀw`), hence `Ẇ_β = −γ(2Ēβ + Pᵀq̇_a) W_β`: `μ ∈ [0, 1]` is nondecreasing, `0` only
+/// at `q̇_a = −βV_a`, and `1` on the field, where `‖e_β‖_a` converges at the rate `2γβĒ`
+/// (Remark 1). `0` at rest (`κ_a = 0`).
+#[inline]
+pub(crate) fn convergence_factor<T: Real>(kappa: T, w_beta: T) -> T {
+    if kappa > T::zero() {
+        T::one() - w_beta / (kappa * cast::<T>(4.0))
+    } else {
+        T::zero()
+    }
+}
+
 impl<T: Real, G, const D: usize> CouplingOutput<T, G, D> {
+    /// The Lyapunov function `W_β = ½‖q̇_a − βV_a‖²_a` of Remark 1 (eq. 12): the energy of the
+    /// velocity-field tracking error.
+    pub fn velocity_field_error_energy(&self) -> T {
+        velocity_field_error_energy(self.kinetic_energy, self.beta, self.momentum_along_field)
+    }
+
+    /// `μ ∈ [0, 1]` of eq. (13), `Ẇ_β = −4Ēγβμ W_β` without environment forces.
+    pub fn convergence_factor(&self) -> T {
+        convergence_factor(self.kinetic_energy, self.velocity_field_error_energy())
+    }
+
     /// The skew-symmetric matrices `G = (w Pᵀ − P wᵀ)/(2Ē)` and `R = P pᵀ − p Pᵀ` of eq. (7)
     /// as `A × A` matrices, `A = D + 2` (`DimensionMismatch` otherwise). The control step never
     /// forms them: it applies them as rank-two updates.
@@ -272,6 +307,7 @@ where
             kinetic_energy,
             beta: (kappa2 * self.flywheel.inv_two_energy).sqrt_fast(),
             energy_level: e_bar,
+            momentum_along_field: p_dot_q,
             field: fs,
         })
     }

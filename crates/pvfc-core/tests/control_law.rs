@@ -155,6 +155,22 @@ where
         f(out.kinetic_energy),
         "β² Ē = κ_a",
     )?;
+    // W_β of eq. (12) from κ_a, β and Pᵀq̇_a equals ½ e_βᵀ M_a e_β = ½ (q̇_a − βV_a)ᵀ(p − βP),
+    // and μ of eq. (13) is in [0, 1].
+    let e = qa_aug - out.field_velocity * out.beta;
+    let me = out.momentum - out.desired_momentum * out.beta;
+    let w_direct = f(e.dot(&me)) * 0.5;
+    close(
+        f(out.velocity_field_error_energy()),
+        w_direct,
+        tol * 10.0,
+        f(out.kinetic_energy) * 4.0,
+        "W_β = ½‖q̇_a − βV_a‖²_a",
+    )?;
+    let mu = f(out.convergence_factor());
+    if !(-tol..=1.0 + tol).contains(&mu) {
+        return Err(format!("μ = {mu} outside [0, 1]"));
+    }
     // V_I = λ₁ and the self-pacing gains.
     close(
         f(out.field_velocity.tau),

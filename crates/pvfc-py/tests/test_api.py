@@ -74,7 +74,7 @@ def test_simulation_result_arrays_are_fresh_and_shaped():
     r = pvfc.simulate(s)
     n = len(r)
     assert n == 2001
-    for name in ["t", "tau", "tau_dot", "flywheel_speed", "beta", "potential", "lambda1", "lambda2", "energy", "friction_power"]:
+    for name in ["t", "tau", "tau_dot", "flywheel_speed", "beta", "w_beta", "potential", "lambda1", "lambda2", "energy", "friction_power"]:
         a = getattr(r, name)
         assert a.shape == (n,) and a.dtype == np.float64, name
     for name in ["q", "qdot", "torque"]:

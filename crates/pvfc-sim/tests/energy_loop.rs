@@ -7,6 +7,7 @@
 
 use pvfc_sim::run::simulate;
 use pvfc_sim::scenario::{presets, Mode, NominalSpeedSpec};
+use pvfc_sim::trace::metrics::{log_gap_slope, settling_time_constant};
 
 /// `β(t)` of the frictionless SCARA with the energy loop `(c, r)` over `duration` s.
 fn beta(c: f64, r: f64, duration: f64) -> (Vec<f64>, Vec<f64>) {
@@ -15,24 +16,6 @@ fn beta(c: f64, r: f64, duration: f64) -> (Vec<f64>, Vec<f64>) {
     s.controller.nominal_speed = Some(NominalSpeedSpec { c, r });
     let t = simulate(&s, &mut |_| {}).expect("the run is valid");
     (t.t.clone(), t.beta.clone())
-}
-
-/// The least-squares slope of `ln|β − r|` over `[from, to]` s.
-fn rate(t: &[f64], b: &[f64], r: f64, from: f64, to: f64) -> f64 {
-    let pts: Vec<(f64, f64)> = t
-        .iter()
-        .zip(b)
-        .filter(|(t, _)| (from..=to).contains(*t))
-        .map(|(t, b)| (*t, (b - r).abs().ln()))
-        .collect();
-    let n = pts.len() as f64;
-    let (mt, my) = pts
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (t, y)| (a + t / n, b + y / n));
-    let (num, den) = pts.iter().fold((0.0, 0.0), |(num, den), (t, y)| {
-        (num + (t - mt) * (y - my), den + (t - mt) * (t - mt))
-    });
-    num / den
 }
 
 #[test]
@@ -44,7 +27,7 @@ fn beta_reaches_r_at_the_rate_c() {
         // β − r decays as e^{−c t}.
         let from = 4.0;
         let to = from + 4.0 / c;
-        let measured = -rate(&t, &b, r, from, to);
+        let measured = -log_gap_slope(&t, &b, r, from..=to).expect("samples in the window");
         let end = (b.last().unwrap() - r).abs();
         println!(
             "c = {c}, r = {r}: β from {:.3} to {:.5}, rate of ln|β − r| {measured:.4} (c = {c}), |β − r| at {duration} s {end:.2e}",
@@ -57,4 +40,21 @@ fn beta_reaches_r_at_the_rate_c() {
         );
         assert!(end < 1e-3 * r, "|β − r| = {end} at the end");
     }
+}
+
+#[test]
+fn the_settling_time_constant_of_an_exponential_is_its_own() {
+    let t: Vec<f64> = (0..40_000).map(|i| f64::from(i) * 1e-3).collect();
+    for (y0, level, tc) in [(1.0, 2.0, 2.0), (3.0, 0.5, 0.7), (-1.0, -4.0, 2.5)] {
+        let y: Vec<f64> = t
+            .iter()
+            .map(|t: &f64| level + (y0 - level) * (-t / tc).exp())
+            .collect();
+        let measured = settling_time_constant(&t, &y).expect("it settles");
+        assert!((measured - tc).abs() < 1e-3 * tc, "{measured} for {tc}");
+        let slope = log_gap_slope(&t, &y, level, 1.0..=3.0).expect("samples");
+        assert!((slope + 1.0 / tc).abs() < 1e-6 / tc, "slope {slope}");
+    }
+    // A signal at its level has no time constant.
+    assert_eq!(settling_time_constant(&t, &vec![1.5; t.len()]), None);
 }

@@ -16,7 +16,7 @@ use std::path::Path;
 /// Topic of the joint state: `q`, `v`, `torque`.
 pub const JOINT_STATE_TOPIC: &str = "/joint_state";
 /// Topic of the controller internals: `tau`, `tau_dot`, `flywheel_speed`, `beta`,
-/// `potential`, `lambda1`, `lambda2`, `energy`, `friction_power`.
+/// `w_beta`, `potential`, `lambda1`, `lambda2`, `energy`, `friction_power`.
 pub const CONTROLLER_TOPIC: &str = "/pvfc/controller";
 
 /// Topic of the contact columns (runs with an environment): `force`, `normal_force`,

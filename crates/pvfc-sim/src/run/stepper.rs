@@ -156,6 +156,7 @@ impl<'a> Row<'a> {
             tau_dot: st.tau_dot,
             flywheel_speed: st.flywheel_speed,
             beta: out.diagnostics.beta,
+            w_beta: out.diagnostics.velocity_field_error_energy(),
             potential: out.diagnostics.potential,
             lambda1: out.diagnostics.lambda1,
             lambda2: out.diagnostics.lambda2,

@@ -204,6 +204,12 @@ pub enum PresetId {
         /// `r` of eq. (36).
         nominal_speed: u32,
     },
+    /// Fig. 10 at its energy level: nominal speed `r` with the gain
+    /// [`FIG10_LEVEL_GAIN`](crate::scenario::presets::FIG10_LEVEL_GAIN), so that `β` reaches `r`.
+    Fig10Level {
+        /// `r` of eq. (36).
+        nominal_speed: u32,
+    },
     /// Fig. 1: PVFC beside a timed-trajectory tracker.
     Fig1,
     /// The frictionless energy check, continuous or sampled.
@@ -263,6 +269,7 @@ impl PresetId {
             PresetId::Fig8 { pacing } => format!("fig8_R{pacing}"),
             PresetId::Fig9 { pacing } => format!("fig9_R{pacing}"),
             PresetId::Fig10 { nominal_speed } => format!("fig10_r{nominal_speed}"),
+            PresetId::Fig10Level { nominal_speed } => format!("fig10_level_r{nominal_speed}"),
             PresetId::Fig1 => "fig1_pvfc_vs_timed".into(),
             PresetId::Energy(Mode::Continuous) => "energy_continuous".into(),
             PresetId::Energy(Mode::Sampled) => "energy_sampled".into(),
@@ -324,6 +331,7 @@ impl PresetId {
         v.extend([0, 100, 200].map(|pacing| PresetId::Fig8 { pacing }));
         v.extend([0, 50, 100, 200].map(|pacing| PresetId::Fig9 { pacing }));
         v.extend([1, 2, 3].map(|nominal_speed| PresetId::Fig10 { nominal_speed }));
+        v.extend([1, 2, 3].map(|nominal_speed| PresetId::Fig10Level { nominal_speed }));
         v.push(PresetId::Fig1);
         v.push(PresetId::Energy(Mode::Continuous));
         v.push(PresetId::Energy(Mode::Sampled));

@@ -169,6 +169,25 @@ pub fn fig10(nominal_speed: u32) -> Scenario {
     )
 }
 
+/// The gain `c` of eq. (36) in [`fig10_level`]: a time constant `1/c` of 2 s, a twentieth of
+/// the run (the paper's `c = 0.01` is 100 s, longer than its 40 s runs).
+pub const FIG10_LEVEL_GAIN: f64 = 0.5;
+
+/// Fig. 10 at its energy level: [`fig10`] with `c =` [`FIG10_LEVEL_GAIN`], so that the energy
+/// loop (36) brings `β` to `r` within the run and the passes compare runs at their levels.
+pub fn fig10_level(nominal_speed: u32) -> Scenario {
+    let mut s = fig10(nominal_speed);
+    s.name = PresetId::Fig10Level { nominal_speed }.name();
+    s.description =
+        "Fig. 10 at its energy level: nominal speed r with c = 0.5 (time constant 2 s), R = 100, without friction compensation"
+            .into();
+    s.controller.nominal_speed = Some(NominalSpeedSpec {
+        c: FIG10_LEVEL_GAIN,
+        r: nominal_speed.into(),
+    });
+    s
+}
+
 /// Fig. 1: PVFC (Fig. 8's `R = 100` run) next to a timed-trajectory tracker (computed
 /// torque + PD, `ω_n = 20 rad/s`, critically damped) at PVFC's mean `τ̇`, same plant.
 pub fn fig1() -> Scenario {
@@ -298,6 +317,7 @@ pub fn all() -> Vec<Scenario> {
     v.extend([0, 100, 200].map(fig8));
     v.extend([0, 50, 100, 200].map(fig9));
     v.extend([1, 2, 3].map(fig10));
+    v.extend([1, 2, 3].map(fig10_level));
     v.push(fig1());
     v.push(energy_check(Mode::Continuous));
     v.push(energy_check(Mode::Sampled));

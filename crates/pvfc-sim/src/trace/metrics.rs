@@ -195,6 +195,112 @@ pub fn energy_drift(trace: &Trace) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The least-squares slope of `ln|y − target|` against `t`, over the samples with `t` in
+/// `window`: the exponential rate at which `y` approaches `target` (negative when it does).
+/// `None` with fewer than two samples, or if `y` equals `target` there.
+pub fn log_gap_slope(
+    t: &[f64],
+    y: &[f64],
+    target: f64,
+    window: std::ops::RangeInclusive<f64>,
+) -> Option<f64> {
+    least_squares_slope(
+        t.iter()
+            .zip(y)
+            .filter(|(t, y)| window.contains(*t) && **y != target)
+            .map(|(t, y)| (*t, (y - target).abs().ln())),
+    )
+}
+
+/// The time constant (s) with which `y` settles to its final level `y_∞` (the mean over the
+/// last quarter of the samples, so `y` must have settled by then): `−1 / slope` of `ln|y − y_∞|` over the samples from the first
+/// at which the gap is below half the initial gap `|y(0) − y_∞|` until the first below a
+/// hundredth of it. `None` if `y` starts at its level (gap below `1e-9`, or `1e-9 |y_∞|`), if
+/// it never comes within those bounds, or if the fitted slope is not negative.
+pub fn settling_time_constant(t: &[f64], y: &[f64]) -> Option<f64> {
+    let tail = &y[y.len() - y.len() / 4..];
+    let level = tail.iter().sum::<f64>() / tail.len() as f64;
+    let gap = |v: f64| (v - level).abs();
+    let gap0 = gap(*y.first()?);
+    if gap0 <= 1e-9 * level.abs().max(1.0) {
+        return None;
+    }
+    let from = y.iter().position(|&v| gap(v) < 0.5 * gap0)?;
+    let to = from + y[from..].iter().position(|&v| gap(v) < 0.01 * gap0)?;
+    let slope = least_squares_slope(
+        t[from..to]
+            .iter()
+            .zip(&y[from..to])
+            .map(|(t, v)| (*t, gap(*v).ln())),
+    )?;
+    (slope < 0.0).then(|| -1.0 / slope)
+}
+
+/// The slope of the least-squares line through `points`; `None` with fewer than two distinct
+/// abscissae.
+fn least_squares_slope(points: impl Iterator<Item = (f64, f64)> + Clone) -> Option<f64> {
+    let (n, sx, sy) = points.clone().fold((0.0, 0.0, 0.0), |(n, sx, sy), (x, y)| {
+        (n + 1.0, sx + x, sy + y)
+    });
+    if n < 2.0 {
+        return None;
+    }
+    let (mx, my) = (sx / n, sy / n);
+    let (num, den) = points.fold((0.0, 0.0), |(num, den), (x, y)| {
+        (num + (x - mx) * (y - my), den + (x - mx) * (x - mx))
+    });
+    (den > 0.0).then(|| num / den)
+}
+
+/// The velocity-field convergence of Remark 1 measured on a run without environment forces
+/// ([`velocity_field_convergence`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VelocityFieldConvergence {
+    /// The rate `2γβĒ` that Remark 1 gives for `‖e_β‖_a` near the field (1/s).
+    pub predicted_rate: f64,
+    /// The measured rate of `‖e_β‖_a = √(2W_β)` near the field: minus the least-squares slope
+    /// of `½ ln W_β` over the samples with `μ > 0.999` and `W_β` above its rounding (1/s).
+    pub measured_rate: f64,
+    /// The largest `|d ln W_β/dt + 4Ēγβμ| / (4Ēγβ)` over the samples (central differences,
+    /// `μ = 1 − W_β/(4κ_a)`): how far the run is from eq. (13) at any moment.
+    pub worst_deviation: f64,
+    /// The number of samples in the rate's window.
+    pub samples: usize,
+}
+
+/// Eq. (13) and Remark 1 on a trace without environment forces (`κ_a`, hence `β`, constant),
+/// for the law's `γ` and `Ē`: `Ẇ_β = −4Ēγβμ W_β`, and `‖e_β‖_a` converging at `2γβĒ` near
+/// the field. Samples whose `W_β` is below `1e-10 κ_a` (its rounding) are left out. `None` if
+/// fewer than three samples are left or none is near the field.
+pub fn velocity_field_convergence(
+    trace: &Trace,
+    gamma: f64,
+    energy_level: f64,
+) -> Option<VelocityFieldConvergence> {
+    let (t, w, kappa) = (&trace.t, &trace.w_beta, &trace.energy);
+    let resolved = |i: usize| w[i] > 1e-10 * kappa[i];
+    let mu = |i: usize| 1.0 - w[i] / (4.0 * kappa[i]);
+    let beta = trace.beta.first().copied()?;
+    let scale = 4.0 * energy_level * gamma * beta;
+    let mut worst: f64 = 0.0;
+    for i in 1..trace.len().saturating_sub(1) {
+        if resolved(i - 1) && resolved(i) && resolved(i + 1) {
+            let slope = (w[i + 1].ln() - w[i - 1].ln()) / (t[i + 1] - t[i - 1]);
+            worst = worst.max((slope + scale * mu(i)).abs() / scale);
+        }
+    }
+    let near: Vec<usize> = (0..trace.len())
+        .filter(|&i| resolved(i) && mu(i) > 0.999)
+        .collect();
+    let slope = least_squares_slope(near.iter().map(|&i| (t[i], 0.5 * w[i].ln())))?;
+    Some(VelocityFieldConvergence {
+        predicted_rate: 2.0 * gamma * beta * energy_level,
+        measured_rate: -slope,
+        worst_deviation: worst,
+        samples: near.len(),
+    })
+}
+
 /// What a run with contact did to the world and to itself.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactSummary {

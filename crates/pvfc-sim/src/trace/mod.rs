@@ -36,6 +36,8 @@ macro_rules! trace_columns {
                 flywheel_speed as flywheel_speed: Scalar Plot
                     "Flywheel speed q̇_F (rad/s; 0 for the timed baseline).";
                 beta as beta: Scalar Plot "β = √(κ_a/Ē): the speed along the field.";
+                w_beta as w_beta: Scalar Plot
+                    "W_β = ½‖q̇_a − βV_a‖²_a (eq. 12, J): the energy of the velocity-field tracking error, the Lyapunov function of Remark 1 (0 for the timed baseline).";
                 potential as potential: Scalar Plot "The contour error U(E) of eq. (17).";
                 lambda1 as lambda1: Scalar Plot "Self-pacing gain λ₁ (eq. 21).";
                 lambda2 as lambda2: Scalar Plot "Self-pacing gain λ₂ (eq. 21).";
@@ -394,19 +396,20 @@ mod tests {
             tau_dot: 8.0,
             flywheel_speed: 9.0,
             beta: 10.0,
-            potential: 11.0,
-            lambda1: 12.0,
-            lambda2: 13.0,
-            torque: &[14.0, 15.0],
-            friction_power: 16.0,
+            w_beta: 11.0,
+            potential: 12.0,
+            lambda1: 13.0,
+            lambda2: 14.0,
+            torque: &[15.0, 16.0],
+            friction_power: 17.0,
         });
         let flat: Vec<f64> = TRACE_COLUMNS
             .iter()
             .flat_map(|col| (col.get)(&t).sample(0).unwrap().to_vec())
             .collect();
-        assert_eq!(flat, (1..=16).map(f64::from).collect::<Vec<_>>());
+        assert_eq!(flat, (1..=17).map(f64::from).collect::<Vec<_>>());
         assert_eq!(t.v[0], [4.0, 5.0]);
-        assert_eq!(t.friction_power, [16.0]);
+        assert_eq!(t.friction_power, [17.0]);
         c.push_sample(
             &ContactSample {
                 force: &[5.0, 6.0, 7.0],
