@@ -3,6 +3,8 @@
 //! * continuous: controller states integrated with the plant, RK4 at 1 kHz (10,000 steps);
 //! * sampled: controller at 1 kHz with zero-order hold, plant RK4 at 10 kHz (the default).
 
+#[path = "common/baseline.rs"]
+mod baseline;
 #[path = "common/machine.rs"]
 mod machine;
 
@@ -15,6 +17,7 @@ use std::hint::black_box;
 fn closed_loop(c: &mut Criterion) {
     let mut g = c.benchmark_group("closed_loop_10s_1kHz");
     g.sample_size(30);
+    baseline::scara_step_baseline(&mut g);
     let mut cont = presets::fig8(100);
     cont.duration = 10.0;
     cont.simulation.mode = Mode::Continuous;
@@ -33,6 +36,8 @@ fn closed_loop(c: &mut Criterion) {
 criterion_group!(benches, closed_loop);
 fn main() {
     machine::print_machine();
+    let start = std::time::SystemTime::now();
     benches();
     Criterion::default().configure_from_args().final_summary();
+    baseline::print_ratios(&["closed_loop_10s_1kHz"], start);
 }

@@ -3,6 +3,8 @@
 //! runs of Rapier's collision pipeline, four evaluations of the contact law and of the control
 //! law — from a state where the tool presses on the wall. Also one contact query alone.
 
+#[path = "common/baseline.rs"]
+mod baseline;
 #[path = "common/machine.rs"]
 mod machine;
 
@@ -38,6 +40,7 @@ fn contact_step(c: &mut Criterion) {
     let mut world = ContactWorld::new(s.contact.as_ref().expect("contact"), &arm).expect("world");
     let h = 1e-4;
     let mut g = c.benchmark_group("contact");
+    baseline::scara_step_baseline(&mut g);
     g.bench_function("rk4_step_with_contact", |b| {
         b.iter(|| {
             let st = black_box(&st);
@@ -95,6 +98,7 @@ fn spatial_contact_step(c: &mut Criterion) {
     };
     let h = 1e-4;
     let mut g = c.benchmark_group("contact_3d");
+    baseline::scara_step_baseline(&mut g);
     g.bench_function("ur5_rk4_step_with_contact", |b| {
         b.iter(|| {
             let st = black_box(&st);
@@ -164,6 +168,8 @@ fn spatial_contact_step(c: &mut Criterion) {
 criterion_group!(benches, contact_step, spatial_contact_step);
 fn main() {
     machine::print_machine();
+    let start = std::time::SystemTime::now();
     benches();
     Criterion::default().configure_from_args().final_summary();
+    baseline::print_ratios(&["contact", "contact_3d"], start);
 }

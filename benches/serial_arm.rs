@@ -3,18 +3,19 @@
 //! (gravity compensation, waypoint contour, self-pacing). Criterion reports the 1000 steps;
 //! divide by 1000. The paper's SCARA step runs in the same group as the baseline of the ratio.
 
+#[path = "common/baseline.rs"]
+mod baseline;
 #[path = "common/machine.rs"]
 mod machine;
 
 use criterion::{criterion_group, Criterion, Throughput};
-use nalgebra::{SVector, Vector2};
+use nalgebra::SVector;
 use pvfc::prelude::*;
 use pvfc::sim::model::arm::{
     arm_controller, ArmControllerN, ArmSettings, JointContour, JointContourSpec,
 };
 use pvfc::sim::model::cartesian::{CartesianSpec, CircleSpec};
 use pvfc::sim::model::robot::Robot;
-use pvfc::sim::scenario::presets::pelican_example;
 use pvfc::sim::urdf::ChainDescription;
 use pvfc::sim::ClosedLoop;
 use pvfc_core::augmented::AugmentedState;
@@ -107,20 +108,8 @@ fn serial_arm(c: &mut Criterion) {
     let mut g = c.benchmark_group("control_step_x1000");
     g.throughput(Throughput::Elements(STEPS as u64));
 
-    // The baseline of the ratio: the paper's SCARA step.
-    let scara = pelican_example()
-        .controller()
-        .expect("the example is valid");
-    let q = Torus::new(Vector2::new(0.1, 0.2));
-    g.bench_function("scara_lissajous_f64_baseline", |b| {
-        b.iter(|| {
-            let mut ctl = scara;
-            for k in 0..STEPS {
-                let v = Vector2::new(0.3, 0.001 * k as f64);
-                black_box(ctl.step(black_box(&q), black_box(&v), DT).expect("valid"));
-            }
-        })
-    });
+    // The baseline of the ratios: the paper's SCARA step.
+    baseline::scara_step_baseline(&mut g);
 
     let (ur5, ur5_samples) = arm::<6>(
         "ur5/ur5_robot.urdf",
@@ -422,6 +411,8 @@ fn task_arm<T: Real, const N: usize>(
 criterion_group!(benches, serial_arm);
 fn main() {
     machine::print_machine();
+    let start = std::time::SystemTime::now();
     benches();
     Criterion::default().configure_from_args().final_summary();
+    baseline::print_ratios(&["control_step_x1000"], start);
 }
