@@ -210,6 +210,14 @@ pub enum PresetId {
         /// `r` of eq. (36).
         nominal_speed: u32,
     },
+    /// Figs. 8 and 9 on a plant whose friction has a Stribeck peak
+    /// ([`presets::stribeck`](crate::scenario::presets::stribeck)).
+    Stribeck {
+        /// With the friction compensation (35) (Fig. 8) or without (Fig. 9).
+        compensated: bool,
+        /// `R` of eq. (21).
+        pacing: u32,
+    },
     /// Fig. 1: PVFC beside a timed-trajectory tracker.
     Fig1,
     /// The frictionless energy check, continuous or sampled.
@@ -257,6 +265,9 @@ pub enum PresetId {
 /// The demanded speeds of Fig. 1 on saturating drives (`r`, in hundredths).
 pub const FIG1_SATURATED_SPEEDS: [u32; 6] = [50, 100, 150, 200, 300, 400];
 
+/// The self-pacing gains `R` of the Stribeck runs.
+pub const STRIBECK_PACINGS: [u32; 3] = [0, 100, 200];
+
 /// The rates of the digital comparison (Hz).
 pub const DIGITAL_RATES: [u32; 3] = [1000, 250, 100];
 
@@ -270,6 +281,10 @@ impl PresetId {
             PresetId::Fig9 { pacing } => format!("fig9_R{pacing}"),
             PresetId::Fig10 { nominal_speed } => format!("fig10_r{nominal_speed}"),
             PresetId::Fig10Level { nominal_speed } => format!("fig10_level_r{nominal_speed}"),
+            PresetId::Stribeck {
+                compensated,
+                pacing,
+            } => format!("fig{}_stribeck_R{pacing}", if compensated { 8 } else { 9 }),
             PresetId::Fig1 => "fig1_pvfc_vs_timed".into(),
             PresetId::Energy(Mode::Continuous) => "energy_continuous".into(),
             PresetId::Energy(Mode::Sampled) => "energy_sampled".into(),
@@ -332,6 +347,12 @@ impl PresetId {
         v.extend([0, 50, 100, 200].map(|pacing| PresetId::Fig9 { pacing }));
         v.extend([1, 2, 3].map(|nominal_speed| PresetId::Fig10 { nominal_speed }));
         v.extend([1, 2, 3].map(|nominal_speed| PresetId::Fig10Level { nominal_speed }));
+        for compensated in [true, false] {
+            v.extend(STRIBECK_PACINGS.map(|pacing| PresetId::Stribeck {
+                compensated,
+                pacing,
+            }));
+        }
         v.push(PresetId::Fig1);
         v.push(PresetId::Energy(Mode::Continuous));
         v.push(PresetId::Energy(Mode::Sampled));

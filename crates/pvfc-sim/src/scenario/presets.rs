@@ -13,10 +13,10 @@
 //!   (36) injects at most `c·2Ē·β(r − β)` W, which must cover the friction losses (~5 W).
 
 use crate::contact::{ContactLaw, ContactSpec, ForceSchedule, Keyframe, ObstacleSpec, ShapeSpec};
-use crate::model::friction::JointFriction;
+use crate::model::friction::{JointFriction, Stribeck};
 use crate::scenario::preset_id::{
     Arm3dCase, ContactCase, Digital, DigitalCase, Fig1Contour, PresetId, SaturatedPath,
-    ToolPathCase, DIGITAL_RATES, FIG1_SATURATED_SPEEDS,
+    ToolPathCase, DIGITAL_RATES, FIG1_SATURATED_SPEEDS, STRIBECK_PACINGS,
 };
 use crate::scenario::*;
 
@@ -66,6 +66,7 @@ pub fn plant_friction() -> JointFriction {
         coulomb: vec![2.5, 3.5],
         viscous: vec![0.1, 0.1],
         stiction_velocity: 0.01,
+        stribeck: None,
     }
 }
 
@@ -184,6 +185,45 @@ pub fn fig10_level(nominal_speed: u32) -> Scenario {
     s.controller.nominal_speed = Some(NominalSpeedSpec {
         c: FIG10_LEVEL_GAIN,
         r: nominal_speed.into(),
+    });
+    s
+}
+
+/// The Stribeck peak of [`stribeck`]: breakaway levels this many times the Coulomb levels.
+pub const STRIBECK_BREAKAWAY: f64 = 1.5;
+
+/// The Stribeck velocity of [`stribeck`] (rad/s).
+pub const STRIBECK_VELOCITY: f64 = 0.1;
+
+/// Fig. 8 (`compensated`) or Fig. 9 at self-pacing `R = pacing`, on a plant whose friction has
+/// a Stribeck peak: breakaway [`STRIBECK_BREAKAWAY`] × the Coulomb levels, falling to them past
+/// [`STRIBECK_VELOCITY`] (the paper does not publish its plant's friction; these are typical
+/// of direct drives). The compensation (35) stays the paper's.
+pub fn stribeck(compensated: bool, pacing: u32) -> Scenario {
+    let mut s = if compensated {
+        fig8(pacing)
+    } else {
+        fig9(pacing)
+    };
+    s.name = PresetId::Stribeck {
+        compensated,
+        pacing,
+    }
+    .name();
+    s.description = format!(
+        "{}, friction with a Stribeck peak (breakaway 1.5 × Coulomb, v_st = 0.1 rad/s)",
+        s.description
+    );
+    let breakaway = s
+        .plant
+        .friction
+        .coulomb
+        .iter()
+        .map(|f| f * STRIBECK_BREAKAWAY)
+        .collect();
+    s.plant.friction.stribeck = Some(Stribeck {
+        breakaway,
+        velocity: STRIBECK_VELOCITY,
     });
     s
 }
@@ -318,6 +358,9 @@ pub fn all() -> Vec<Scenario> {
     v.extend([0, 50, 100, 200].map(fig9));
     v.extend([1, 2, 3].map(fig10));
     v.extend([1, 2, 3].map(fig10_level));
+    for compensated in [true, false] {
+        v.extend(STRIBECK_PACINGS.map(|pacing| stribeck(compensated, pacing)));
+    }
     v.push(fig1());
     v.push(energy_check(Mode::Continuous));
     v.push(energy_check(Mode::Sampled));

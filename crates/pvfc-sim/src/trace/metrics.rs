@@ -154,6 +154,23 @@ pub fn contour_error(
     contour_following(trace, contour, period, range).error
 }
 
+/// The number of peaks of `U` over the last complete pass: the separate excursions of `U` above
+/// `fraction` of its largest value over the pass, counted around the closed pass (an excursion
+/// across the pass's start counts once). `None` if the trace does not cover a pass.
+pub fn potential_peaks(trace: &Trace, period: f64, fraction: f64) -> Option<usize> {
+    let u = &trace.potential[last_pass(trace, period)?];
+    let top = u.iter().copied().fold(0.0, f64::max);
+    if top <= 0.0 {
+        return Some(0);
+    }
+    let above: Vec<bool> = u.iter().map(|&x| x > fraction * top).collect();
+    let n = above.len();
+    let starts = (0..n)
+        .filter(|&i| above[i] && !above[(i + n - 1) % n])
+        .count();
+    Some(starts.max(usize::from(above.iter().all(|a| *a))))
+}
+
 /// Straightness of the approach to the contour: the straight distance from the start to the
 /// first point within `reach` of `x_d(τ)` (U below `reach_u`), divided by the length of the
 /// path travelled until then. 1 is a straight line.
