@@ -87,10 +87,10 @@ impl Robot {
 
     /// `M(q)` (composite rigid body algorithm).
     pub fn inertia(&self, q: &[f64]) -> Result<DMatrix<f64>> {
-        on_chain!(&self.model, c, N => {
-            let q = self.vector::<N>(q, "q")?;
-            Ok(dm(&c.crba(&q)))
-        })
+        let n = self.dof();
+        let mut m = vec![0.0; n * n];
+        self.inertia_into(q, &mut m)?;
+        Ok(DMatrix::from_row_slice(n, n, &m))
     }
 
     /// `C(q, v)` (Christoffel-consistent: `Ṁ = C + Cᵀ`).
@@ -103,20 +103,16 @@ impl Robot {
 
     /// `g(q)`.
     pub fn gravity(&self, q: &[f64]) -> Result<DVector<f64>> {
-        on_chain!(&self.model, c, N => {
-            let q = self.vector::<N>(q, "q")?;
-            Ok(dv(&c.gravity_torque(&q)))
-        })
+        let mut g = vec![0.0; self.dof()];
+        self.gravity_into(q, &mut g)?;
+        Ok(DVector::from_vec(g))
     }
 
     /// The recursive Newton–Euler algorithm: `M a + C v + g`.
     pub fn rnea(&self, q: &[f64], v: &[f64], a: &[f64]) -> Result<DVector<f64>> {
-        on_chain!(&self.model, c, N => {
-            let q = self.vector::<N>(q, "q")?;
-            let v = self.vector::<N>(v, "v")?;
-            let a = self.vector::<N>(a, "a")?;
-            Ok(dv(&c.rnea(&q, &v, &a)))
-        })
+        let mut tau = vec![0.0; self.dof()];
+        self.rnea_into(q, v, a, &mut tau)?;
+        Ok(DVector::from_vec(tau))
     }
 
     /// `M(q)` into `m` (`dof × dof`, row-major), allocating nothing.
