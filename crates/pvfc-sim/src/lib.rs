@@ -5,7 +5,8 @@
 //! joints ([`model`]); contact with the world ([`contact`]); scenarios as plain data, the
 //! paper's presets, and the one builder that makes a scenario's system ([`scenario`]); the
 //! closed loop and its runs ([`run`]); what a run leaves and what is measured on it
-//! ([`trace`]); MCAP logs ([`log`]). `docs/architecture.md` draws the layers.
+//! ([`trace`]); MCAP logs ([`log`]); studies over many runs ([`study`]).
+//! `docs/architecture.md` draws the layers.
 //!
 //! It has no command line and draws no figures: the `pvfc` command (crate `pvfc-cli`) and the
 //! Python wheel (`pvfc-py`) are built on it.
@@ -21,6 +22,7 @@ pub mod log;
 pub mod model;
 pub mod run;
 pub mod scenario;
+pub mod study;
 pub mod trace;
 pub mod urdf;
 

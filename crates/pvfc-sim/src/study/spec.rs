@@ -1,0 +1,385 @@
+//! A study's specification: a base scenario, the axes over its keys, and how the runs are
+//! drawn; expanded into one scenario per run, every run checked before anything runs.
+
+use crate::error::{Result, SimError};
+use crate::scenario::Scenario;
+use crate::study::sample::{latin_hypercube, normal_quantile, SplitMix64};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// A sweep or a Monte Carlo study over a base scenario (a TOML file of its own).
+///
+/// ```toml
+/// name = "pacing_vs_energy"
+/// base = "fig8_R100.toml"          # relative to this file
+/// [[axis]]
+/// key = "controller.self_pacing"
+/// values = [0, 50, 100, 200]
+/// [[axis]]
+/// key = "controller.energy"
+/// range = { from = 500, to = 4000, steps = 8 }
+/// ```
+///
+/// With only `values` and `range` axes the runs are their grid (every combination, the last
+/// axis fastest). With only `draw` axes they are `samples` random draws from `seed`, or a
+/// Latin hypercube of `samples` points with `latin_hypercube = true`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StudySpec {
+    /// The study's name: its runs are `NAME_0000`, `NAME_0001`, …
+    pub name: String,
+    /// The base scenario's file, relative to the study's file.
+    pub base: PathBuf,
+    /// The axes.
+    #[serde(default, rename = "axis")]
+    pub axes: Vec<Axis>,
+    /// The number of runs of a random study.
+    #[serde(default)]
+    pub samples: Option<usize>,
+    /// The seed of a random study's draws.
+    #[serde(default)]
+    pub seed: u64,
+    /// Draw a random study as a Latin hypercube (each axis's strata each hit once).
+    #[serde(default)]
+    pub latin_hypercube: bool,
+}
+
+/// One axis: a scenario key by its dotted path, and its values.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Axis {
+    /// The key, e.g. `controller.self_pacing` or `plant.friction.coulomb[1]`.
+    pub key: String,
+    /// The values as a list.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub values: Option<Vec<f64>>,
+    /// The values as a range.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub range: Option<Range>,
+    /// The values as random draws.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub draw: Option<Draw>,
+}
+
+/// `steps` values from `from` to `to`, both included, equally spaced (`log = true`: equally
+/// spaced in the logarithm, both ends `> 0`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Range {
+    /// The first value.
+    pub from: f64,
+    /// The last value.
+    pub to: f64,
+    /// The number of values, `≥ 2`.
+    pub steps: usize,
+    /// Logarithmic spacing.
+    #[serde(default)]
+    pub log: bool,
+}
+
+/// A random axis's distribution.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Draw {
+    /// Uniform on `[low, high)`.
+    Uniform {
+        /// The lower end.
+        low: f64,
+        /// The upper end, `> low`.
+        high: f64,
+    },
+    /// Normal with a mean and a standard deviation `> 0`.
+    Normal {
+        /// The mean.
+        mean: f64,
+        /// The standard deviation.
+        std: f64,
+    },
+}
+
+impl Draw {
+    /// The value at the quantile `u ∈ (0, 1)`.
+    fn at(&self, u: f64) -> f64 {
+        match *self {
+            Draw::Uniform { low, high } => low + (high - low) * u,
+            Draw::Normal { mean, std } => mean + std * normal_quantile(u),
+        }
+    }
+}
+
+/// One run of a study: its index, the values of the axes (in the spec's order), and its
+/// scenario.
+#[derive(Clone, Debug)]
+pub struct StudyRun {
+    /// The run's index, `0..runs`.
+    pub index: usize,
+    /// `(key, value)` per axis.
+    pub parameters: Vec<(String, f64)>,
+    /// The scenario to run.
+    pub scenario: Scenario,
+}
+
+fn setting(message: String) -> SimError {
+    SimError::Setting(message)
+}
+
+impl StudySpec {
+    /// Reads a study's file; its base scenario is resolved relative to it.
+    pub fn from_file(path: &Path) -> Result<(StudySpec, Scenario)> {
+        let text = std::fs::read_to_string(path).map_err(|e| SimError::io(path, e))?;
+        let spec: StudySpec = toml::from_str(&text).map_err(|e| SimError::Scenario {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        let base_path = path
+            .parent()
+            .map(|d| d.join(&spec.base))
+            .unwrap_or_else(|| spec.base.clone());
+        let base = Scenario::from_file(&base_path)?;
+        Ok((spec, base))
+    }
+
+    /// The values of each axis: its list, its range, or its draws (`samples` of them, from
+    /// `seed`, stratified when `latin_hypercube`). Errors name the axis.
+    fn axis_values(&self) -> Result<Vec<Vec<f64>>> {
+        if self.axes.is_empty() {
+            return Err(setting(format!("study `{}`: no axis", self.name)));
+        }
+        let random = self.axes.iter().filter(|a| a.draw.is_some()).count();
+        if random != 0 && random != self.axes.len() {
+            return Err(setting(format!(
+                "study `{}`: axes are either all drawn at random or none (a grid)",
+                self.name
+            )));
+        }
+        let mut values = Vec::with_capacity(self.axes.len());
+        for a in &self.axes {
+            let given = [a.values.is_some(), a.range.is_some(), a.draw.is_some()];
+            if given.iter().filter(|g| **g).count() != 1 {
+                return Err(setting(format!(
+                    "axis `{}`: give exactly one of `values`, `range` and `draw`",
+                    a.key
+                )));
+            }
+            if let Some(v) = &a.values {
+                if v.is_empty() || v.iter().any(|x| !x.is_finite()) {
+                    return Err(setting(format!(
+                        "axis `{}`: values must be finite, at least one",
+                        a.key
+                    )));
+                }
+                values.push(v.clone());
+            } else if let Some(r) = a.range {
+                values.push(range_values(&a.key, r)?);
+            } else if let Some(d) = a.draw {
+                check_draw(&a.key, d)?;
+                values.push(Vec::new());
+            }
+        }
+        if random == 0 {
+            if self.samples.is_some() || self.latin_hypercube {
+                return Err(setting(format!(
+                    "study `{}`: `samples` and `latin_hypercube` are for drawn axes",
+                    self.name
+                )));
+            }
+            return Ok(values);
+        }
+        let n = self.samples.filter(|n| *n > 0).ok_or_else(|| {
+            setting(format!(
+                "study `{}`: drawn axes need `samples` (the number of runs, > 0)",
+                self.name
+            ))
+        })?;
+        let mut rng = SplitMix64::new(self.seed);
+        let units: Vec<Vec<f64>> = if self.latin_hypercube {
+            latin_hypercube(n, self.axes.len(), &mut rng)
+        } else {
+            (0..n)
+                .map(|_| (0..self.axes.len()).map(|_| rng.next_open01()).collect())
+                .collect()
+        };
+        for (k, a) in self.axes.iter().enumerate() {
+            if let Some(d) = a.draw {
+                values[k] = units.iter().map(|u| d.at(u[k])).collect();
+            }
+        }
+        Ok(values)
+    }
+
+    /// The study's runs on `base`: every scenario built and validated, so that a bad key or
+    /// value is an error naming it before anything runs.
+    pub fn runs(&self, base: &Scenario) -> Result<Vec<StudyRun>> {
+        let values = self.axis_values()?;
+        let random = self.axes.iter().any(|a| a.draw.is_some());
+        let count = if random {
+            values[0].len()
+        } else {
+            values.iter().map(Vec::len).product()
+        };
+        let table = toml::Value::try_from(base)
+            .map_err(|e| setting(format!("study `{}`: the base scenario: {e}", self.name)))?;
+        let mut runs = Vec::with_capacity(count);
+        for index in 0..count {
+            // The grid's coordinates of run `index`, the last axis fastest; a random study's
+            // run `index` takes draw `index` of every axis.
+            let mut rest = index;
+            let mut picks = vec![0; values.len()];
+            if random {
+                picks.fill(index);
+            } else {
+                for (k, v) in values.iter().enumerate().rev() {
+                    picks[k] = rest % v.len();
+                    rest /= v.len();
+                }
+            }
+            let mut t = table.clone();
+            let mut parameters = Vec::with_capacity(values.len());
+            for ((a, v), &p) in self.axes.iter().zip(&values).zip(&picks) {
+                set_key(&mut t, &a.key, v[p])?;
+                parameters.push((a.key.clone(), v[p]));
+            }
+            let mut scenario: Scenario = t
+                .try_into()
+                .map_err(|e| setting(format!("study `{}`, run {index}: {e}", self.name)))?;
+            scenario.name = format!("{}_{index:04}", self.name);
+            scenario.base_dir = base.base_dir.clone();
+            scenario.validate().map_err(|e| {
+                let set: Vec<String> = parameters
+                    .iter()
+                    .map(|(k, v)| format!("{k} = {v}"))
+                    .collect();
+                setting(format!(
+                    "study `{}`, run {index} ({}): {e}",
+                    self.name,
+                    set.join(", ")
+                ))
+            })?;
+            runs.push(StudyRun {
+                index,
+                parameters,
+                scenario,
+            });
+        }
+        Ok(runs)
+    }
+}
+
+fn range_values(key: &str, r: Range) -> Result<Vec<f64>> {
+    let ok = r.from.is_finite()
+        && r.to.is_finite()
+        && r.steps >= 2
+        && (!r.log || (r.from > 0.0 && r.to > 0.0));
+    if !ok {
+        return Err(setting(format!(
+            "axis `{key}`: a range needs finite ends, steps ≥ 2, and ends > 0 when log (got {r:?})"
+        )));
+    }
+    let n = (r.steps - 1) as f64;
+    Ok((0..r.steps)
+        .map(|i| {
+            let s = i as f64 / n;
+            // The ends exactly as given.
+            if i == 0 {
+                r.from
+            } else if i == r.steps - 1 {
+                r.to
+            } else if r.log {
+                (r.from.ln() + s * (r.to.ln() - r.from.ln())).exp()
+            } else {
+                r.from + s * (r.to - r.from)
+            }
+        })
+        .collect())
+}
+
+fn check_draw(key: &str, d: Draw) -> Result<()> {
+    let ok = match d {
+        Draw::Uniform { low, high } => low.is_finite() && high.is_finite() && high > low,
+        Draw::Normal { mean, std } => mean.is_finite() && std.is_finite() && std > 0.0,
+    };
+    if ok {
+        Ok(())
+    } else {
+        Err(setting(format!(
+            "axis `{key}`: a uniform draw needs finite low < high, a normal one a finite mean and std > 0 (got {d:?})"
+        )))
+    }
+}
+
+/// Sets the number at the dotted `key` (`a.b.c`, `a.b[i]`) of a scenario's table to `value`:
+/// the key must exist and hold a number (an integer key takes only integral values). The
+/// errors name the key and what the table has there.
+fn set_key(table: &mut toml::Value, key: &str, value: f64) -> Result<()> {
+    let mut here = table;
+    let mut path = String::new();
+    for part in key.split('.') {
+        let (name, index) = match part.split_once('[') {
+            Some((name, rest)) => {
+                let i = rest
+                    .strip_suffix(']')
+                    .and_then(|i| i.parse::<usize>().ok())
+                    .ok_or_else(|| {
+                        setting(format!("axis `{key}`: `{part}` is not `name[index]`"))
+                    })?;
+                (name, Some(i))
+            }
+            None => (part, None),
+        };
+        let keys = |t: &toml::value::Table| t.keys().cloned().collect::<Vec<_>>().join(", ");
+        here = match here {
+            toml::Value::Table(t) => {
+                let known = keys(t);
+                t.get_mut(name).ok_or_else(|| {
+                    setting(format!(
+                        "axis `{key}`: the scenario has no `{name}`{} (it has: {known})",
+                        if path.is_empty() {
+                            String::new()
+                        } else {
+                            format!(" in `{path}`")
+                        }
+                    ))
+                })?
+            }
+            _ => {
+                return Err(setting(format!(
+                    "axis `{key}`: `{path}` is a value, not a table"
+                )))
+            }
+        };
+        if !path.is_empty() {
+            path.push('.');
+        }
+        path.push_str(name);
+        if let Some(i) = index {
+            here = match here {
+                toml::Value::Array(a) => {
+                    let len = a.len();
+                    a.get_mut(i).ok_or_else(|| {
+                        setting(format!("axis `{key}`: `{path}` has {len} entries"))
+                    })?
+                }
+                _ => return Err(setting(format!("axis `{key}`: `{path}` is not a list"))),
+            };
+            path.push_str(&format!("[{i}]"));
+        }
+    }
+    match here {
+        toml::Value::Float(x) => *x = value,
+        toml::Value::Integer(x) => {
+            if value.fract() != 0.0 || value.abs() > 9.0e15 {
+                return Err(setting(format!(
+                    "axis `{key}`: an integer setting, and {value} is not an integer"
+                )));
+            }
+            *x = value as i64;
+        }
+        other => {
+            return Err(setting(format!(
+                "axis `{key}`: not a number (it is {})",
+                other.type_str()
+            )))
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,243 @@
+//! Studies: a spec's axes over dotted scenario keys expand into validated scenarios (grids,
+//! random draws, Latin hypercubes), reproducibly from a seed; bad keys and values are errors
+//! that name them before anything runs.
+
+use pvfc_sim::error::SimError;
+use pvfc_sim::scenario::{presets, Scenario};
+use pvfc_sim::study::sample::{latin_hypercube, normal_quantile, SplitMix64};
+use pvfc_sim::study::spec::{Axis, Draw, Range, StudySpec};
+
+fn axis(key: &str) -> Axis {
+    Axis {
+        key: key.into(),
+        values: None,
+        range: None,
+        draw: None,
+    }
+}
+
+fn spec(axes: Vec<Axis>) -> StudySpec {
+    StudySpec {
+        name: "s".into(),
+        base: "fig8_R100.toml".into(),
+        axes,
+        samples: None,
+        seed: 0,
+        latin_hypercube: false,
+    }
+}
+
+fn error(s: &StudySpec, base: &Scenario) -> String {
+    match s.runs(base) {
+        Err(SimError::Setting(m)) => m,
+        other => panic!("expected a setting error, got {:?}", other.map(|r| r.len())),
+    }
+}
+
+#[test]
+fn a_grid_is_every_combination_the_last_axis_fastest() {
+    let base = presets::fig8(100);
+    let mut a = axis("controller.self_pacing");
+    a.values = Some(vec![0.0, 50.0, 100.0]);
+    let mut b = axis("plant.friction.coulomb[1]");
+    b.range = Some(Range {
+        from: 1.0,
+        to: 4.0,
+        steps: 4,
+        log: false,
+    });
+    let runs = spec(vec![a, b]).runs(&base).unwrap();
+    assert_eq!(runs.len(), 12);
+    for (i, r) in runs.iter().enumerate() {
+        let (p, c) = ([0.0, 50.0, 100.0][i / 4], [1.0, 2.0, 3.0, 4.0][i % 4]);
+        assert_eq!(r.index, i);
+        assert_eq!(r.scenario.name, format!("s_{i:04}"));
+        assert_eq!(r.scenario.controller.self_pacing, p);
+        assert_eq!(r.scenario.plant.friction.coulomb, vec![2.5, c]);
+        assert_eq!(
+            r.parameters,
+            vec![
+                ("controller.self_pacing".to_string(), p),
+                ("plant.friction.coulomb[1]".to_string(), c)
+            ]
+        );
+        // Everything else is the base's.
+        assert_eq!(r.scenario.controller.energy, base.controller.energy);
+        assert_eq!(r.scenario.contour, base.contour);
+    }
+    // A log range is geometric.
+    let mut g = axis("controller.energy");
+    g.range = Some(Range {
+        from: 100.0,
+        to: 10_000.0,
+        steps: 3,
+        log: true,
+    });
+    let e: Vec<f64> = spec(vec![g])
+        .runs(&base)
+        .unwrap()
+        .iter()
+        .map(|r| r.scenario.controller.energy)
+        .collect();
+    assert!((e[1] - 1000.0).abs() < 1e-9 && e[0] == 100.0, "{e:?}");
+}
+
+#[test]
+fn bad_keys_and_values_name_them_before_anything_runs() {
+    let base = presets::fig8(100);
+    let one = |key: &str, v: f64| {
+        let mut a = axis(key);
+        a.values = Some(vec![v]);
+        spec(vec![a])
+    };
+    let m = error(&one("controller.self_pacng", 1.0), &base);
+    assert!(
+        m.contains("self_pacng") && m.contains("self_pacing") && m.contains("controller"),
+        "{m}"
+    );
+    let m = error(&one("plant.friction.coulomb[2]", 1.0), &base);
+    assert!(m.contains("coulomb[2]") && m.contains("2 entries"), "{m}");
+    let m = error(&one("plant.friction.coulomb[x]", 1.0), &base);
+    assert!(m.contains("name[index]"), "{m}");
+    let m = error(&one("simulation.plant_substeps", 2.5), &base);
+    assert!(m.contains("plant_substeps") && m.contains("integer"), "{m}");
+    let m = error(&one("name", 1.0), &base);
+    assert!(m.contains("not a number"), "{m}");
+    let m = error(&one("controller.energy.level", 1.0), &base);
+    assert!(m.contains("not a table"), "{m}");
+    // A value the scenario rejects names the run and the values it was given.
+    let m = error(&one("controller.energy", -5.0), &base);
+    assert!(
+        m.contains("run 0") && m.contains("controller.energy = -5"),
+        "{m}"
+    );
+    // Axes: one kind of values each; draws need samples; no mixing grid and draws.
+    let mut a = axis("controller.energy");
+    a.values = Some(vec![1.0]);
+    a.range = Some(Range {
+        from: 1.0,
+        to: 2.0,
+        steps: 2,
+        log: false,
+    });
+    assert!(error(&spec(vec![a]), &base).contains("exactly one"));
+    let mut d = axis("controller.energy");
+    d.draw = Some(Draw::Uniform {
+        low: 100.0,
+        high: 200.0,
+    });
+    assert!(error(&spec(vec![d.clone()]), &base).contains("samples"));
+    let mut v = axis("controller.self_pacing");
+    v.values = Some(vec![1.0]);
+    assert!(error(&spec(vec![d.clone(), v]), &base).contains("all drawn"));
+    d.draw = Some(Draw::Normal {
+        mean: 1.0,
+        std: 0.0,
+    });
+    let mut s = spec(vec![d]);
+    s.samples = Some(3);
+    assert!(error(&s, &base).contains("std > 0"));
+    assert!(error(&spec(Vec::new()), &base).contains("no axis"));
+    let mut nan = axis("controller.energy");
+    nan.values = Some(vec![f64::NAN]);
+    assert!(error(&spec(vec![nan]), &base).contains("finite"));
+}
+
+#[test]
+fn random_studies_are_reproducible_from_their_seed() {
+    let base = presets::fig8(100);
+    let mut e = axis("controller.energy");
+    e.draw = Some(Draw::Uniform {
+        low: 1000.0,
+        high: 3000.0,
+    });
+    let mut c = axis("plant.friction.coulomb[0]");
+    c.draw = Some(Draw::Normal {
+        mean: 2.5,
+        std: 0.25,
+    });
+    let mut s = spec(vec![e, c]);
+    s.samples = Some(400);
+    s.seed = 7;
+    let draws = |s: &StudySpec| -> Vec<Vec<f64>> {
+        s.runs(&base)
+            .unwrap()
+            .iter()
+            .map(|r| r.parameters.iter().map(|p| p.1).collect())
+            .collect()
+    };
+    let first = draws(&s);
+    assert_eq!(first.len(), 400);
+    assert_eq!(first, draws(&s), "the same seed gives the same runs");
+    s.seed = 8;
+    assert_ne!(first, draws(&s), "another seed gives other runs");
+    assert!(first.iter().all(|p| (1000.0..3000.0).contains(&p[0])));
+    let n = first.len() as f64;
+    let mean = first.iter().map(|p| p[1]).sum::<f64>() / n;
+    let std = (first.iter().map(|p| (p[1] - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+    // 400 draws: the mean within 4 standard errors, the std within 15 %.
+    assert!((mean - 2.5).abs() < 4.0 * 0.25 / n.sqrt(), "mean {mean}");
+    assert!((std / 0.25 - 1.0).abs() < 0.15, "std {std}");
+    // A Latin hypercube puts exactly one run in each of the `samples` strata of every axis.
+    s.latin_hypercube = true;
+    s.samples = Some(50);
+    let lhs = draws(&s);
+    let mut strata: Vec<usize> = lhs
+        .iter()
+        .map(|p| ((p[0] - 1000.0) / 2000.0 * 50.0).floor() as usize)
+        .collect();
+    strata.sort_unstable();
+    assert_eq!(strata, (0..50).collect::<Vec<_>>());
+}
+
+#[test]
+fn the_generator_and_the_quantile_are_the_published_ones() {
+    // SplitMix64's first output from seed 0 (the reference implementation's).
+    assert_eq!(SplitMix64::new(0).next_u64(), 0xE220_A839_7B1D_CDAF);
+    for (p, x) in [
+        (0.5, 0.0),
+        (0.975, 1.959_963_984_540_054),
+        (0.8413447460685429, 1.0),
+        (1e-6, -4.753_424_308_822_899),
+        (1.0 - 1e-9, 5.997_807_015_007_882),
+    ] {
+        let q = normal_quantile(p);
+        assert!(
+            (q - x).abs() < 1e-8 * (1.0 + x.abs()),
+            "Φ⁻¹({p}) = {q}, not {x}"
+        );
+    }
+    let mut rng = SplitMix64::new(3);
+    let pts = latin_hypercube(10, 3, &mut rng);
+    for k in 0..3 {
+        let mut s: Vec<usize> = pts.iter().map(|p| (p[k] * 10.0) as usize).collect();
+        s.sort_unstable();
+        assert_eq!(s, (0..10).collect::<Vec<_>>());
+    }
+}
+
+#[test]
+fn a_study_file_names_its_base_relative_to_itself() {
+    let dir = std::env::temp_dir().join(format!("pvfc-study-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("base.toml"), presets::fig8(100).to_toml().unwrap()).unwrap();
+    std::fs::write(
+        dir.join("study.toml"),
+        "name = \"pacing\"\nbase = \"base.toml\"\n[[axis]]\nkey = \"controller.self_pacing\"\nvalues = [0, 100]\n",
+    )
+    .unwrap();
+    let (spec, base) = StudySpec::from_file(&dir.join("study.toml")).unwrap();
+    let runs = spec.runs(&base).unwrap();
+    assert_eq!(runs.len(), 2);
+    assert_eq!(runs[1].scenario.controller.self_pacing, 100.0);
+    std::fs::write(
+        dir.join("bad.toml"),
+        "name = \"x\"\nbase = \"base.toml\"\n[[axis]]\nkey = \"a\"\nvalue = [1]\n",
+    )
+    .unwrap();
+    match StudySpec::from_file(&dir.join("bad.toml")) {
+        Err(SimError::Scenario { message, .. }) => assert!(message.contains("value"), "{message}"),
+        other => panic!("an unknown field is an error: {:?}", other.map(|_| ())),
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
