@@ -185,6 +185,10 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
             .map(|(v, id)| (*id, format!("{symbol} = {v}")))
             .collect()
     };
+    let level_title = format!(
+        "Fig. 10 at the energy levels (c = {}, no compensation)",
+        pvfc_sim::scenario::presets::FIG10_LEVEL_GAIN
+    );
     let pass_figures = [
         (
             "fig8_pacing_compensated.png",
@@ -212,7 +216,7 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
         ),
         (
             "fig10_level.png",
-            "Fig. 10 at the energy levels (c = 0.5, no compensation)",
+            &level_title,
             labelled(
                 "r",
                 &[1, 2, 3]

@@ -6,6 +6,7 @@ use pvfc_sim::error::{Result, SimError};
 use pvfc_sim::scenario::preset_id::{
     Arm3dCase, ContactCase, Fig1Contour, PresetId, ToolPathCase, STRIBECK_PACINGS,
 };
+use pvfc_sim::scenario::presets::{FIG10_LEVEL_GAIN, STRIBECK_BREAKAWAY, STRIBECK_VELOCITY};
 use pvfc_sim::scenario::Mode;
 use pvfc_sim::trace::metrics::*;
 use pvfc_sim::trace::Trace;
@@ -217,12 +218,7 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     );
 
     // Figs. 8 and 9 on a plant with stiction: the four peaks and the factor of two.
-    let peaks = |id: PresetId| -> Result<usize> {
-        let (s, t) = r.run(id)?;
-        potential_peaks(t, s.contour.period, 0.3).ok_or_else(|| {
-            SimError::Setting(format!("run `{id}` does not cover one pass of the contour"))
-        })
-    };
+    let peaks = |id: PresetId| r.potential_peaks(id, 0.3);
     let mut stribeck = Vec::new();
     for pacing in STRIBECK_PACINGS {
         let with = PresetId::Stribeck {
@@ -245,7 +241,7 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     push(
         "fig8.fig9.stribeck",
         "The error is large at four distinct positions (where a joint reverses: stiction and friction); without compensation it is about twice as large — on a plant whose friction has a Stribeck peak",
-        "Figs. 8 and 9's runs with breakaway 1.5 × Coulomb falling to it past v_st = 0.1 rad/s: peaks of U over the last pass (excursions above 30 % of its largest value), with / without compensation; mean U without / with compensation within [1.5, 3]; the Coulomb plant's peaks in brackets",
+        &format!("Figs. 8 and 9's runs with breakaway {STRIBECK_BREAKAWAY} × Coulomb falling to it past v_st = {STRIBECK_VELOCITY} rad/s: peaks of U over the last pass (excursions above 30 % of its largest value), with / without compensation; mean U without / with compensation within [1.5, 3]; the Coulomb plant's peaks in brackets"),
         stribeck
             .iter()
             .map(|(p, pw, pwo, q, p8, p9)| {
@@ -281,7 +277,7 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     );
 
     // Fig. 10 at its energy level: β reaches r (eq. 36), and the same passes at the levels.
-    let gain = pvfc_sim::scenario::presets::FIG10_LEVEL_GAIN;
+    let gain = FIG10_LEVEL_GAIN;
     let mut level = Vec::new();
     for nominal_speed in [1, 2, 3] {
         let id = PresetId::Fig10Level { nominal_speed };
@@ -303,7 +299,7 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     push(
         "fig10.level",
         "T^forced tends to cause the velocity q̇_a to stabilize at rV_a (eq. 36); at the levels, mean U is lower at r = 2 than at r = 1, and the improvement from 2 to 3 is smaller",
-        "Fig. 10's runs with c = 0.5 (1/c = 2 s): |β − r| at 40 s below 1 % of r, the time constant of β within 5 % of 1/c (none at r = 1, where β starts at its level); ∫U dτ / 6 over the last pass",
+        &format!("Fig. 10's runs with c = {gain} (1/c = {} s): |β − r| at 40 s below 1 % of r, the time constant of β within 5 % of 1/c (none at r = 1, where β starts at its level); ∫U dτ / 6 over the last pass", 1.0 / gain),
         format!(
             "{}; drops {l12:.2e} and {l23:.2e}",
             level

@@ -58,9 +58,16 @@ impl Runs {
 
     pub(crate) fn mean_u(&self, id: PresetId) -> Result<f64> {
         let (s, t) = self.run(id)?;
-        mean_potential_over_pass(t, s.contour.period).ok_or_else(|| {
-            SimError::Setting(format!("run `{id}` does not cover one pass of the contour"))
-        })
+        mean_potential_over_pass(t, s.contour.period).ok_or_else(|| no_pass(id))
+    }
+
+    /// The peaks of `U` over the last pass of a preset's run
+    /// ([`potential_peaks`](pvfc_sim::trace::metrics::potential_peaks), above `fraction` of
+    /// its largest value).
+    pub(crate) fn potential_peaks(&self, id: PresetId, fraction: f64) -> Result<usize> {
+        let (s, t) = self.run(id)?;
+        pvfc_sim::trace::metrics::potential_peaks(t, s.contour.period, fraction)
+            .ok_or_else(|| no_pass(id))
     }
 
     /// The contact summary of a preset's run.
@@ -77,4 +84,9 @@ impl Runs {
 fn summarize(t: &Trace, name: &str) -> Result<ContactSummary> {
     contact_summary(t)
         .ok_or_else(|| SimError::Setting(format!("run `{name}` has no contact columns")))
+}
+
+/// The error of a run too short for a measure over one pass of its contour.
+fn no_pass(id: PresetId) -> SimError {
+    SimError::Setting(format!("run `{id}` does not cover one pass of the contour"))
 }

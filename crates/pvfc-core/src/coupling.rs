@@ -125,7 +125,7 @@ pub(crate) fn velocity_field_error_energy<T: Real>(kappa: T, beta: T, along: T) 
 /// at `q̇_a = −βV_a`, and `1` on the field, where `‖e_β‖_a` converges at the rate `2γβĒ`
 /// (Remark 1). `0` at rest (`κ_a = 0`).
 #[inline]
-pub(crate) fn convergence_factor<T: Real>(kappa: T, w_beta: T) -> T {
+pub fn convergence_factor<T: Real>(kappa: T, w_beta: T) -> T {
     if kappa > T::zero() {
         T::one() - w_beta / (kappa * cast::<T>(4.0))
     } else {

@@ -5,6 +5,7 @@
 //! closed loop, RK4 at 1 kHz), from rest with the energy in the flywheel, over several `γĒ`,
 //! `Ē` and `β`: eq. (13) at every sample, and the rate near the field against `2γβĒ`.
 
+use pvfc_core::coupling::convergence_factor;
 use pvfc_sim::run::simulate;
 use pvfc_sim::scenario::{presets, Mode};
 use pvfc_sim::trace::metrics::velocity_field_convergence;
@@ -45,7 +46,7 @@ fn the_velocity_field_error_converges_at_two_gamma_beta_e_bar() {
             .w_beta
             .iter()
             .zip(&t.energy)
-            .map(|(w, k)| 1.0 - w / (4.0 * k))
+            .map(|(w, k)| convergence_factor(*k, *w))
             .collect();
         println!(
             "γĒ = {gamma_e}, Ē = {energy}, β = {beta:.3}, μ(0) = {:.3}: ‖e_β‖ rate {:.4} (2γβĒ = {:.4}) over {} samples; W_β {:.2e} → {:.2e}; largest deviation from (13) {:.2e}",

@@ -179,9 +179,10 @@ pub const FIG10_LEVEL_GAIN: f64 = 0.5;
 pub fn fig10_level(nominal_speed: u32) -> Scenario {
     let mut s = fig10(nominal_speed);
     s.name = PresetId::Fig10Level { nominal_speed }.name();
-    s.description =
-        "Fig. 10 at its energy level: nominal speed r with c = 0.5 (time constant 2 s), R = 100, without friction compensation"
-            .into();
+    s.description = format!(
+        "Fig. 10 at its energy level: nominal speed r with c = {FIG10_LEVEL_GAIN} (time constant {} s), R = 100, without friction compensation",
+        1.0 / FIG10_LEVEL_GAIN
+    );
     s.controller.nominal_speed = Some(NominalSpeedSpec {
         c: FIG10_LEVEL_GAIN,
         r: nominal_speed.into(),
@@ -211,7 +212,7 @@ pub fn stribeck(compensated: bool, pacing: u32) -> Scenario {
     }
     .name();
     s.description = format!(
-        "{}, friction with a Stribeck peak (breakaway 1.5 × Coulomb, v_st = 0.1 rad/s)",
+        "{}, friction with a Stribeck peak (breakaway {STRIBECK_BREAKAWAY} × Coulomb, v_st = {STRIBECK_VELOCITY} rad/s)",
         s.description
     );
     let breakaway = s

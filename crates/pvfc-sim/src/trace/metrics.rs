@@ -296,7 +296,7 @@ pub fn velocity_field_convergence(
 ) -> Option<VelocityFieldConvergence> {
     let (t, w, kappa) = (&trace.t, &trace.w_beta, &trace.energy);
     let resolved = |i: usize| w[i] > 1e-10 * kappa[i];
-    let mu = |i: usize| 1.0 - w[i] / (4.0 * kappa[i]);
+    let mu = |i: usize| pvfc_core::coupling::convergence_factor(kappa[i], w[i]);
     let beta = trace.beta.first().copied()?;
     let scale = 4.0 * energy_level * gamma * beta;
     let mut worst: f64 = 0.0;
