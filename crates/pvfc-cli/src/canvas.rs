@@ -191,3 +191,164 @@ pub fn figure(
     root.present().map_err(|e| err(path, e))?;
     Ok(())
 }
+
+/// `v` to `digits` significant digits, without trailing zeros.
+fn significant(v: f64, digits: i32) -> String {
+    let magnitude = if v == 0.0 {
+        0
+    } else {
+        v.abs().log10().floor() as i32
+    };
+    let decimals = (digits - 1 - magnitude).max(0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// A heat map: `values[i][j]` (absent cells blank) coloured on the viridis scale over the
+/// cells of the grid `x_ticks` × `y_ticks` (the axes' values, as labels), each cell labelled
+/// with its value when the grid is small enough to read.
+#[allow(clippy::too_many_arguments)]
+pub fn heat_map(
+    area: &Area<'_>,
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    x_ticks: &[f64],
+    y_ticks: &[f64],
+    values: &[Vec<Option<f64>>],
+) -> Result<()> {
+    use plotters::style::colors::colormaps::{ColorMap, ViridisRGB};
+    let finite = values.iter().flatten().flatten().copied();
+    let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+        (a.min(v), b.max(v))
+    });
+    let (nx, ny) = (x_ticks.len(), y_ticks.len());
+    let mut chart = ChartBuilder::on(area)
+        .caption(
+            format!("{title}   (dark {lo:.3e} … bright {hi:.3e})"),
+            ("sans-serif", 16),
+        )
+        .margin(8)
+        .x_label_area_size(38)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.0..nx as f64, 0.0..ny as f64)
+        .map_err(|e| err(path, e))?;
+    let label = |ticks: &[f64], v: f64| {
+        let i = v.floor() as usize;
+        if v - v.floor() == 0.5 && i < ticks.len() {
+            significant(ticks[i], 4)
+        } else {
+            String::new()
+        }
+    };
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .x_labels(2 * nx + 1)
+        .y_labels(2 * ny + 1)
+        .x_label_formatter(&|v| label(x_ticks, *v))
+        .y_label_formatter(&|v| label(y_ticks, *v))
+        .label_style(("sans-serif", 12))
+        .draw()
+        .map_err(|e| err(path, e))?;
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    let cells = values.iter().enumerate().flat_map(|(i, col)| {
+        col.iter().enumerate().filter_map(move |(j, v)| {
+            let v = (*v)?;
+            let c: RGBColor = ViridisRGB.get_color_normalized((v - lo) / span, 0.0, 1.0);
+            Some(Rectangle::new(
+                [(i as f64, j as f64), (i as f64 + 1.0, j as f64 + 1.0)],
+                c.filled(),
+            ))
+        })
+    });
+    chart.draw_series(cells).map_err(|e| err(path, e))?;
+    if nx * ny <= 144 {
+        let text = values.iter().enumerate().flat_map(|(i, col)| {
+            col.iter().enumerate().filter_map(move |(j, v)| {
+                let v = (*v)?;
+                let bright = (v - lo) / span > 0.6;
+                let colour = if bright { BLACK } else { WHITE };
+                Some(Text::new(
+                    format!("{v:.3e}"),
+                    (i as f64 + 0.15, j as f64 + 0.55),
+                    ("sans-serif", 11).into_font().color(&colour),
+                ))
+            })
+        });
+        chart.draw_series(text).map_err(|e| err(path, e))?;
+    }
+    Ok(())
+}
+
+/// A histogram of `samples` in `bins` equal bins, with the mean marked.
+pub fn histogram(
+    area: &Area<'_>,
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    samples: &[f64],
+    bins: usize,
+) -> Result<()> {
+    let (lo, hi) = samples
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(*v), b.max(*v))
+        });
+    let (lo, hi) = if lo.is_finite() && hi > lo {
+        (lo, hi)
+    } else if lo.is_finite() {
+        (
+            lo - 0.5 * lo.abs().max(1e-12),
+            lo + 0.5 * lo.abs().max(1e-12),
+        )
+    } else {
+        (0.0, 1.0)
+    };
+    let bins = bins.max(1);
+    let width = (hi - lo) / bins as f64;
+    let mut counts = vec![0usize; bins];
+    for v in samples {
+        counts[(((v - lo) / width) as usize).min(bins - 1)] += 1;
+    }
+    let top = counts.iter().copied().max().unwrap_or(0).max(1) as f64 * 1.1;
+    let mean = samples.iter().sum::<f64>() / samples.len().max(1) as f64;
+    let mut chart = ChartBuilder::on(area)
+        .caption(
+            format!("{title}   ({} runs, mean {mean:.4e})", samples.len()),
+            ("sans-serif", 16),
+        )
+        .margin(8)
+        .x_label_area_size(38)
+        .y_label_area_size(70)
+        .build_cartesian_2d(lo..hi, 0.0..top)
+        .map_err(|e| err(path, e))?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc("runs")
+        .x_label_formatter(&|x| format!("{x:.3e}"))
+        .label_style(("sans-serif", 12))
+        .draw()
+        .map_err(|e| err(path, e))?;
+    chart
+        .draw_series(counts.iter().enumerate().map(|(k, &c)| {
+            let x0 = lo + k as f64 * width;
+            Rectangle::new([(x0, 0.0), (x0 + width, c as f64)], COLORS[0].filled())
+        }))
+        .map_err(|e| err(path, e))?;
+    chart
+        .draw_series(std::iter::once(PathElement::new(
+            vec![(mean, 0.0), (mean, top)],
+            COLORS[1].stroke_width(2),
+        )))
+        .map_err(|e| err(path, e))?;
+    Ok(())
+}

@@ -1,7 +1,8 @@
 //! # pvfc-cli
 //!
 //! The application built on the simulation library [`pvfc_sim`]: the `pvfc` command
-//! (`src/main.rs`), the figures of a run ([`plot`]), and the paper's reproduction: every
+//! (`src/main.rs`), the figures of a run ([`plot`]), studies run into tables and figures
+//! ([`sweep`], [`study_plot`]), and the paper's reproduction: every
 //! preset run ([`reproduce`]) and the numbers behind each claim of section V ([`report`]).
 //!
 //! Data flows one way: the library runs a scenario into a trace; this crate turns traces into
@@ -23,3 +24,5 @@ mod report_paths;
 pub mod reproduce;
 pub mod runs;
 pub mod speed_sweep;
+pub mod study_plot;
+pub mod sweep;

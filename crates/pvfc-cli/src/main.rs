@@ -47,6 +47,25 @@ enum Command {
         #[arg(long, default_value_t = 0.0)]
         log_rate: f64,
     },
+    /// Run a study (sweep or Monte Carlo) in parallel: its table `NAME.csv` (one row per run:
+    /// its parameters and metrics, or its error) and a figure per metric. An interrupted
+    /// sweep run again continues where it stopped.
+    Sweep {
+        /// The study (TOML).
+        study: PathBuf,
+        /// Output directory.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+        /// Threads (default: every core of this machine).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Stop after this many new runs (a later sweep completes the table).
+        #[arg(long)]
+        limit: Option<usize>,
+        /// Skip the figures.
+        #[arg(long)]
+        no_figures: bool,
+    },
     /// Write the built-in scenarios as TOML files.
     Presets {
         /// Output directory.
@@ -90,6 +109,13 @@ fn main() -> ExitCode {
             out,
             log_rate,
         } => run(&scenario, &out, log_rate),
+        Command::Sweep {
+            study,
+            out,
+            threads,
+            limit,
+            no_figures,
+        } => sweep(&study, &out, threads, limit, !no_figures),
         Command::Presets { out } => write_presets(&out),
     };
     match result {
@@ -147,6 +173,57 @@ fn reproduce(out: &Path, log_rate_hz: Option<f64>) -> Result<(), SimError> {
             c.id,
             c.measured
         );
+    }
+    Ok(())
+}
+
+fn sweep(
+    study: &Path,
+    out: &Path,
+    threads: Option<usize>,
+    limit: Option<usize>,
+    figures: bool,
+) -> Result<(), SimError> {
+    let threads = threads
+        .or_else(|| std::thread::available_parallelism().ok().map(|n| n.get()))
+        .unwrap_or(1);
+    let pb = ProgressBar::new(0);
+    pb.set_style(
+        ProgressStyle::with_template(
+            "{prefix:>20} [{bar:40}] {pos}/{len} runs {elapsed} (eta {eta})",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> "),
+    );
+    pb.set_prefix(
+        study
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+    );
+    let o = pvfc_cli::sweep::sweep(study, out, threads, limit, &mut |done, total| {
+        pb.set_length(total as u64);
+        pb.set_position(done as u64);
+    })?;
+    pb.finish();
+    println!(
+        "{}: {} runs ({} ran now on {threads} threads in {:.1} s, {:.2} runs/s; {} from the table; {} failed): {}",
+        o.spec.name,
+        o.rows.len(),
+        o.ran,
+        o.seconds,
+        o.ran as f64 / o.seconds.max(1e-9),
+        o.resumed,
+        o.failed(),
+        o.csv.display()
+    );
+    for r in o.rows.iter().filter(|r| r.error.is_some()) {
+        println!("run {}: {}", r.index, r.error.as_deref().unwrap_or(""));
+    }
+    if figures {
+        for f in pvfc_cli::study_plot::study_figures(&o.spec, &o.rows, out)? {
+            println!("wrote {}", f.display());
+        }
     }
     Ok(())
 }

@@ -24,6 +24,7 @@ fn spec(axes: Vec<Axis>) -> StudySpec {
         samples: None,
         seed: 0,
         latin_hypercube: false,
+        metrics: Vec::new(),
     }
 }
 
@@ -240,4 +241,40 @@ fn a_study_file_names_its_base_relative_to_itself() {
         other => panic!("an unknown field is an error: {:?}", other.map(|_| ())),
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn nested_lists_and_metrics_by_name() {
+    let ur5 = Scenario::from_file(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../scenarios/ur5_cartesian.toml"),
+    )
+    .expect("the UR5 preset");
+    // A corner of the Cartesian path, by `points[i][j]`: reachable, then out of reach, which
+    // the validation names by its waypoint before anything runs.
+    let mut a = axis("contour.cartesian.points[1][0]");
+    a.values = Some(vec![0.66]);
+    let runs = spec(vec![a.clone()])
+        .runs(&ur5)
+        .expect("a reachable corner");
+    let c = runs[0].scenario.contour.cartesian.as_ref().expect("a path");
+    assert_eq!(c.points[1], [0.66, -0.15, 0.30]);
+    a.values = Some(vec![3.0]);
+    let m = error(&spec(vec![a]), &ur5);
+    assert!(
+        m.contains("points[1][0] = 3") && m.contains("waypoint"),
+        "{m}"
+    );
+    // Metrics by name: all by default, in the documented order; an unknown one named.
+    let mut s = spec(vec![]);
+    let all = s.metrics().expect("all");
+    assert_eq!(all.len(), pvfc_sim::study::metrics::METRICS.len());
+    s.metrics = vec!["peak_force".into(), "mean_u".into()];
+    let names: Vec<&str> = s.metrics().expect("two").iter().map(|m| m.name).collect();
+    assert_eq!(names, ["peak_force", "mean_u"]);
+    s.metrics.push("peak_force".into());
+    assert!(s.metrics().is_err_and(|e| e.to_string().contains("twice")));
+    s.metrics = vec!["peak".into()];
+    let e = s.metrics().expect_err("unknown").to_string();
+    assert!(e.contains("`peak`") && e.contains("tool_path_max"), "{e}");
 }

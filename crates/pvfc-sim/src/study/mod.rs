@@ -1,8 +1,13 @@
 //! Studies: sweeps and Monte Carlo runs over any scenario key. A [`spec::StudySpec`] names a
-//! base scenario and axes over its keys by their dotted paths (`controller.self_pacing`,
-//! `plant.friction.coulomb[1]`), as lists, ranges or random draws from a seed
-//! ([`sample`]); [`spec::StudySpec::runs`] expands it into one validated scenario per run,
-//! so that a bad key or value is an error naming it before anything runs.
+//! base scenario, axes over its keys by their dotted paths (`controller.self_pacing`,
+//! `plant.friction.coulomb[1]`), as lists, ranges or random draws from a seed ([`sample`]),
+//! and the [`metrics`] to keep; [`spec::StudySpec::runs`] expands it into one validated
+//! scenario per run, so that a bad key, value or metric is an error naming it before
+//! anything runs. [`run`] runs them in parallel into rows, [`table`] writes the rows as CSV
+//! and reads them back to resume.
 
+pub mod metrics;
+pub mod run;
 pub mod sample;
 pub mod spec;
+pub mod table;

@@ -3,6 +3,7 @@
 
 use crate::error::{Result, SimError};
 use crate::scenario::Scenario;
+use crate::study::metrics::Metric;
 use crate::study::sample::{latin_hypercube, normal_quantile, SplitMix64};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -12,6 +13,7 @@ use std::path::{Path, PathBuf};
 /// ```toml
 /// name = "pacing_vs_energy"
 /// base = "fig8_R100.toml"          # relative to this file
+/// metrics = ["mean_u", "mean_tau_rate"]   # all of them when left out
 /// [[axis]]
 /// key = "controller.self_pacing"
 /// values = [0, 50, 100, 200]
@@ -42,6 +44,10 @@ pub struct StudySpec {
     /// Draw a random study as a Latin hypercube (each axis's strata each hit once).
     #[serde(default)]
     pub latin_hypercube: bool,
+    /// The metrics to keep of each run, by name ([`crate::study::metrics::METRICS`]); all
+    /// of them when empty.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub metrics: Vec<String>,
 }
 
 /// One axis: a scenario key by its dotted path, and its values.
@@ -139,6 +145,17 @@ impl StudySpec {
         Ok((spec, base))
     }
 
+    /// The metrics the study keeps, in its table's order (all of them if it names none); an
+    /// unknown name is an error that names it and lists the metrics.
+    pub fn metrics(&self) -> Result<Vec<&'static Metric>> {
+        crate::study::metrics::select(&self.metrics)
+    }
+
+    /// The keys of the axes, in the spec's order: the parameter columns of its table.
+    pub fn keys(&self) -> Vec<String> {
+        self.axes.iter().map(|a| a.key.clone()).collect()
+    }
+
     /// The values of each axis: its list, its range, or its draws (`samples` of them, from
     /// `seed`, stratified when `latin_hypercube`). Errors name the axis.
     fn axis_values(&self) -> Result<Vec<Vec<f64>>> {
@@ -210,6 +227,7 @@ impl StudySpec {
     /// The study's runs on `base`: every scenario built and validated, so that a bad key or
     /// value is an error naming it before anything runs.
     pub fn runs(&self, base: &Scenario) -> Result<Vec<StudyRun>> {
+        self.metrics()?;
         let values = self.axis_values()?;
         let random = self.axes.iter().any(|a| a.draw.is_some());
         let count = if random {
@@ -307,24 +325,30 @@ fn check_draw(key: &str, d: Draw) -> Result<()> {
     }
 }
 
-/// Sets the number at the dotted `key` (`a.b.c`, `a.b[i]`) of a scenario's table to `value`:
+/// Sets the number at the dotted `key` (`a.b.c`, `a.b[i]`, `a.b[i][j]`) of a scenario's table to `value`:
 /// the key must exist and hold a number (an integer key takes only integral values). The
 /// errors name the key and what the table has there.
 fn set_key(table: &mut toml::Value, key: &str, value: f64) -> Result<()> {
     let mut here = table;
     let mut path = String::new();
     for part in key.split('.') {
-        let (name, index) = match part.split_once('[') {
+        // `name`, or `name[i]`, `name[i][j]`, …
+        let (name, indexes) = match part.split_once('[') {
             Some((name, rest)) => {
-                let i = rest
+                let indexes = rest
                     .strip_suffix(']')
-                    .and_then(|i| i.parse::<usize>().ok())
+                    .map(|r| r.split("][").map(str::parse::<usize>).collect::<Vec<_>>())
+                    .and_then(|r| {
+                        r.into_iter()
+                            .collect::<std::result::Result<Vec<_>, _>>()
+                            .ok()
+                    })
                     .ok_or_else(|| {
                         setting(format!("axis `{key}`: `{part}` is not `name[index]`"))
                     })?;
-                (name, Some(i))
+                (name, indexes)
             }
-            None => (part, None),
+            None => (part, Vec::new()),
         };
         let keys = |t: &toml::value::Table| t.keys().cloned().collect::<Vec<_>>().join(", ");
         here = match here {
@@ -351,7 +375,7 @@ fn set_key(table: &mut toml::Value, key: &str, value: f64) -> Result<()> {
             path.push('.');
         }
         path.push_str(name);
-        if let Some(i) = index {
+        for i in indexes {
             here = match here {
                 toml::Value::Array(a) => {
                     let len = a.len();

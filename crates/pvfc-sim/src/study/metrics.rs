@@ -1,0 +1,250 @@
+//! The summary metrics a study keeps of each run, by name: one number per run, computed from
+//! its trace (and, for a Cartesian path, from its robot), or absent where it does not apply
+//! (a contact metric of a run without contact, a pass metric of a run shorter than a pass).
+
+use crate::error::{Result, SimError};
+use crate::model::robot::Robot;
+use crate::scenario::Scenario;
+use crate::trace::path_budget::{path_budget, PathBudget};
+use crate::trace::{metrics, Trace};
+use std::cell::OnceCell;
+
+/// A finished run as the metrics see it: its scenario, its trace, and a URDF arm's robot
+/// (for the tool-to-path distance). Expensive parts (the path budget) are computed once, on
+/// first use.
+pub struct RunView<'a> {
+    scenario: &'a Scenario,
+    trace: &'a Trace,
+    robot: Option<&'a Robot>,
+    budget: OnceCell<Option<PathBudget>>,
+}
+
+impl<'a> RunView<'a> {
+    /// The view of run `trace` of `scenario` (`robot`: the URDF arm's model, `None` for the
+    /// SCARA).
+    pub fn new(scenario: &'a Scenario, trace: &'a Trace, robot: Option<&'a Robot>) -> Self {
+        RunView {
+            scenario,
+            trace,
+            robot,
+            budget: OnceCell::new(),
+        }
+    }
+
+    fn budget(&self) -> Option<&PathBudget> {
+        self.budget
+            .get_or_init(|| {
+                self.robot
+                    .and_then(|r| path_budget(self.scenario, r, self.trace).ok().flatten())
+            })
+            .as_ref()
+    }
+
+    fn contact(&self) -> Option<metrics::ContactSummary> {
+        metrics::contact_summary(self.trace)
+    }
+
+    fn last(&self, column: &[f64]) -> Option<f64> {
+        column.last().copied()
+    }
+}
+
+/// A metric: its name (the column of a study's table), unit, meaning, and how it is computed.
+pub struct Metric {
+    /// The name, as a study's `metrics = [...]` lists it and its table's column.
+    pub name: &'static str,
+    /// The unit.
+    pub unit: &'static str,
+    /// What it measures.
+    pub doc: &'static str,
+    eval: fn(&RunView) -> Option<f64>,
+}
+
+impl Metric {
+    /// The metric of a run; `None` where it does not apply.
+    pub fn of(&self, run: &RunView) -> Option<f64> {
+        (self.eval)(run).filter(|x| !x.is_nan())
+    }
+}
+
+impl std::fmt::Debug for Metric {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Metric({})", self.name)
+    }
+}
+
+/// The time the run entered its steady band (s): the last time `U` was above twice its
+/// largest value over the last complete pass (0 if it never was). `None` without a complete
+/// pass.
+fn converge_time(run: &RunView) -> Option<f64> {
+    let t = run.trace;
+    let pass = metrics::last_pass(t, run.scenario.period())?;
+    let band = 2.0 * t.potential[pass].iter().copied().fold(0.0, f64::max);
+    Some(match t.potential.iter().rposition(|&u| u > band) {
+        None => 0.0,
+        Some(i) => t.t[(i + 1).min(t.len() - 1)],
+    })
+}
+
+/// The mean `τ̇` over the last complete pass.
+fn mean_tau_rate(run: &RunView) -> Option<f64> {
+    let r = metrics::last_pass(run.trace, run.scenario.period())?;
+    let (a, b) = (r.start, r.end - 1);
+    let dt = run.trace.t[b] - run.trace.t[a];
+    (dt > 0.0).then(|| (run.trace.tau[b] - run.trace.tau[a]) / dt)
+}
+
+/// The audit residual: with contact, the full audit's (its trace has the work of every
+/// source); without, the friction-only audit's, which holds only for the planar arm (no
+/// gravity) without add-ons (friction compensation, the energy loop (36)), whose work such a
+/// trace does not log; `None` for the others.
+fn audit(run: &RunView) -> Option<f64> {
+    if let Some(c) = run.contact() {
+        return Some(c.audit);
+    }
+    let s = run.scenario;
+    let compensates = s
+        .controller
+        .friction_compensation
+        .as_ref()
+        .is_some_and(|f| f.iter().any(|x| *x != 0.0));
+    let plain = !s.is_chain() && !compensates && s.controller.nominal_speed.is_none();
+    plain.then(|| metrics::energy_audit(run.trace))
+}
+
+/// Every metric a study can keep, in the order of a study's table when it keeps them all.
+pub const METRICS: &[Metric] = &[
+    Metric {
+        name: "mean_u",
+        unit: "",
+        doc: "The mean contour error U(E) of eq. (17) over the last complete pass.",
+        eval: |r| metrics::mean_potential_over_pass(r.trace, r.scenario.period()),
+    },
+    Metric {
+        name: "max_u_last_pass",
+        unit: "",
+        doc: "The largest U(E) over the last complete pass.",
+        eval: |r| {
+            let p = metrics::last_pass(r.trace, r.scenario.period())?;
+            Some(r.trace.potential[p].iter().copied().fold(0.0, f64::max))
+        },
+    },
+    Metric {
+        name: "final_u",
+        unit: "",
+        doc: "U(E) at the end of the run.",
+        eval: |r| r.last(&r.trace.potential),
+    },
+    Metric {
+        name: "converge_time",
+        unit: "s",
+        doc: "The time the run entered its steady band: the last time U was above twice its largest value over the last complete pass (0 if never).",
+        eval: converge_time,
+    },
+    Metric {
+        name: "pass_duration",
+        unit: "s",
+        doc: "The time of the last complete pass of the contour.",
+        eval: |r| metrics::pass_duration(r.trace, r.scenario.period()),
+    },
+    Metric {
+        name: "mean_tau_rate",
+        unit: "1/s",
+        doc: "The mean τ̇ over the last complete pass: the pace self-pacing settles at.",
+        eval: mean_tau_rate,
+    },
+    Metric {
+        name: "final_beta",
+        unit: "",
+        doc: "β = √(κ_a/Ē) at the end of the run: the speed along the field.",
+        eval: |r| r.last(&r.trace.beta),
+    },
+    Metric {
+        name: "final_w_beta",
+        unit: "J",
+        doc: "W_β of eq. (12) at the end of the run: the energy of the velocity-field tracking error.",
+        eval: |r| r.last(&r.trace.w_beta),
+    },
+    Metric {
+        name: "energy_drift",
+        unit: "",
+        doc: "The largest |κ_a(t) − κ_a(0)| / κ_a(0): how far the augmented energy moved.",
+        eval: |r| Some(metrics::energy_drift(r.trace)),
+    },
+    Metric {
+        name: "audit_residual",
+        unit: "",
+        doc: "The energy audit's largest residual relative to the energy scale: with contact, of E − E(0) − W_contact − W_friction − W_controller; without contact, of κ_a − κ_a(0) − ∫F_fᵀq̇ for the planar arm without add-ons (absent for the others, whose trace lacks the add-ons' and gravity's work).",
+        eval: audit,
+    },
+    Metric {
+        name: "peak_force",
+        unit: "N",
+        doc: "The largest measured contact force (sum of normal forces); absent without contact.",
+        eval: |r| r.contact().map(|c| c.peak_force),
+    },
+    Metric {
+        name: "energy_pumped",
+        unit: "J",
+        doc: "The most energy the arm had put into the contact at any time, max −∫F_eᵀq̇; absent without contact.",
+        eval: |r| r.contact().map(|c| c.energy_pumped),
+    },
+    Metric {
+        name: "passivity_margin",
+        unit: "J",
+        doc: "The margin of the passivity bound −W_contact ≤ E(0) + W_controller + W_gravity (≥ 0 when it holds); absent without contact.",
+        eval: |r| r.contact().map(|c| c.passivity_margin),
+    },
+    Metric {
+        name: "tool_path_mean",
+        unit: "m",
+        doc: "The tool's mean 3-D distance to the Cartesian path over the steady passes; absent without a Cartesian path.",
+        eval: |r| r.budget().map(|b| b.distance.mean),
+    },
+    Metric {
+        name: "tool_path_max",
+        unit: "m",
+        doc: "The tool's largest 3-D distance to the Cartesian path over the steady passes.",
+        eval: |r| r.budget().map(|b| b.distance.max),
+    },
+    Metric {
+        name: "tool_surface_max",
+        unit: "m",
+        doc: "The tool's largest distance to a planar path within its plane (along the surface), over the steady passes.",
+        eval: |r| r.budget().and_then(|b| b.surface).map(|s| s.max),
+    },
+    Metric {
+        name: "contour_geometry_max",
+        unit: "m",
+        doc: "The joint contour's own largest distance to the Cartesian path (absent for the task-space field, which follows the exact path).",
+        eval: |r| r.budget().and_then(|b| b.geometry).map(|g| g.max),
+    },
+];
+
+/// The metric called `name`.
+pub fn metric(name: &str) -> Result<&'static Metric> {
+    METRICS.iter().find(|m| m.name == name).ok_or_else(|| {
+        let known: Vec<&str> = METRICS.iter().map(|m| m.name).collect();
+        SimError::Setting(format!(
+            "metric `{name}`: no such metric (the metrics: {})",
+            known.join(", ")
+        ))
+    })
+}
+
+/// The metrics called `names` (all of them when `names` is empty), in that order; an
+/// unknown or repeated name is an error that names it.
+pub fn select(names: &[String]) -> Result<Vec<&'static Metric>> {
+    if names.is_empty() {
+        return Ok(METRICS.iter().collect());
+    }
+    let mut out: Vec<&'static Metric> = Vec::with_capacity(names.len());
+    for n in names {
+        let m = metric(n)?;
+        if out.iter().any(|o| o.name == m.name) {
+            return Err(SimError::Setting(format!("metric `{n}`: listed twice")));
+        }
+        out.push(m);
+    }
+    Ok(out)
+}
