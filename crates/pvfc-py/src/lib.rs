@@ -15,6 +15,7 @@ mod robots;
 mod runs;
 mod scara;
 mod settings;
+mod study;
 
 use pyo3::prelude::*;
 
@@ -36,6 +37,7 @@ fn _pvfc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<settings::ControllerSettings>()?;
     m.add_class::<runs::Scenario>()?;
     m.add_class::<runs::SimulationResult>()?;
+    m.add_class::<study::Study>()?;
     m.add_class::<controller::Controller>()?;
     m.add_class::<passive::PassiveController>()?;
     m.add_function(wrap_pyfunction!(runs::simulate, m)?)?;

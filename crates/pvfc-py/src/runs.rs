@@ -85,6 +85,28 @@ impl Scenario {
         py.import("json")?.call_method1("loads", (text,))
     }
 
+    /// Rebuilds a pickled scenario: its JSON, and the folder its relative paths are read
+    /// from.
+    #[staticmethod]
+    fn _from_state(json: &str, base_dir: PathBuf) -> PyResult<Self> {
+        let mut s: SimScenario = serde_json::from_str(json)
+            .map_err(|e| crate::errors::ScenarioError::new_err(format!("pickled scenario: {e}")))?;
+        s.base_dir = base_dir;
+        s.validate()
+            .map_err(|e| crate::errors::ScenarioError::new_err(format!("pickled scenario: {e}")))?;
+        Ok(Scenario { s })
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        let py = slf.py();
+        let s = &slf.get().s;
+        let json = serde_json::to_string(s)
+            .map_err(|e| crate::errors::ScenarioError::new_err(e.to_string()))?;
+        let rebuild = slf.get_type().getattr("_from_state")?;
+        let args = (json, s.base_dir.clone()).into_pyobject(py)?;
+        pyo3::types::PyTuple::new(py, [rebuild, args.into_any()])
+    }
+
     /// The scenario as TOML text.
     fn to_toml(&self) -> PyResult<String> {
         self.s.to_toml().map_err(sim_err)

@@ -32,6 +32,7 @@ from ._pvfc import (
     Scara,
     Scenario,
     ScenarioError,
+    Study,
     SimulationResult,
     SingularInertiaError,
     So3ConstantRate,
@@ -45,6 +46,7 @@ from ._pvfc import (
     simulate_many,
     simulate_timed,
 )
+from .study import sweep
 
 __all__ = [
     "ArmController",
@@ -69,6 +71,7 @@ __all__ = [
     "Scara",
     "Scenario",
     "ScenarioError",
+    "Study",
     "SimulationResult",
     "SingularInertiaError",
     "So3ConstantRate",
@@ -81,4 +84,5 @@ __all__ = [
     "simulate",
     "simulate_many",
     "simulate_timed",
+    "sweep",
 ]

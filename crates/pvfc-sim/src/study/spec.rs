@@ -30,7 +30,9 @@ use std::path::{Path, PathBuf};
 pub struct StudySpec {
     /// The study's name: its runs are `NAME_0000`, `NAME_0001`, …
     pub name: String,
-    /// The base scenario's file, relative to the study's file.
+    /// The base scenario's file, relative to the study's file (a study built with its base
+    /// scenario in hand, [`StudySpec::from_toml`], may leave it out).
+    #[serde(default, skip_serializing_if = "is_empty_path")]
     pub base: PathBuf,
     /// The axes.
     #[serde(default, rename = "axis")]
@@ -125,18 +127,38 @@ pub struct StudyRun {
     pub scenario: Scenario,
 }
 
+fn is_empty_path(p: &Path) -> bool {
+    p.as_os_str().is_empty()
+}
+
 fn setting(message: String) -> SimError {
     SimError::Setting(message)
 }
 
 impl StudySpec {
+    /// Parses a study's TOML text (`path` only names it in errors).
+    pub fn from_toml(text: &str, path: &Path) -> Result<StudySpec> {
+        toml::from_str(text).map_err(|e| SimError::Scenario {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })
+    }
+
+    /// The study as TOML text.
+    pub fn to_toml(&self) -> Result<String> {
+        toml::to_string(self).map_err(|e| setting(format!("study `{}`: {e}", self.name)))
+    }
+
     /// Reads a study's file; its base scenario is resolved relative to it.
     pub fn from_file(path: &Path) -> Result<(StudySpec, Scenario)> {
         let text = std::fs::read_to_string(path).map_err(|e| SimError::io(path, e))?;
-        let spec: StudySpec = toml::from_str(&text).map_err(|e| SimError::Scenario {
-            path: path.to_path_buf(),
-            message: e.to_string(),
-        })?;
+        let spec = StudySpec::from_toml(&text, path)?;
+        if is_empty_path(&spec.base) {
+            return Err(SimError::Scenario {
+                path: path.to_path_buf(),
+                message: "no `base`: the base scenario's file, relative to this one".into(),
+            });
+        }
         let base_path = path
             .parent()
             .map(|d| d.join(&spec.base))
