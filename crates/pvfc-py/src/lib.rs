@@ -11,6 +11,7 @@ mod convert;
 mod errors;
 mod navigation;
 mod passive;
+mod pickle;
 mod robots;
 mod runs;
 mod scara;

@@ -170,6 +170,46 @@ impl SimulationResult {
         self.period
     }
 
+    /// Rebuilds a pickled result from its name, period and columns (`crate::pickle`).
+    #[staticmethod]
+    fn _from_state(
+        name: String,
+        period: f64,
+        columns: Vec<(String, usize, Bound<'_, pyo3::types::PyBytes>)>,
+        contact: Option<Vec<(String, usize, Bound<'_, pyo3::types::PyBytes>)>>,
+    ) -> PyResult<Self> {
+        let owned = |cs: Vec<(String, usize, Bound<'_, pyo3::types::PyBytes>)>| -> Vec<crate::pickle::ColumnState> {
+            cs.into_iter()
+                .map(|(n, w, b)| (n, w, b.as_bytes().to_vec()))
+                .collect()
+        };
+        let contact = contact.map(owned);
+        let t = crate::pickle::from_state(name, &owned(columns), contact.as_deref())
+            .map_err(crate::errors::PvfcError::new_err)?;
+        Ok(SimulationResult { t, period })
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        let py = slf.py();
+        let me = slf.get();
+        let (columns, contact) = crate::pickle::to_state(&me.t);
+        // Bytes as Python bytes, not lists of ints.
+        let bytes = |cs: Vec<crate::pickle::ColumnState>| -> Vec<(String, usize, Bound<'py, pyo3::types::PyBytes>)> {
+            cs.into_iter()
+                .map(|(n, w, b)| (n, w, pyo3::types::PyBytes::new(py, &b)))
+                .collect()
+        };
+        let args = (
+            me.t.name.clone(),
+            me.period,
+            bytes(columns),
+            contact.map(bytes),
+        )
+            .into_pyobject(py)?;
+        let rebuild = slf.get_type().getattr("_from_state")?;
+        pyo3::types::PyTuple::new(py, [rebuild, args.into_any()])
+    }
+
     /// The contact columns of a run with a `[contact]` or `[contact_3d]` world, or None: a
     /// dict of fresh arrays `force` (n, 2 or 3), `normal_force`, `depth`, `torque` (n, dof,
     /// `F_e = Jᵀf`), `tool` (n, 2 or 3), `work_contact` (∫F_eᵀq̇ dt), `work_friction`,

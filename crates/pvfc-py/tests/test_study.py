@@ -186,3 +186,34 @@ def test_pvfc_sweep_on_the_command_line_writes_the_same_numbers(study, local, pv
             else:
                 assert float(cell).hex() == float(want).hex(), name
     assert (out / "grid_mean_u.png").stat().st_size > 5000
+
+
+def _columns(r: "pvfc.SimulationResult") -> dict:
+    names = ["t", "q", "qdot", "energy", "tau", "tau_dot", "flywheel_speed", "beta", "w_beta",
+             "potential", "lambda1", "lambda2", "torque", "friction_power"]
+    out = {n: np.asarray(getattr(r, n)) for n in names}
+    for k, v in (r.contact or {}).items():
+        out["contact." + k] = np.asarray(v)
+    return out
+
+
+def test_results_pickle_bit_for_bit_and_cross_processes():
+    from concurrent.futures import ProcessPoolExecutor
+
+    scenarios = [short(2.0), pvfc.Scenario.preset("contact_wall")]
+    local = [pvfc.simulate(s) for s in scenarios]
+    assert local[1].contact is not None
+    with ProcessPoolExecutor(max_workers=2) as pool:
+        remote = list(pool.map(pvfc.simulate, scenarios))
+    for a in local:
+        back = pickle.loads(pickle.dumps(a))
+        assert (back.name, back.period, len(back)) == (a.name, a.period, len(a))
+        for got, want in ((back, a), (remote[local.index(a)], a)):
+            x, y = _columns(got), _columns(want)
+            assert x.keys() == y.keys()
+            for k in x:
+                assert x[k].shape == y[k].shape and np.array_equal(
+                    x[k].view(np.uint64), y[k].view(np.uint64)
+                ), k
+    with pytest.raises(pvfc.PvfcError, match="no column"):
+        pvfc.SimulationResult._from_state("x", 1.0, [], None)

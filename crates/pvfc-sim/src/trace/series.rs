@@ -28,6 +28,16 @@ impl JointSeries {
         }
     }
 
+    /// A series of `dof`-vectors from all its numbers, row after row; `None` unless their
+    /// count is a multiple of `dof` (`dof = 0` takes no numbers).
+    pub fn from_flat(dof: usize, data: Vec<f64>) -> Option<Self> {
+        let whole = match dof {
+            0 => data.is_empty(),
+            d => data.len() % d == 0,
+        };
+        whole.then_some(JointSeries { dof, data })
+    }
+
     /// The number of joints.
     pub fn dof(&self) -> usize {
         self.dof
