@@ -45,7 +45,7 @@ fn load<C: Flat>(columns: &[ColumnState], name: &str) -> Result<C, String> {
         .iter()
         .find(|c| c.0 == name)
         .ok_or_else(|| format!("pickled result: no column `{name}`"))?;
-    if bytes.len() % 8 != 0 {
+    if !bytes.len().is_multiple_of(8) {
         return Err(format!(
             "pickled result: column `{name}` is not whole numbers"
         ));

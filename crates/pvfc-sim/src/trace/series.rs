@@ -33,7 +33,7 @@ impl JointSeries {
     pub fn from_flat(dof: usize, data: Vec<f64>) -> Option<Self> {
         let whole = match dof {
             0 => data.is_empty(),
-            d => data.len() % d == 0,
+            d => data.len().is_multiple_of(d),
         };
         whole.then_some(JointSeries { dof, data })
     }
