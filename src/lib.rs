@@ -24,4 +24,6 @@ mod manual {
     struct Crates;
     #[doc = include_str!("../docs/src/guide/digital-controller.md")]
     struct DigitalController;
+    #[doc = include_str!("../docs/src/guide/studies.md")]
+    struct Studies;
 }
