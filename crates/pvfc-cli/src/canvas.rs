@@ -322,7 +322,11 @@ pub fn histogram(
     let mean = samples.iter().sum::<f64>() / samples.len().max(1) as f64;
     let mut chart = ChartBuilder::on(area)
         .caption(
-            format!("{title}   ({} runs, mean {mean:.4e})", samples.len()),
+            format!(
+                "{title}   ({} runs, mean {})",
+                samples.len(),
+                significant(mean, 4)
+            ),
             ("sans-serif", 16),
         )
         .margin(8)
@@ -334,7 +338,8 @@ pub fn histogram(
         .configure_mesh()
         .x_desc(x_label)
         .y_desc("runs")
-        .x_label_formatter(&|x| format!("{x:.3e}"))
+        .x_label_formatter(&|x| significant(*x, 3))
+        .y_label_formatter(&|y| format!("{y:.0}"))
         .label_style(("sans-serif", 12))
         .draw()
         .map_err(|e| err(path, e))?;
@@ -342,6 +347,12 @@ pub fn histogram(
         .draw_series(counts.iter().enumerate().map(|(k, &c)| {
             let x0 = lo + k as f64 * width;
             Rectangle::new([(x0, 0.0), (x0 + width, c as f64)], COLORS[0].filled())
+        }))
+        .map_err(|e| err(path, e))?;
+    chart
+        .draw_series(counts.iter().enumerate().map(|(k, &c)| {
+            let x0 = lo + k as f64 * width;
+            Rectangle::new([(x0, 0.0), (x0 + width, c as f64)], WHITE.stroke_width(1))
         }))
         .map_err(|e| err(path, e))?;
     chart

@@ -167,3 +167,20 @@ fn figures_per_metric_a_heat_map_a_line_and_a_histogram() {
         assert!(std::fs::metadata(&f[0]).expect("a file").len() > 5_000);
     }
 }
+
+#[test]
+fn the_example_studies_expand_into_valid_runs() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/studies");
+    let mut seen = 0;
+    for e in std::fs::read_dir(&dir).expect("examples/studies") {
+        let p = e.expect("an entry").path();
+        if p.extension().is_some_and(|x| x == "toml") {
+            let (spec, base) =
+                pvfc_sim::study::spec::StudySpec::from_file(&p).expect("a study file");
+            let runs = spec.runs(&base).expect("valid runs");
+            assert!(runs.len() >= 32, "{}: {} runs", p.display(), runs.len());
+            seen += 1;
+        }
+    }
+    assert_eq!(seen, 2);
+}

@@ -25,6 +25,7 @@ fn spec(axes: Vec<Axis>) -> StudySpec {
         seed: 0,
         latin_hypercube: false,
         metrics: Vec::new(),
+        set: Default::default(),
     }
 }
 
@@ -243,8 +244,14 @@ fn a_study_file_names_its_base_relative_to_itself() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+fn a_values(key: &str, values: Vec<f64>) -> Axis {
+    let mut a = axis(key);
+    a.values = Some(values);
+    a
+}
+
 #[test]
-fn nested_lists_and_metrics_by_name() {
+fn nested_lists_shared_settings_and_metrics_by_name() {
     let ur5 = Scenario::from_file(
         &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../scenarios/ur5_cartesian.toml"),
@@ -265,6 +272,17 @@ fn nested_lists_and_metrics_by_name() {
         m.contains("points[1][0] = 3") && m.contains("waypoint"),
         "{m}"
     );
+    // Settings every run shares: applied before the axes, checked like them.
+    let mut shared = spec(vec![a_values("controller.gamma", vec![0.01, 0.02])]);
+    shared.set.insert("duration".into(), 45.0);
+    shared
+        .set
+        .insert("contour.cartesian.corner_radius".into(), 0.02);
+    let runs = shared.runs(&ur5).expect("shared settings");
+    assert!(runs.iter().all(|r| r.scenario.duration == 45.0));
+    shared.set.insert("duraton".into(), 1.0);
+    let m = error(&shared, &ur5);
+    assert!(m.contains("set") && m.contains("duraton"), "{m}");
     // Metrics by name: all by default, in the documented order; an unknown one named.
     let mut s = spec(vec![]);
     let all = s.metrics().expect("all");

@@ -46,6 +46,10 @@ pub struct StudySpec {
     /// Draw a random study as a Latin hypercube (each axis's strata each hit once).
     #[serde(default)]
     pub latin_hypercube: bool,
+    /// Settings every run shares, by dotted key (`set = { duration = 45.0 }`), applied to the
+    /// base before the axes.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub set: std::collections::BTreeMap<String, f64>,
     /// The metrics to keep of each run, by name ([`crate::study::metrics::METRICS`]); all
     /// of them when empty.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -257,8 +261,15 @@ impl StudySpec {
         } else {
             values.iter().map(Vec::len).product()
         };
-        let table = toml::Value::try_from(base)
+        let mut table = toml::Value::try_from(base)
             .map_err(|e| setting(format!("study `{}`: the base scenario: {e}", self.name)))?;
+        for (key, value) in &self.set {
+            if !value.is_finite() {
+                return Err(setting(format!("set `{key}`: {value} is not finite")));
+            }
+            set_key(&mut table, key, *value)
+                .map_err(|e| setting(format!("study `{}`, set: {e}", self.name)))?;
+        }
         let mut runs = Vec::with_capacity(count);
         for index in 0..count {
             // The grid's coordinates of run `index`, the last axis fastest; a random study's
