@@ -25,6 +25,13 @@ pub(crate) struct Study {
 }
 
 impl Study {
+    /// Run `index`, or an `IndexError` naming the argument.
+    fn get(&self, index: usize, argument: &str) -> PyResult<&StudyRun> {
+        self.runs.get(index).ok_or_else(|| {
+            PyIndexError::new_err(format!("{argument}: {index}, of {} runs", self.runs.len()))
+        })
+    }
+
     fn build(spec: StudySpec, base: SimScenario) -> PyResult<Self> {
         let runs = spec.runs(&base).map_err(sim_err)?;
         let metrics = spec.metrics().map_err(sim_err)?;
@@ -117,19 +124,18 @@ impl Study {
 
     /// The values of the axes of run `index`.
     fn parameters(&self, index: usize) -> PyResult<Vec<f64>> {
-        let r = self.runs.get(index).ok_or_else(|| {
-            PyIndexError::new_err(format!("index: {index}, of {} runs", self.runs.len()))
-        })?;
-        Ok(r.parameters.iter().map(|p| p.1).collect())
+        Ok(self
+            .get(index, "index")?
+            .parameters
+            .iter()
+            .map(|p| p.1)
+            .collect())
     }
 
     /// The scenario of run `index`.
     fn scenario(&self, index: usize) -> PyResult<Scenario> {
-        let r = self.runs.get(index).ok_or_else(|| {
-            PyIndexError::new_err(format!("index: {index}, of {} runs", self.runs.len()))
-        })?;
         Ok(Scenario {
-            s: r.scenario.clone(),
+            s: self.get(index, "index")?.scenario.clone(),
         })
     }
 
