@@ -447,3 +447,69 @@ fn a_urdf_arm_follows_a_joint_space_lissajous_curve_or_ellipse() {
     let _ = std::fs::remove_file(&bad);
     assert!(e.unwrap_err().contains("period"));
 }
+
+/// A model error (`plant.mass_scale`): the simulated arm's links heavier than the controller's
+/// model. The plant is the scaled model (its kinetic energy and gravity are the scaled
+/// chain's), the audit still closes (the coupling is workless whatever its model, and the
+/// add-ons' and gravity's work are logged), the contact force grows with the uncompensated
+/// weight, and bad factors are errors that name the field.
+#[cfg(feature = "contact")]
+#[test]
+fn a_model_error_keeps_the_audit_and_shows_in_the_force() {
+    use pvfc_sim::scenario::ArmSystem;
+    let mut nominal = ur5_on_a_table(Mode::Sampled);
+    nominal.duration = 2.0;
+    let mut heavy = nominal.clone();
+    heavy.plant.mass_scale = Some(vec![1.0, 1.0, 1.2, 1.0, 1.0, 1.0]);
+    heavy.validate().unwrap();
+    let sys = ArmSystem::build(&heavy).unwrap();
+    let (q, v) = (
+        nalgebra::DVector::from_vec(vec![0.1, -1.1, 1.3, -1.7, -1.5, 0.1]),
+        nalgebra::DVector::from_vec(vec![0.2, -0.1, 0.3, 0.1, -0.2, 0.1]),
+    );
+    let m_model = sys.robot.inertia(q.as_slice()).unwrap();
+    let m_plant = sys.plant.inertia(q.as_slice()).unwrap();
+    assert!((m_plant.clone() - m_model.clone()).norm() > 1e-3 * m_model.norm());
+    let ke = |m: &nalgebra::DMatrix<f64>| 0.5 * v.dot(&(m * &v));
+    assert!(ke(&m_plant) > ke(&m_model));
+    let peak = |t: &pvfc_sim::Trace| {
+        let c = t.contact.as_ref().unwrap();
+        let audit = c
+            .audit_residual(&t.energy)
+            .iter()
+            .fold(0.0_f64, |m, r| m.max(r.abs()));
+        (
+            c.normal_force.iter().fold(0.0_f64, |m, f| m.max(*f)),
+            audit / t.energy[0],
+        )
+    };
+    let (f0, a0) = peak(&simulate(&nominal, &mut |_| {}).unwrap());
+    let t = simulate(&heavy, &mut |_| {}).unwrap();
+    let (f1, a1) = peak(&t);
+    println!("peak force {f0:.2} → {f1:.2} N, audit {a0:.1e} → {a1:.1e}");
+    assert!(a0 < 1e-9 && a1 < 1e-9, "audit {a0:e}, {a1:e}");
+    assert!(f1 > f0, "a heavier forearm presses harder: {f0} → {f1} N");
+    // Bad factors name the field.
+    for (scale, mode) in [
+        (vec![1.0; 5], Mode::Sampled),
+        (vec![1.0, 1.0, 0.0, 1.0, 1.0, 1.0], Mode::Sampled),
+        (vec![1.0, 1.0, f64::NAN, 1.0, 1.0, 1.0], Mode::Sampled),
+        (vec![1.1; 6], Mode::Continuous),
+    ] {
+        let mut s = heavy.clone();
+        s.plant.mass_scale = Some(scale);
+        s.simulation.mode = mode;
+        if mode == Mode::Continuous {
+            s.controller.passive = None;
+        }
+        let e = s.validate().unwrap_err().to_string();
+        assert!(e.contains("plant.mass_scale"), "{e}");
+    }
+    let mut scara = Scenario::from_file(&file("fig8_R100.toml")).unwrap();
+    scara.plant.mass_scale = Some(vec![1.1, 1.1]);
+    assert!(scara
+        .validate()
+        .unwrap_err()
+        .to_string()
+        .contains("plant.mass_scale"));
+}

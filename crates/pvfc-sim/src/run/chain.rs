@@ -32,15 +32,18 @@ pub fn simulate_chain_with(
     let robot = &system.robot;
     with_dof!(robot.dof(), N => {
         let chain = SerialChain::<f64, N>::try_from(robot.model())?;
-        run::<N>(s, chain, system, progress)
+        let plant = SerialChain::<f64, N>::try_from(system.plant.model())?;
+        run::<N>(s, (chain, plant), system, progress)
     }, otherwise Err(SimError::Setting(format!(
         "robot {}: {} joints; pvfc supports 1 to 8", robot.description().name, robot.dof()
     ))))
 }
 
+/// `chain`: the controller's model; `plant`: the simulated arm (the same chain, or it with
+/// the scenario's model error).
 fn run<const N: usize>(
     s: &Scenario,
-    chain: SerialChain<f64, N>,
+    (chain, plant): (SerialChain<f64, N>, SerialChain<f64, N>),
     system: &ArmSystem,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
@@ -56,15 +59,15 @@ fn run<const N: usize>(
         laps: 0,
     });
     let (q, v) = initial_state(s, &chain)?;
-    let mut env = Spatial::of(s, system, &chain)?;
+    let mut env = Spatial::of(s, system, &plant)?;
     let columns = env.columns();
     match s.simulation.mode {
         Mode::Sampled => match &s.controller.passive {
-            None => loops::sampled(s, &chain, ctl, (q, v), &mut env, columns, progress),
+            None => loops::sampled(s, &plant, ctl, (q, v), &mut env, columns, progress),
             Some(spec) => {
                 let circular = chain.kinds().map(|k| k == JointKind::Circular);
                 let drive = PassiveDrive::new(ctl, spec, circular)?;
-                loops::sampled(s, &chain, drive, (q, v), &mut env, columns, progress)
+                loops::sampled(s, &plant, drive, (q, v), &mut env, columns, progress)
             }
         },
         Mode::Continuous => {
@@ -110,7 +113,8 @@ pub fn simulate_timed_chain_with(
     let robot = &system.robot;
     with_dof!(robot.dof(), N => {
         let chain = SerialChain::<f64, N>::try_from(robot.model())?;
-        timed::<N>(s, b, tau_rate, chain, system, progress)
+        let plant = SerialChain::<f64, N>::try_from(system.plant.model())?;
+        timed::<N>(s, b, tau_rate, (chain, plant), system, progress)
     }, otherwise Err(SimError::Setting(format!(
         "robot {}: {} joints; pvfc supports 1 to 8", robot.description().name, robot.dof()
     ))))
@@ -120,7 +124,7 @@ fn timed<const N: usize>(
     s: &Scenario,
     b: &BaselineSpec,
     tau_rate: f64,
-    chain: SerialChain<f64, N>,
+    (chain, plant): (SerialChain<f64, N>, SerialChain<f64, N>),
     system: &ArmSystem,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
@@ -146,7 +150,7 @@ fn timed<const N: usize>(
     );
     let limits = b.limits::<N>()?;
     let (q, v) = initial_state(s, &chain)?;
-    let mut env = Spatial::of(s, system, &chain)?;
+    let mut env = Spatial::of(s, system, &plant)?;
     let columns = env.columns();
     let law = |tau: f64, q: &JointSpace<f64, N>, v: &SVector<f64, N>| {
         let xd = contour.sample(tau);
@@ -167,7 +171,7 @@ fn timed<const N: usize>(
     };
     loops::timed(
         s,
-        &chain,
+        &plant,
         &mut env,
         (q, v),
         columns,

@@ -22,8 +22,11 @@ use pvfc_core::prelude::*;
 /// the scenario's files again.
 #[derive(Clone, Debug)]
 pub struct ArmSystem {
-    /// The robot model.
+    /// The robot model: the controller's.
     pub robot: Robot,
+    /// The simulated arm: the robot with the scenario's model error (`plant.mass_scale`), or
+    /// the robot itself.
+    pub plant: Robot,
     /// The controller's settings.
     pub settings: ArmSettings,
     /// The controller, at its initial state.
@@ -40,8 +43,10 @@ impl ArmSystem {
         s.check_chain(&robot)?;
         let settings = s.arm_settings_for(&robot)?;
         let controller = ArmController::new(&robot, &settings)?;
+        let plant = s.plant_robot(&robot)?;
         Ok(ArmSystem {
             robot,
+            plant,
             settings,
             controller,
         })
@@ -96,6 +101,9 @@ impl Scenario {
                 "controller.passive: the passive digital controller runs in the sampled mode",
             );
         }
+        if self.plant.mass_scale.is_some() && !self.is_chain() {
+            return bad("plant.mass_scale: a model error of a URDF arm's links ([plant] urdf)");
+        }
         if self.is_chain() {
             // A URDF arm is validated by building its system: the same code path as a run's,
             // the URDF read once.
@@ -147,6 +155,38 @@ impl Scenario {
         match self.plant.gravity {
             Some(g) => robot.with_gravity(nalgebra::Vector3::from(g)),
             None => Ok(robot),
+        }
+    }
+
+    /// The simulated arm of a URDF scenario whose controller's model is `robot`: `robot` with
+    /// each link's mass and rotational inertia times `plant.mass_scale` (one factor per joint,
+    /// finite and > 0; the sampled mode only), or `robot` itself without a model error.
+    pub fn plant_robot(&self, robot: &Robot) -> Result<Robot> {
+        let Some(scale) = &self.plant.mass_scale else {
+            return Ok(robot.clone());
+        };
+        let n = robot.dof();
+        if scale.len() != n || !scale.iter().all(|k| k.is_finite() && *k > 0.0) {
+            return Err(SimError::Setting(format!(
+                "plant.mass_scale: {} factors for the {n}-joint robot {}; one per link, finite and > 0",
+                scale.len(),
+                robot.description().name
+            )));
+        }
+        if self.simulation.mode != Mode::Sampled {
+            return Err(SimError::Setting(
+                "plant.mass_scale: a model error needs the sampled mode (the continuous mode integrates the controller's own model)".into(),
+            ));
+        }
+        let mut d = robot.description().clone();
+        for (link, k) in d.links.iter_mut().zip(scale) {
+            link.mass *= k;
+            link.inertia *= *k;
+        }
+        let plant = Robot::from_description(d)?;
+        match self.plant.gravity {
+            Some(g) => plant.with_gravity(nalgebra::Vector3::from(g)),
+            None => Ok(plant),
         }
     }
 

@@ -121,6 +121,12 @@ pub struct PlantSpec {
     /// Gravity in the base frame (m/s²; default `(0, 0, −9.80665)` for a URDF arm).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gravity: Option<[f64; 3]>,
+    /// A model error, one positive finite factor per link of a URDF arm's chain (one per
+    /// joint): the simulated arm's link masses and rotational inertias are the URDF's times
+    /// these, while the controller (its coupling, gravity compensation and field) keeps the
+    /// URDF's model. Sampled mode only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_scale: Option<Vec<f64>>,
 }
 
 fn default_arm() -> ArmSpec {
@@ -136,6 +142,7 @@ impl Default for PlantSpec {
             tip: None,
             base: None,
             gravity: None,
+            mass_scale: None,
         }
     }
 }
