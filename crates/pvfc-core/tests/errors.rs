@@ -244,3 +244,25 @@ fn a_huge_dt_is_an_error_not_a_hang() {
     let s = ctl.state();
     assert!((0.0..6.0).contains(&s.tau), "τ = {}", s.tau);
 }
+
+#[test]
+fn the_forward_dynamics_of_a_diverged_state_say_it_is_not_finite() {
+    let arm = Scara::<f64>::pelican();
+    let q = Torus::<f64, 2>::new(Vector2::new(0.3, 0.5));
+    let ok = arm.acceleration(&q, &Vector2::new(0.1, 0.2), &Vector2::new(1.0, -1.0));
+    assert!(ok.is_ok_and(|a| a.iter().all(|x| x.is_finite())));
+    for (v, f) in [
+        (Vector2::new(f64::NAN, 0.0), Vector2::zeros()),
+        (Vector2::zeros(), Vector2::new(f64::INFINITY, 0.0)),
+    ] {
+        match arm.acceleration(&q, &v, &f) {
+            Err(e) => assert_eq!(e.kind(), ErrorKind::NonFinite, "{e}"),
+            Ok(a) => assert!(a.iter().any(|x| !x.is_finite()), "{a}"),
+        }
+    }
+    let nan_q = Torus::<f64, 2>::new(Vector2::new(0.3, f64::NAN));
+    let e = arm
+        .acceleration(&nan_q, &Vector2::zeros(), &Vector2::zeros())
+        .expect_err("a NaN elbow angle");
+    assert_eq!(e.kind(), ErrorKind::NonFinite, "{e}");
+}

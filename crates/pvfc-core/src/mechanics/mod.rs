@@ -124,6 +124,16 @@ pub trait MechanicalSystem<T: Real, G: LieGroup<T, D>, const D: usize> {
         let rhs = force - c * v - g;
         match m.cholesky() {
             Some(ch) => Ok(ch.solve(&rhs)),
+            // A state or a force that is not finite (a run that diverged) makes `M` or the
+            // right-hand side non-finite: say so rather than blame the inertia.
+            None if !(crate::scalar::all_finite(m.iter())
+                && crate::scalar::all_finite(rhs.iter())) =>
+            {
+                Err(Error::new(
+                    ErrorKind::NonFinite,
+                    "MechanicalSystem::acceleration: the state or the force is not finite (did the run diverge?)",
+                ))
+            }
             None => Err(Error::new(
                 ErrorKind::SingularInertia,
                 "MechanicalSystem::acceleration: M(q) not positive definite",
