@@ -23,7 +23,7 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::lie::{LieGroup, Tangent};
 use crate::scalar::cast;
 use crate::Real;
-use nalgebra::SMatrix;
+use nalgebra::{Matrix2, SMatrix, Vector2};
 
 /// A fully actuated mechanical system on the group `G`: its inertia matrix `M(q)` and a
 /// Coriolis matrix `C(q, v)` such that `Ṁ − 2C` is skew-symmetric (the Christoffel form),
@@ -124,22 +124,47 @@ pub trait MechanicalSystem<T: Real, G: LieGroup<T, D>, const D: usize> {
         let rhs = force - c * v - g;
         match m.cholesky() {
             Some(ch) => Ok(ch.solve(&rhs)),
-            // A state or a force that is not finite (a run that diverged) makes `M` or the
-            // right-hand side non-finite: say so rather than blame the inertia.
-            None if !(crate::scalar::all_finite(m.iter())
-                && crate::scalar::all_finite(rhs.iter())) =>
-            {
-                Err(Error::new(
-                    ErrorKind::NonFinite,
-                    "MechanicalSystem::acceleration: the state or the force is not finite (did the run diverge?)",
-                ))
-            }
-            None => Err(Error::new(
-                ErrorKind::SingularInertia,
-                "MechanicalSystem::acceleration: M(q) not positive definite",
-            )),
+            None => Err(acceleration_failure(m.iter(), rhs.iter())),
         }
     }
+}
+
+/// Why the forward dynamics failed: a state or a force that is not finite (a run that
+/// diverged) makes `M` or the right-hand side non-finite, which says so rather than blame the
+/// inertia; else `M(q)` is not positive definite.
+pub(crate) fn acceleration_failure<'a, T: Real + 'a>(
+    m: impl IntoIterator<Item = &'a T>,
+    rhs: impl IntoIterator<Item = &'a T>,
+) -> Error {
+    if crate::scalar::all_finite(m) && crate::scalar::all_finite(rhs) {
+        Error::new(
+            ErrorKind::SingularInertia,
+            "MechanicalSystem::acceleration: M(q) not positive definite",
+        )
+    } else {
+        Error::new(
+            ErrorKind::NonFinite,
+            "MechanicalSystem::acceleration: the state or the force is not finite (did the run diverge?)",
+        )
+    }
+}
+
+/// Solves `M x = b` for a symmetric positive definite 2×2 `M` by Cholesky, with the
+/// operations of nalgebra's `Cholesky::new(M).solve(b)` in the same order (so the same result,
+/// bit for bit, up to the sign of a zero) without its general loops; `None` where that
+/// factorisation fails (a diagonal pivot that is not > 0, or NaN). Reads `M`'s lower triangle.
+#[inline]
+pub fn cholesky_solve2<T: Real>(m: &Matrix2<T>, b: &Vector2<T>) -> Option<Vector2<T>> {
+    let pivot = |v: T| (v > T::zero()).then(|| v.sqrt());
+    let l00 = pivot(m[(0, 0)])?;
+    let l10 = m[(1, 0)] / l00;
+    let l11 = pivot(m[(1, 1)] - l10 * l10)?;
+    // L y = b, then Lᵀ x = y.
+    let y0 = b[0] / l00;
+    let y1 = (b[1] - y0 * l10) / l11;
+    let x1 = y1 / l11;
+    let x0 = (y0 - l10 * x1) / l00;
+    Some(Vector2::new(x0, x1))
 }
 
 /// What the coupling law (eq. 7) needs of the model at one state, from

@@ -1,6 +1,6 @@
 //! The planar two-link arm (SCARA) in closed form.
 
-use super::{positive, MechanicalSystem};
+use super::{acceleration_failure, cholesky_solve2, positive, MechanicalSystem};
 use crate::error::{Error, ErrorKind, Result};
 use crate::lie::{Tangent, Torus};
 use crate::scalar::cast;
@@ -163,5 +163,19 @@ impl<T: Real> MechanicalSystem<T, Torus<T, 2>, 2> for Scara<T> {
             Matrix2::new(self.a1 + (self.a3 + self.a3) * c2, m12, m12, self.a2),
             Matrix2::new(-h * v[1], -h * (v[0] + v[1]), h * v[0], T::zero()),
         )
+    }
+
+    /// The forward dynamics by the closed-form 2×2 Cholesky solve ([`cholesky_solve2`]: the
+    /// same result as the general one, without its loops).
+    #[inline]
+    fn acceleration(
+        &self,
+        q: &Torus<T, 2>,
+        v: &Tangent<T, 2>,
+        force: &Tangent<T, 2>,
+    ) -> Result<Tangent<T, 2>> {
+        let (m, c) = self.inertia_and_coriolis(q, v);
+        let rhs = force - c * v;
+        cholesky_solve2(&m, &rhs).ok_or_else(|| acceleration_failure(m.iter(), rhs.iter()))
     }
 }
