@@ -50,7 +50,12 @@ proptest! {
         q1 in -10f64..10.0, q2 in -10f64..10.0, v1 in -20f64..20.0, v2 in -20f64..20.0,
         f1 in -100f64..100.0, f2 in -100f64..100.0,
     ) {
-        for arm in [Scara::<f64>::pelican()] {
+        // The Pelican, and the heavier direct-drive arm of the paper's scenarios.
+        let direct_drive = Scara::new(ScaraParameters {
+            m1: 15.0, m2: 6.0, l1: 0.4, l2: 0.35, lc1: 0.2, lc2: 0.15, i1: 0.4, i2: 0.15,
+        })
+        .unwrap();
+        for arm in [Scara::<f64>::pelican(), direct_drive] {
             let q = Torus::<f64, 2>::new(Vector2::new(q1, q2));
             let (v, f) = (Vector2::new(v1, v2), Vector2::new(f1, f2));
             let (m, c, g) = arm.inertia_coriolis_gravity(&q, &v);
