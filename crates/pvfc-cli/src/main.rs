@@ -184,9 +184,7 @@ fn sweep(
     limit: Option<usize>,
     figures: bool,
 ) -> Result<(), SimError> {
-    let threads = threads
-        .or_else(|| std::thread::available_parallelism().ok().map(|n| n.get()))
-        .unwrap_or(1);
+    let threads = threads.unwrap_or_else(pvfc_sim::study::run::default_threads);
     let pb = ProgressBar::new(0);
     pb.set_style(
         ProgressStyle::with_template(

@@ -11,6 +11,15 @@ use pyo3::types::PyDict;
 use rayon::prelude::*;
 use std::path::PathBuf;
 
+/// A scenario from its pickled JSON, its relative paths read from `base_dir` (not yet
+/// validated).
+pub(crate) fn scenario_from_json(json: &str, base_dir: PathBuf) -> PyResult<SimScenario> {
+    let mut s: SimScenario = serde_json::from_str(json)
+        .map_err(|e| crate::errors::ScenarioError::new_err(format!("pickled scenario: {e}")))?;
+    s.base_dir = base_dir;
+    Ok(s)
+}
+
 /// Everything one run needs: plant, contour, controller, initial state, duration, rates.
 #[pyclass(module = "pvfc", frozen, from_py_object)]
 #[derive(Clone)]
@@ -89,9 +98,7 @@ impl Scenario {
     /// from.
     #[staticmethod]
     fn _from_state(json: &str, base_dir: PathBuf) -> PyResult<Self> {
-        let mut s: SimScenario = serde_json::from_str(json)
-            .map_err(|e| crate::errors::ScenarioError::new_err(format!("pickled scenario: {e}")))?;
-        s.base_dir = base_dir;
+        let s = scenario_from_json(json, base_dir)?;
         s.validate()
             .map_err(|e| crate::errors::ScenarioError::new_err(format!("pickled scenario: {e}")))?;
         Ok(Scenario { s })

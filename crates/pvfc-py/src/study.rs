@@ -73,10 +73,8 @@ impl Study {
     #[staticmethod]
     fn _from_state(spec: &str, base: &str, base_dir: PathBuf) -> PyResult<Self> {
         let spec = StudySpec::from_toml(spec, Path::new("<pickle>")).map_err(sim_err)?;
-        let mut s: SimScenario = serde_json::from_str(base)
-            .map_err(|e| crate::errors::ScenarioError::new_err(format!("pickled study: {e}")))?;
-        s.base_dir = base_dir;
-        Study::build(spec, s)
+        // Validated with every run by `build`.
+        Study::build(spec, crate::runs::scenario_from_json(base, base_dir)?)
     }
 
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
@@ -160,9 +158,7 @@ impl Study {
                 })
                 .collect::<PyResult<_>>()?,
         };
-        let threads = threads
-            .or_else(|| std::thread::available_parallelism().ok().map(|n| n.get()))
-            .unwrap_or(1);
+        let threads = threads.unwrap_or_else(pvfc_sim::study::run::default_threads);
         let metrics = &self.metrics;
         let mut rows = py.detach(move || {
             let mut rows = Vec::with_capacity(todo.len());

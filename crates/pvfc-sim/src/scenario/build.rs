@@ -152,6 +152,11 @@ impl Scenario {
             self.plant.base.as_deref(),
             self.plant.tip.as_deref(),
         )?;
+        self.with_gravity(robot)
+    }
+
+    /// `robot` under the scenario's gravity (`plant.gravity`), or as it is without one.
+    fn with_gravity(&self, robot: Robot) -> Result<Robot> {
         match self.plant.gravity {
             Some(g) => robot.with_gravity(nalgebra::Vector3::from(g)),
             None => Ok(robot),
@@ -183,11 +188,7 @@ impl Scenario {
             link.mass *= k;
             link.inertia *= *k;
         }
-        let plant = Robot::from_description(d)?;
-        match self.plant.gravity {
-            Some(g) => plant.with_gravity(nalgebra::Vector3::from(g)),
-            None => Ok(plant),
-        }
+        self.with_gravity(Robot::from_description(d)?)
     }
 
     /// The settings of a URDF arm's controller (reads the URDF; with a robot at hand, or

@@ -64,6 +64,11 @@ pub fn run_one(run: &StudyRun, metrics: &[&Metric]) -> StudyRow {
     }
 }
 
+/// The number of threads a study runs on by default: every core of this machine.
+pub fn default_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
 /// Runs `runs` on `threads` threads (at least one), handing each row to `on_row` on the
 /// calling thread as it finishes (so in the order they finish, not by index). `on_row`
 /// returns `false` to stop: runs under way finish, no new run starts.
