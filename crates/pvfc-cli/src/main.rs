@@ -48,8 +48,9 @@ enum Command {
         log_rate: f64,
     },
     /// Run a study (sweep or Monte Carlo) in parallel: its table `NAME.csv` (one row per run:
-    /// its parameters and metrics, or its error) and a figure per metric. An interrupted
-    /// sweep run again continues where it stopped.
+    /// its parameters and metrics, or its error), the same table as an Arrow IPC file
+    /// `NAME.arrow` (pandas' `read_feather`, Polars' `read_ipc`) and a figure per metric. An
+    /// interrupted sweep run again continues where it stopped.
     Sweep {
         /// The study (TOML).
         study: PathBuf,
@@ -205,7 +206,7 @@ fn sweep(
     })?;
     pb.finish();
     println!(
-        "{}: {} runs ({} ran now on {threads} threads in {:.1} s, {:.2} runs/s; {} from the table; {} failed): {}",
+        "{}: {} runs ({} ran now on {threads} threads in {:.1} s, {:.2} runs/s; {} from the table; {} failed): {} and {}",
         o.spec.name,
         o.rows.len(),
         o.ran,
@@ -213,7 +214,8 @@ fn sweep(
         o.ran as f64 / o.seconds.max(1e-9),
         o.resumed,
         o.failed(),
-        o.csv.display()
+        o.csv.display(),
+        o.arrow.display()
     );
     for r in o.rows.iter().filter(|r| r.error.is_some()) {
         println!("run {}: {}", r.index, r.error.as_deref().unwrap_or(""));

@@ -1,10 +1,11 @@
 //! `pvfc sweep`: a study's runs in parallel on this machine into its table (`NAME.csv`),
-//! resuming where an interrupted sweep stopped, then its figures.
+//! resuming where an interrupted sweep stopped, and the same table as an Arrow IPC file
+//! (`NAME.arrow`); then its figures.
 
 use pvfc_sim::error::{Result, SimError};
 use pvfc_sim::study::run::{run_study, StudyRow};
 use pvfc_sim::study::spec::StudySpec;
-use pvfc_sim::study::table;
+use pvfc_sim::study::{arrow, table};
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -22,6 +23,8 @@ pub struct SweepOutcome {
     pub resumed: usize,
     /// The table.
     pub csv: PathBuf,
+    /// The table as an Arrow IPC file.
+    pub arrow: PathBuf,
     /// The wall time of the runs (s).
     pub seconds: f64,
 }
@@ -49,7 +52,8 @@ fn write_table(path: &Path, header: &[String], rows: &[StudyRow]) -> Result<()> 
     std::fs::rename(&tmp, path).map_err(io(path))
 }
 
-/// Runs the study of the file `study` into `out/NAME.csv` on `threads` threads. Rows already
+/// Runs the study of the file `study` into `out/NAME.csv` on `threads` threads, and writes
+/// the whole table as `out/NAME.arrow` once every run asked for is in. Rows already
 /// in that table (from an interrupted sweep of the same study) are kept and their runs not
 /// run again. `limit` stops after that many new runs (the table then holds a partial study
 /// that a later sweep completes). `progress(done, total)` is called after each run.
@@ -112,12 +116,15 @@ pub fn sweep(
     let rows: Vec<StudyRow> = done.into_values().collect();
     // In index order once every run is in.
     write_table(&csv, &header, &rows)?;
+    let arrow = csv.with_extension("arrow");
+    arrow::write(&arrow, &spec.keys(), &names, &rows)?;
     Ok(SweepOutcome {
         spec,
         rows,
         ran,
         resumed,
         csv,
+        arrow,
         seconds,
     })
 }

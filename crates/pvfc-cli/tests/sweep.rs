@@ -82,6 +82,7 @@ fn an_interrupted_sweep_resumes_to_the_same_table() {
     let out = dir.join("cut");
     let first = sweep(&path, &out, 2, Some(2), &mut quiet).expect("sweep");
     assert_eq!((first.ran, first.rows.len()), (2, 2));
+    let partial = std::fs::read(&first.arrow).expect("the partial table's Arrow file");
     // A run cut short while its row was being written.
     let mut text = std::fs::read_to_string(&first.csv).expect("table");
     text.push_str("5,200.0,32");
@@ -89,6 +90,12 @@ fn an_interrupted_sweep_resumes_to_the_same_table() {
     let rest = sweep(&path, &out, 2, None, &mut quiet).expect("resume");
     assert_eq!((rest.resumed, rest.ran, rest.rows.len()), (2, 4, 6));
     assert_eq!(std::fs::read(&rest.csv).expect("table"), expected);
+    // The Arrow file holds the whole table too, resumed rows and new alike.
+    assert_eq!(
+        std::fs::read(&rest.arrow).expect("arrow"),
+        std::fs::read(&whole.arrow).expect("arrow")
+    );
+    assert_ne!(partial, std::fs::read(&whole.arrow).expect("arrow"));
     // Nothing left: a third sweep runs nothing.
     let again = sweep(&path, &out, 2, None, &mut quiet).expect("again");
     assert_eq!((again.resumed, again.ran), (6, 0));

@@ -188,6 +188,40 @@ def test_pvfc_sweep_on_the_command_line_writes_the_same_numbers(study, local, pv
     assert (out / "grid_mean_u.png").stat().st_size > 5000
 
 
+def test_the_arrow_table_reads_in_pandas_and_polars_as_the_sweep(pvfc_cli, tmp_path):
+    """`pvfc sweep`'s NAME.arrow, read by pyarrow (pandas.read_feather) and by Polars' own
+    reader, holds pvfc.sweep's numbers bit for bit, its nulls (a metric that does not apply,
+    a failed run) and its errors."""
+    pl = pytest.importorskip("polars")
+    pytest.importorskip("pyarrow")
+    text = (
+        'name = "mixed"\nmetrics = ["mean_u", "peak_force", "converge_time"]\n'
+        '[[axis]]\nkey = "controller.gamma"\nvalues = [0.025, 1e8]\n'
+        '[[axis]]\nkey = "controller.energy"\nvalues = [800, 2000]\n'
+    )
+    st = pvfc.Study.from_toml(text, short(3.0))
+    want = pvfc.sweep(st, threads=2)
+    (tmp_path / "base.toml").write_text(st.base.to_toml())
+    (tmp_path / "mixed.toml").write_text('base = "base.toml"\n' + text)
+    out = tmp_path / "out"
+    subprocess.run([str(pvfc_cli), "sweep", str(tmp_path / "mixed.toml"), "--out", str(out),
+                    "--no-figures"], check=True, stdout=subprocess.DEVNULL)
+    got = pd.read_feather(out / "mixed.arrow")
+    assert str(got["run"].dtype) == "int64"
+    assert list(got["run"]) == list(range(4))
+    assert want["peak_force"].isna().all() and got["peak_force"].isna().all()
+    assert want["error"].notna().sum() == 2
+    assert [e if isinstance(e, str) else None for e in got["error"]] == list(want["error"])
+    same_bits(want.assign(error=""), got.assign(error=""))
+    polars = pl.read_ipc(out / "mixed.arrow")
+    assert polars.columns == st.columns
+    assert polars["error"].to_list() == list(want["error"])
+    for name in st.columns[1:-1]:
+        x = polars[name].to_numpy().astype(np.float64)  # nulls become NaN
+        y = want[name].to_numpy(dtype=np.float64)
+        assert np.array_equal(x.view(np.uint64), y.view(np.uint64)), name
+
+
 def _columns(r: "pvfc.SimulationResult") -> dict:
     names = ["t", "q", "qdot", "energy", "tau", "tau_dot", "flywheel_speed", "beta", "w_beta",
              "potential", "lambda1", "lambda2", "torque", "friction_power"]

@@ -296,3 +296,57 @@ fn nested_lists_shared_settings_and_metrics_by_name() {
     let e = s.metrics().expect_err("unknown").to_string();
     assert!(e.contains("`peak`") && e.contains("tool_path_max"), "{e}");
 }
+
+#[test]
+fn the_arrow_table_is_an_ipc_file_of_the_rows() {
+    use pvfc_sim::study::{arrow, run::StudyRow};
+    let keys = vec!["controller.energy".to_string()];
+    let metrics = ["mean_u", "peak_force"];
+    let rows: Vec<StudyRow> = (0..3)
+        .map(|i| StudyRow {
+            index: i,
+            parameters: vec![800.0 + 0.1 * i as f64],
+            metrics: vec![Some(1.0 / (i + 1) as f64), None],
+            error: (i == 1).then(|| "the run diverged".to_string()),
+        })
+        .collect();
+    let bytes = arrow::encode(&keys, &metrics, &rows).unwrap();
+    let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+    // The magic, padded, then the schema message: a continuation marker and a metadata
+    // length that keeps the body 8-byte aligned.
+    assert_eq!(&bytes[..8], b"ARROW1\0\0");
+    assert_eq!(word(8), u32::MAX);
+    let schema = word(12) as usize;
+    assert_eq!(schema % 8, 0);
+    // The record batch's message follows the schema's (which has no body).
+    assert_eq!(word(16 + schema), u32::MAX);
+    assert_eq!(word(20 + schema) % 8, 0);
+    // The footer, its length, and the magic at the end.
+    let n = bytes.len();
+    assert_eq!(&bytes[n - 6..], b"ARROW1");
+    let footer = word(n - 10) as usize;
+    assert!(footer > 0 && footer < n - 10 - 24 - schema);
+    // The end-of-stream marker before the footer.
+    assert_eq!(word(n - 10 - footer - 8), u32::MAX);
+    assert_eq!(word(n - 10 - footer - 4), 0);
+    // Each column's values, contiguous, little-endian, bit for bit.
+    let find = |needle: &[u8]| bytes.windows(needle.len()).any(|w| w == needle);
+    let column = |f: &dyn Fn(&StudyRow) -> Vec<u8>| rows.iter().flat_map(f).collect::<Vec<u8>>();
+    assert!(find(&column(&|r| (r.index as i64).to_le_bytes().to_vec())));
+    assert!(find(&column(&|r| r.parameters[0].to_le_bytes().to_vec())));
+    assert!(find(&column(&|r| r.metrics[0]
+        .unwrap()
+        .to_le_bytes()
+        .to_vec())));
+    assert!(find(b"the run diverged"));
+    for name in ["run", "controller.energy", "mean_u", "peak_force", "error"] {
+        assert!(find(name.as_bytes()), "{name}");
+    }
+    // A row that is not the table's shape is an error naming it.
+    let mut bad = rows.clone();
+    bad[2].metrics.pop();
+    let e = arrow::encode(&keys, &metrics, &bad)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("row 2"), "{e}");
+}
