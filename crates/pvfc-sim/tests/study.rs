@@ -282,7 +282,7 @@ fn nested_lists_shared_settings_and_metrics_by_name() {
     assert!(runs.iter().all(|r| r.scenario.duration == 45.0));
     shared.set.insert("duraton".into(), 1.0);
     let m = error(&shared, &ur5);
-    assert!(m.contains("set") && m.contains("duraton"), "{m}");
+    assert!(m.contains("set `duraton`") && !m.contains("axis"), "{m}");
     // Metrics by name: all by default, in the documented order; an unknown one named.
     let mut s = spec(vec![]);
     let all = s.metrics().expect("all");
@@ -349,4 +349,48 @@ fn the_arrow_table_is_an_ipc_file_of_the_rows() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("row 2"), "{e}");
+}
+
+#[test]
+fn a_failing_tool_path_analysis_is_the_runs_error_not_an_absent_metric() {
+    use pvfc_sim::study::metrics::{select, RunView};
+    use pvfc_sim::trace::{series::JointSeries, Trace};
+    let ur5 = Scenario::from_file(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../scenarios/ur5_cartesian.toml"),
+    )
+    .expect("the UR5 preset");
+    let robot = ur5.robot().expect("robot");
+    // Three passes of a trace whose joint angles are not numbers: the tool's forward
+    // kinematics fails on them.
+    let n = 300;
+    let period = ur5.period();
+    let tau: Vec<f64> = (0..n)
+        .map(|k| 3.0 * period * k as f64 / (n - 1) as f64)
+        .collect();
+    let mut trace = Trace {
+        t: tau.clone(),
+        tau,
+        q: JointSeries::from_flat(6, vec![f64::NAN; 6 * n]).expect("6 joints"),
+        ..Trace::default()
+    };
+    let metrics = select(&["final_beta".into(), "tool_path_mean".into()]).expect("metrics");
+    let e = RunView::new(&ur5, &trace, Some(&robot))
+        .values(&metrics)
+        .expect_err("the tool path of NaN joint angles");
+    assert!(e.to_string().contains("NaN"), "{e}");
+    // Without a tool-path metric the analysis is not run, and nothing fails.
+    let beta = select(&["final_beta".into()]).expect("metrics");
+    assert_eq!(
+        RunView::new(&ur5, &trace, Some(&robot))
+            .values(&beta)
+            .expect("no tool path asked for"),
+        vec![None]
+    );
+    // With finite joint angles at the contour's start the metric is there.
+    trace.q = JointSeries::from_flat(6, ur5.initial.q.repeat(n)).expect("6 joints");
+    let ok = RunView::new(&ur5, &trace, Some(&robot))
+        .values(&metrics)
+        .expect("a tool path");
+    assert!(ok[1].is_some_and(|d| d.is_finite()), "{ok:?}");
 }

@@ -16,7 +16,7 @@ pub struct RunView<'a> {
     scenario: &'a Scenario,
     trace: &'a Trace,
     robot: Option<&'a Robot>,
-    budget: OnceCell<Option<PathBudget>>,
+    budget: OnceCell<Result<Option<PathBudget>>>,
 }
 
 impl<'a> RunView<'a> {
@@ -31,12 +31,25 @@ impl<'a> RunView<'a> {
         }
     }
 
+    /// The metrics of the run, in the order given. A metric that does not apply is `None`;
+    /// a part of the run's analysis that fails (the path budget's forward kinematics or
+    /// inverse kinematics) is the run's error, not an absent metric.
+    pub fn values(self, metrics: &[&Metric]) -> Result<Vec<Option<f64>>> {
+        let values = metrics.iter().map(|m| m.of(&self)).collect();
+        match self.budget.into_inner() {
+            Some(Err(e)) => Err(e),
+            _ => Ok(values),
+        }
+    }
+
     fn budget(&self) -> Option<&PathBudget> {
         self.budget
-            .get_or_init(|| {
-                self.robot
-                    .and_then(|r| path_budget(self.scenario, r, self.trace).ok().flatten())
+            .get_or_init(|| match self.robot {
+                Some(r) => path_budget(self.scenario, r, self.trace),
+                None => Ok(None),
             })
+            .as_ref()
+            .ok()?
             .as_ref()
     }
 

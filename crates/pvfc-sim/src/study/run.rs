@@ -32,12 +32,10 @@ pub fn run_one(run: &StudyRun, metrics: &[&Metric]) -> StudyRow {
             if s.is_chain() {
                 let system = ArmSystem::build(s)?;
                 let trace = chain::simulate_chain_with(s, &system, &mut |_| {})?;
-                let view = RunView::new(s, &trace, Some(&system.robot));
-                Ok(metrics.iter().map(|m| m.of(&view)).collect())
+                RunView::new(s, &trace, Some(&system.robot)).values(metrics)
             } else {
                 let trace = planar::simulate(s, &mut |_| {})?;
-                let view = RunView::new(s, &trace, None);
-                Ok(metrics.iter().map(|m| m.of(&view)).collect())
+                RunView::new(s, &trace, None).values(metrics)
             }
         },
     ));

@@ -268,7 +268,7 @@ impl StudySpec {
                 return Err(setting(format!("set `{key}`: {value} is not finite")));
             }
             set_key(&mut table, key, *value)
-                .map_err(|e| setting(format!("study `{}`, set: {e}", self.name)))?;
+                .map_err(|e| setting(format!("study `{}`: set {e}", self.name)))?;
         }
         let mut runs = Vec::with_capacity(count);
         for index in 0..count {
@@ -287,7 +287,7 @@ impl StudySpec {
             let mut t = table.clone();
             let mut parameters = Vec::with_capacity(values.len());
             for ((a, v), &p) in self.axes.iter().zip(&values).zip(&picks) {
-                set_key(&mut t, &a.key, v[p])?;
+                set_key(&mut t, &a.key, v[p]).map_err(|e| setting(format!("axis {e}")))?;
                 parameters.push((a.key.clone(), v[p]));
             }
             let mut scenario: Scenario = t
@@ -360,8 +360,9 @@ fn check_draw(key: &str, d: Draw) -> Result<()> {
 
 /// Sets the number at the dotted `key` (`a.b.c`, `a.b[i]`, `a.b[i][j]`) of a scenario's table to `value`:
 /// the key must exist and hold a number (an integer key takes only integral values). The
-/// errors name the key and what the table has there.
-fn set_key(table: &mut toml::Value, key: &str, value: f64) -> Result<()> {
+/// errors name the key and what the table has there (the caller says whether it is an axis or
+/// a `set` entry).
+fn set_key(table: &mut toml::Value, key: &str, value: f64) -> std::result::Result<(), String> {
     let mut here = table;
     let mut path = String::new();
     for part in key.split('.') {
@@ -376,9 +377,7 @@ fn set_key(table: &mut toml::Value, key: &str, value: f64) -> Result<()> {
                             .collect::<std::result::Result<Vec<_>, _>>()
                             .ok()
                     })
-                    .ok_or_else(|| {
-                        setting(format!("axis `{key}`: `{part}` is not `name[index]`"))
-                    })?;
+                    .ok_or_else(|| format!("`{key}`: `{part}` is not `name[index]`"))?;
                 (name, indexes)
             }
             None => (part, Vec::new()),
@@ -388,21 +387,17 @@ fn set_key(table: &mut toml::Value, key: &str, value: f64) -> Result<()> {
             toml::Value::Table(t) => {
                 let known = keys(t);
                 t.get_mut(name).ok_or_else(|| {
-                    setting(format!(
-                        "axis `{key}`: the scenario has no `{name}`{} (it has: {known})",
+                    format!(
+                        "`{key}`: the scenario has no `{name}`{} (it has: {known})",
                         if path.is_empty() {
                             String::new()
                         } else {
                             format!(" in `{path}`")
                         }
-                    ))
+                    )
                 })?
             }
-            _ => {
-                return Err(setting(format!(
-                    "axis `{key}`: `{path}` is a value, not a table"
-                )))
-            }
+            _ => return Err(format!("`{key}`: `{path}` is a value, not a table")),
         };
         if !path.is_empty() {
             path.push('.');
@@ -412,11 +407,10 @@ fn set_key(table: &mut toml::Value, key: &str, value: f64) -> Result<()> {
             here = match here {
                 toml::Value::Array(a) => {
                     let len = a.len();
-                    a.get_mut(i).ok_or_else(|| {
-                        setting(format!("axis `{key}`: `{path}` has {len} entries"))
-                    })?
+                    a.get_mut(i)
+                        .ok_or_else(|| format!("`{key}`: `{path}` has {len} entries"))?
                 }
-                _ => return Err(setting(format!("axis `{key}`: `{path}` is not a list"))),
+                _ => return Err(format!("`{key}`: `{path}` is not a list")),
             };
             path.push_str(&format!("[{i}]"));
         }
@@ -425,17 +419,17 @@ fn set_key(table: &mut toml::Value, key: &str, value: f64) -> Result<()> {
         toml::Value::Float(x) => *x = value,
         toml::Value::Integer(x) => {
             if value.fract() != 0.0 || value.abs() > 9.0e15 {
-                return Err(setting(format!(
-                    "axis `{key}`: an integer setting, and {value} is not an integer"
-                )));
+                return Err(format!(
+                    "`{key}`: an integer setting, and {value} is not an integer"
+                ));
             }
             *x = value as i64;
         }
         other => {
-            return Err(setting(format!(
-                "axis `{key}`: not a number (it is {})",
+            return Err(format!(
+                "`{key}`: not a number (it is {})",
                 other.type_str()
-            )))
+            ))
         }
     }
     Ok(())
