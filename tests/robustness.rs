@@ -164,3 +164,23 @@ fn the_bound_shrinks_relative_to_the_speed_as_the_energy_grows() {
         );
     }
 }
+
+/// The disturbance of a scenario (`[plant.disturbance]`, the presets `robustness_g*` that
+/// `pvfc reproduce` runs for its claim and figure) is the one of the loop above: the same
+/// ultimate bound within 0.1 % (the scenario evaluates the torque at every RK stage, the loop
+/// above holds it over each step).
+#[test]
+fn the_scenario_disturbance_gives_the_loops_bound() {
+    use pvfc::sim::trace::metrics::velocity_field_error_bound;
+    for gamma_energy in [1, 10, 40] {
+        let s = pvfc::sim::scenario::presets::robustness(gamma_energy);
+        let t = pvfc::sim::run::simulate(&s, &mut |_| {}).unwrap();
+        let scenario = velocity_field_error_bound(&t, 10.0, 20.1).unwrap();
+        let by_hand = disturbed(f64::from(gamma_energy), 1.0, Disturbance::Joint, 0.5).ultimate();
+        println!("γĒ = {gamma_energy}: scenario {scenario:.4e}, by hand {by_hand:.4e}");
+        assert!(
+            (scenario / by_hand - 1.0).abs() < 1e-3,
+            "γĒ = {gamma_energy}: scenario {scenario}, by hand {by_hand}"
+        );
+    }
+}

@@ -22,6 +22,7 @@ mod report_arms;
 mod report_digital;
 mod report_paths;
 pub mod reproduce;
+pub mod robustness;
 pub mod runs;
 pub mod speed_sweep;
 pub mod study_plot;

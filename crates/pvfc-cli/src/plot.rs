@@ -293,6 +293,7 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
     files.push(p);
     files.push(crate::plot_digital::digital_figure(runs, dir)?);
     files.push(crate::speed_sweep::figure_saturated(runs, dir)?);
+    files.push(crate::robustness::figure_robustness(runs, dir)?);
     for (name, (s, t)) in &runs.runs {
         if s.contact.is_some() && t.contact.is_some() && !t.is_timed() {
             let p = dir.join(format!("{name}.png"));

@@ -4,7 +4,7 @@
 use crate::runs::Runs;
 use pvfc_sim::error::{Result, SimError};
 use pvfc_sim::scenario::preset_id::{
-    Arm3dCase, ContactCase, Fig1Contour, PresetId, ToolPathCase, STRIBECK_PACINGS,
+    Arm3dCase, ContactCase, Fig1Contour, PresetId, ToolPathCase, ROBUSTNESS_GAINS, STRIBECK_PACINGS,
 };
 use pvfc_sim::scenario::presets::{FIG10_LEVEL_GAIN, STRIBECK_BREAKAWAY, STRIBECK_VELOCITY};
 use pvfc_sim::scenario::Mode;
@@ -112,6 +112,14 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
         (convergence.measured_rate / convergence.predicted_rate - 1.0).abs() < 5e-3
             && convergence.worst_deviation < 1e-2,
     );
+    // Robustness (section II), when its runs are among these.
+    if r.run(PresetId::Robustness {
+        gamma_energy: ROBUSTNESS_GAINS[0],
+    })
+    .is_ok()
+    {
+        crate::robustness::claim(r, &mut push)?;
+    }
 
     // Fig. 6.
     let f6 = r.trace(PresetId::Fig6)?;

@@ -143,3 +143,19 @@ def test_a_custom_arm_in_a_scenario_equals_the_same_arm_built_in():
     d["plant"]["arm"]["parameters"]["m2"] = -1.0
     with pytest.raises(pvfc.ScenarioError, match="m2"):
         pvfc.Scenario.from_dict(d)
+
+
+def test_a_disturbance_from_a_dict_is_the_environments_work():
+    d = pvfc.Scenario.preset("robustness_g10").to_dict()
+    assert d["plant"]["disturbance"]["amplitude"] == [0.5, 0.5]
+    d["duration"] = 2.0
+    r = pvfc.simulate(pvfc.Scenario.from_dict(d))
+    # Its work is the environment's: the contact columns are kept, with no contact force.
+    assert np.abs(r.contact["work_contact"]).max() > 1e-2 * r.energy[0]
+    assert not r.contact["normal_force"].any()
+    audit = r.energy - r.energy[0] - r.contact["work_contact"] - r.contact["work_friction"] \
+        - r.contact["work_controller"] - r.contact["work_gravity"]
+    assert np.abs(audit).max() < 1e-6 * r.energy[0]
+    d["plant"]["disturbance"]["amplitude"] = [0.5]
+    with pytest.raises(pvfc.ScenarioError, match="plant.disturbance.amplitude: 1 entries"):
+        pvfc.Scenario.from_dict(d)

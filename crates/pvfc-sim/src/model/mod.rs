@@ -2,12 +2,13 @@
 //! serial chain read from a URDF ([`robot`], dispatched onto `SerialChain<N>` by
 //! [`with_dof!`](crate::with_dof)), the PVFC controller of any chain and its joint-space
 //! contours ([`arm`]), tool paths in Cartesian space and their inverse kinematics
-//! ([`cartesian`]), and joint friction ([`friction`]).
+//! ([`cartesian`]), joint friction ([`friction`]) and disturbance torques ([`disturbance`]).
 
 pub mod arm;
 pub mod arm_field;
 pub mod cartesian;
 pub mod dispatch;
+pub mod disturbance;
 pub mod friction;
 pub mod joint_contour;
 pub mod path_orientation;

@@ -235,44 +235,45 @@ impl Contact {
             Ok((SVector::zeros(), SpatialContact::default()))
         }
     }
+}
 
-    /// One sample of the contact columns.
-    fn log<const N: usize>(
-        &self,
-        ct: &mut ContactTrace,
-        chain: &SerialChain<f64, N>,
-        q: &JointSpace<f64, N>,
-        c: &SpatialContact,
-        work: &Work,
-        nominal_speed: f64,
-    ) -> Result<()> {
-        let tool = chain.kinematics(q.coords()).link_poses[N - 1]
-            .compose(chain.tool())
-            .translation;
-        let torque = if c.torque.len() == N {
-            c.torque.clone()
-        } else {
-            vec![0.0; N]
-        };
-        ct.push_sample(
-            &ContactSample {
-                force: c.force.as_slice(),
-                normal_force: c.normal_force,
-                depth: c.depth,
-                torque: &torque,
-                tool: tool.as_slice(),
-            },
-            work,
-            nominal_speed,
-        );
-        Ok(())
-    }
+/// One sample of the contact columns of a URDF arm at `q` (the contact `c`, zero without a
+/// world).
+fn log_sample<const N: usize>(
+    ct: &mut ContactTrace,
+    chain: &SerialChain<f64, N>,
+    q: &JointSpace<f64, N>,
+    c: &SpatialContact,
+    work: &Work,
+    nominal_speed: f64,
+) {
+    let tool = chain.kinematics(q.coords()).link_poses[N - 1]
+        .compose(chain.tool())
+        .translation;
+    let torque = if c.torque.len() == N {
+        c.torque.clone()
+    } else {
+        vec![0.0; N]
+    };
+    ct.push_sample(
+        &ContactSample {
+            force: c.force.as_slice(),
+            normal_force: c.normal_force,
+            depth: c.depth,
+            torque: &torque,
+            tool: tool.as_slice(),
+        },
+        work,
+        nominal_speed,
+    );
 }
 
 /// A URDF arm's surroundings for the generic loops ([`crate::run::loops`]): its 3-D contact
-/// world, if any, and the chain for the tool's position in the log.
+/// world, if any, whether a disturbance acts, and the chain for the tool's position in the
+/// log.
 struct Spatial<'a, const N: usize> {
     world: Option<Contact>,
+    disturbed: bool,
     chain: &'a SerialChain<f64, N>,
 }
 
@@ -281,13 +282,15 @@ impl<'a, const N: usize> Spatial<'a, N> {
     fn of(s: &Scenario, system: &ArmSystem, chain: &'a SerialChain<f64, N>) -> Result<Self> {
         Ok(Spatial {
             world: Contact::of(s, &system.robot)?,
+            disturbed: s.plant.disturbance.is_some(),
             chain,
         })
     }
 
-    /// The contact columns' workspace dimension when the run keeps them (with a world).
+    /// The contact columns' workspace dimension when the run keeps them: with a world, or
+    /// with a disturbance (its work is the environment's, in `work_contact`).
     fn columns(&self) -> Option<usize> {
-        self.world.is_some().then_some(3)
+        (self.world.is_some() || self.disturbed).then_some(3)
     }
 }
 
@@ -322,9 +325,7 @@ impl<const N: usize> Surroundings<JointSpace<f64, N>, N> for Spatial<'_, N> {
         work: &Work,
         nominal_speed: f64,
     ) -> Result<()> {
-        match &self.world {
-            Some(w) => w.log(ct, self.chain, q, &c.1, work, nominal_speed),
-            None => Ok(()),
-        }
+        log_sample(ct, self.chain, q, &c.1, work, nominal_speed);
+        Ok(())
     }
 }

@@ -10,6 +10,7 @@
 
 use crate::contact::ForceSchedule;
 use crate::error::{Result, SimError};
+use crate::model::disturbance::{torque_of, Disturbance};
 use crate::model::friction::JointFriction;
 use crate::run::integrate::{ClosedLoop, Derivative};
 use crate::run::stepper::Stepper;
@@ -233,10 +234,11 @@ where
 }
 
 /// Holds the motor torque `u` over one controller period from time `t`: the plant (gravity,
-/// friction, contact) in RK4 substeps of `h`, the works `[contact, friction, motor, gravity]`
+/// friction, contact and the scenario's disturbance) in RK4 substeps of `h`, the works `[contact, friction, motor, gravity]`
 /// integrated by the stages' powers. The motor's power is counted only when asked (the timed
 /// baseline's; PVFC's add-ons are what its controller accounts). `fc0` is the contact torque
-/// at the sample, the first stage of the period.
+/// at the sample, the first stage of the period; the contact's work counts the disturbance's
+/// (both are the environment).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn hold<G, Sys, E, const N: usize>(
     s: &Scenario,
@@ -254,17 +256,19 @@ where
     E: Surroundings<G, N> + ?Sized,
 {
     let friction = &s.plant.friction;
+    let disturbance = s.plant.disturbance.as_ref();
     for j in 0..s.simulation.plant_substeps {
         let t0 = t + j as f64 * h;
         let mut p = [[0.0; 4]; 4];
         (q, v) = plant_rk4(plant, &q, &v, h, |i, c, q, v| {
             let ff = friction.torque(v);
-            // The first stage of the period is the sample itself: its contact is known.
+            // The first stage of the period is the sample itself: its contact is known. The
+            // environment's torque is the contact's and the disturbance's.
             let fc = if i == 0 && j == 0 {
                 *fc0
             } else {
                 E::torque(&env.contact(t0 + c, q, v)?)
-            };
+            } + torque_of::<N>(disturbance, t0 + c);
             let motor = if count_motor { u.dot(v) } else { 0.0 };
             p[i] = [fc.dot(v), ff.dot(v), motor, -plant.gravity(q).dot(v)];
             Ok(u + ff + fc)
@@ -292,7 +296,7 @@ struct Stage<C, const N: usize> {
 fn stage<G, Sys, F, E, const N: usize>(
     sys: &ClosedLoop<f64, G, Sys, Sys, F, N>,
     env: &mut E,
-    friction: &JointFriction,
+    (friction, disturbance): (&JointFriction, Option<&Disturbance>),
     t: f64,
     st: &AugmentedState<f64, G, N>,
 ) -> Result<Stage<E::Contact, N>>
@@ -303,7 +307,8 @@ where
     E: Surroundings<G, N> + ?Sized,
 {
     let contact = env.contact(t, &st.q, &st.v)?;
-    let fc = E::torque(&contact);
+    // The environment's torque: the contact's and the disturbance's.
+    let fc = E::torque(&contact) + torque_of::<N>(disturbance, t);
     let ff = friction.torque(&st.v);
     // The controller's output used in place (not moved into an `Evaluation`).
     let (torque, c) = sys.controller.evaluate(st)?;
@@ -342,17 +347,17 @@ where
     F: VelocityField<f64, G, N>,
     E: Surroundings<G, N> + ?Sized,
 {
-    let friction = s.plant.friction.clone();
+    let friction = (&s.plant.friction, s.plant.disturbance.as_ref());
     let (dt, h, n) = timing(s)?;
     let mut trace = Trace::with_capacity(s.name.clone(), N, n + 1);
     let mut contact = columns.map(|dim| ContactTrace::with_capacity(n + 1, N, dim));
     let mut work = Work::default();
     for k in 0..=n {
         let t = k as f64 * dt;
-        let mut first = stage(&sys, env, &friction, t, &st)?;
+        let mut first = stage(&sys, env, friction, t, &st)?;
         let normal = E::normal_force(&first.contact);
         if schedule(s, sys.controller.nominal_speed_mut(), normal)? {
-            first = stage(&sys, env, &friction, t, &st)?;
+            first = stage(&sys, env, friction, t, &st)?;
         }
         trace.push(Row {
             t,
@@ -383,11 +388,11 @@ where
         for j in 0..s.simulation.plant_substeps {
             let t0 = t + j as f64 * h;
             if j > 0 {
-                first = stage(&sys, env, &friction, t0, &st)?;
+                first = stage(&sys, env, friction, t0, &st)?;
             }
             let mut p = [first.power; 4];
             st = sys.rk4_with_stages(&st, &first.derivative, h, |i, c, x| {
-                let e = stage(&sys, env, &friction, t0 + c, x)?;
+                let e = stage(&sys, env, friction, t0 + c, x)?;
                 p[i] = e.power;
                 Ok::<_, SimError>(e.derivative)
             })?;

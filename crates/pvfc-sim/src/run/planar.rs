@@ -42,6 +42,12 @@ pub fn simulate_in(
     }
 }
 
+/// The contact columns' workspace dimension when the run keeps them: with contact, or with a
+/// disturbance (its work is the environment's, in `work_contact`).
+fn columns(s: &Scenario, with_contact: bool) -> Option<usize> {
+    (with_contact || s.plant.disturbance.is_some()).then_some(2)
+}
+
 /// Free space: no contact.
 struct Free;
 
@@ -155,7 +161,7 @@ fn simulate_sampled<E: Environment + ?Sized, S: Stepper<Torus<f64, 2>, 2>>(
         ctl,
         (q, v),
         &mut planar,
-        with_contact.then_some(2),
+        columns(s, with_contact),
         progress,
     )
 }
@@ -185,7 +191,7 @@ fn simulate_continuous<E: Environment + ?Sized>(
         env,
         kin: PlanarArm::from(arm),
     };
-    loops::continuous(s, sys, st, &mut planar, with_contact.then_some(2), progress)
+    loops::continuous(s, sys, st, &mut planar, columns(s, with_contact), progress)
 }
 
 /// The timed-trajectory baseline of Fig. 1: computed torque + PD tracking `x_d(τ(t))` with
@@ -268,7 +274,7 @@ fn timed_in(
         let err = q.compose(&Torus::new(xd).inverse());
         Ok((BaselineSpec::saturate(u, &limits), nav.value(&err)))
     };
-    let columns = with_contact.then_some(2);
+    let columns = columns(s, with_contact);
     loops::timed(
         s,
         &arm,

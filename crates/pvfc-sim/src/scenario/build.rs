@@ -127,6 +127,9 @@ impl Scenario {
             b.limits::<2>()?;
         }
         self.plant.friction.validate_for(2)?;
+        if let Some(d) = &self.plant.disturbance {
+            d.validate_for(2)?;
+        }
         self.controller()?;
         Ok(())
     }
@@ -289,6 +292,9 @@ impl Scenario {
             }
         }
         self.plant.friction.validate_for(n)?;
+        if let Some(d) = &self.plant.disturbance {
+            d.validate_for(n)?;
+        }
         if let Some(c) = &self.contact_3d {
             c.validate(n)?;
             if c.force_schedule.is_some() && self.controller.nominal_speed.is_none() {

@@ -3,6 +3,7 @@
 
 use crate::contact::ContactSpec;
 use crate::error::{Result, SimError};
+use crate::model::disturbance::Disturbance;
 use crate::model::friction::JointFriction;
 use pvfc_core::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -127,6 +128,10 @@ pub struct PlantSpec {
     /// URDF's model. Sampled mode only.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mass_scale: Option<Vec<f64>>,
+    /// A disturbance torque on the joints (section II's robustness): part of the plant's
+    /// environment, unknown to the controller, its work in `work_contact`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub disturbance: Option<Disturbance>,
 }
 
 fn default_arm() -> ArmSpec {
@@ -143,6 +148,7 @@ impl Default for PlantSpec {
             base: None,
             gravity: None,
             mass_scale: None,
+            disturbance: None,
         }
     }
 }

@@ -247,6 +247,12 @@ pub enum PresetId {
         /// The demanded speed `r`, in hundredths.
         speed: u32,
     },
+    /// Section II's robustness: the frictionless Pelican under a disturbance torque
+    /// ([`presets::robustness`](crate::scenario::presets::robustness)).
+    Robustness {
+        /// `γĒ` (s⁻¹): the coupling's gain `γ` times the energy `Ē`.
+        gamma_energy: u32,
+    },
     /// A UR5 3-D contact scenario.
     Arm3d(Arm3dCase),
     /// A UR5 tool path at machining accuracy.
@@ -264,6 +270,9 @@ pub enum PresetId {
 
 /// The demanded speeds of Fig. 1 on saturating drives (`r`, in hundredths).
 pub const FIG1_SATURATED_SPEEDS: [u32; 6] = [50, 100, 150, 200, 300, 400];
+
+/// The gains `γĒ` of the robustness runs (s⁻¹).
+pub const ROBUSTNESS_GAINS: [u32; 6] = [1, 2, 5, 10, 20, 40];
 
 /// The self-pacing gains `R` of the Stribeck runs.
 pub const STRIBECK_PACINGS: [u32; 3] = [0, 100, 200];
@@ -313,6 +322,7 @@ impl PresetId {
                 },
                 f64::from(speed) / 100.0
             ),
+            PresetId::Robustness { gamma_energy } => format!("robustness_g{gamma_energy}"),
             PresetId::Arm3d(a) => format!("ur5_{}", a.label()),
             PresetId::ToolPath(ToolPathCase::Free) => "ur5_cartesian".into(),
             PresetId::ToolPath(ToolPathCase::Deburr) => "ur5_deburr_fine".into(),
@@ -386,6 +396,7 @@ impl PresetId {
         for contour in Fig1Contour::ALL {
             v.extend(FIG1_SATURATED_SPEEDS.map(|speed| PresetId::Fig1Saturated { contour, speed }));
         }
+        v.extend(ROBUSTNESS_GAINS.map(|gamma_energy| PresetId::Robustness { gamma_energy }));
         v.extend(Arm3dCase::FILES.map(PresetId::Arm3d));
         v.push(PresetId::Arm3d(Arm3dCase::DeburrContinuous));
         v.extend(ToolPathCase::ALL.map(PresetId::ToolPath));

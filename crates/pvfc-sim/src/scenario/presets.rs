@@ -13,10 +13,11 @@
 //!   (36) injects at most `c·2Ē·β(r − β)` W, which must cover the friction losses (~5 W).
 
 use crate::contact::{ContactLaw, ContactSpec, ForceSchedule, Keyframe, ObstacleSpec, ShapeSpec};
+use crate::model::disturbance::Disturbance;
 use crate::model::friction::{JointFriction, Stribeck};
 use crate::scenario::preset_id::{
     Arm3dCase, ContactCase, Digital, DigitalCase, Fig1Contour, PresetId, SaturatedPath,
-    ToolPathCase, DIGITAL_RATES, FIG1_SATURATED_SPEEDS, STRIBECK_PACINGS,
+    ToolPathCase, DIGITAL_RATES, FIG1_SATURATED_SPEEDS, ROBUSTNESS_GAINS, STRIBECK_PACINGS,
 };
 use crate::scenario::*;
 
@@ -352,6 +353,33 @@ fn digital_run(case: DigitalCase, rate: u32, controller: Digital) -> Scenario {
     s
 }
 
+/// The disturbance of [`robustness`] (N·m): `(sin 3t, cos 5t)` times this on the joints.
+pub const ROBUSTNESS_DISTURBANCE: f64 = 0.5;
+
+/// Section II's robustness (properties 1–2 after Theorem 1): [`pelican_example`] (frictionless,
+/// continuous time) for 20 s from `q = (0, 1.5)` at rest, under the disturbance torque
+/// `τ_d = a (sin 3t, cos 5t)` with `a =` [`ROBUSTNESS_DISTURBANCE`] (a sixth of the forearm's
+/// friction in the paper's experiment), at `γĒ = gamma_energy` (`Ē = 50`). The velocity-field
+/// error `‖e_β‖_a = √(2W_β)` stays bounded, and the bound falls as `γ` grows.
+pub fn robustness(gamma_energy: u32) -> Scenario {
+    let mut s = pelican_example();
+    s.name = PresetId::Robustness { gamma_energy }.name();
+    s.description = format!(
+        "Robustness (section II): the frictionless Pelican under a disturbance torque {a}·(sin 3t, cos 5t) N·m, γĒ = {gamma_energy}",
+        a = ROBUSTNESS_DISTURBANCE
+    );
+    s.duration = 20.0;
+    s.controller.gamma = f64::from(gamma_energy) / s.controller.energy;
+    s.initial.q = vec![0.0, 1.5];
+    s.initial.v = vec![0.0, 0.0];
+    s.plant.disturbance = Some(Disturbance {
+        amplitude: vec![ROBUSTNESS_DISTURBANCE; 2],
+        frequency: vec![3.0 / std::f64::consts::TAU, 5.0 / std::f64::consts::TAU],
+        phase: vec![0.0, std::f64::consts::FRAC_PI_2],
+    });
+    s
+}
+
 /// Every preset, in the order `pvfc reproduce` runs them.
 pub fn all() -> Vec<Scenario> {
     let mut v = vec![fig6(), fig7(0), fig7(100)];
@@ -370,6 +398,7 @@ pub fn all() -> Vec<Scenario> {
     for contour in Fig1Contour::ALL {
         v.extend(FIG1_SATURATED_SPEEDS.map(|speed| fig1_saturated(contour, speed)));
     }
+    v.extend(ROBUSTNESS_GAINS.map(robustness));
     v
 }
 

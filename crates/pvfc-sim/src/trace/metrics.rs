@@ -385,3 +385,16 @@ pub fn contact_summary(trace: &Trace) -> Option<ContactSummary> {
         last_contact: (0..n).rev().find(|&i| c.contacts_at(i)).map(|i| trace.t[i]),
     })
 }
+
+/// The largest velocity-field error `‖e_β‖_a = √(2W_β)` (eq. 12) over the samples with
+/// `from ≤ t < to`: under a bounded disturbance, the ultimate bound of section II's
+/// robustness properties. `None` if no sample is in the window.
+pub fn velocity_field_error_bound(trace: &Trace, from: f64, to: f64) -> Option<f64> {
+    trace
+        .t
+        .iter()
+        .zip(&trace.w_beta)
+        .filter(|(t, _)| (from..to).contains(*t))
+        .map(|(_, w)| (2.0 * w.max(0.0)).sqrt())
+        .reduce(f64::max)
+}

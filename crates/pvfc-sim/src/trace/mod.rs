@@ -47,7 +47,7 @@ macro_rules! trace_columns {
             }
             contact {
                 work_contact as work_contact: Scalar Audit
-                    "∫ F_eᵀq̇ dt: the work the environment did on the arm (J); its negative is the energy the arm pumped into the contact.";
+                    "∫ F_eᵀq̇ dt: the work the environment (the contact, and the scenario's disturbance torque) did on the arm (J); its negative is the energy the arm pumped into it.";
                 work_friction as work_friction: Scalar Audit
                     "∫ F_fᵀq̇ dt: the work of the plant's joint friction (J, ≤ 0).";
                 work_controller as work_controller: Scalar Audit
