@@ -64,7 +64,10 @@ fn under_a_disturbance_the_error_is_bounded_and_shrinks_as_gamma_grows() {
     assert_eq!(runs.len(), 6);
     // The disturbance does work the audit must count: without it the residual would be
     // 7–54 % of κ_a(0), with it integration error.
-    assert!(runs.iter().all(|d| d.work > 0.05 && d.audit < 1e-6), "{runs:?}");
+    assert!(
+        runs.iter().all(|d| d.work > 0.05 && d.audit < 1e-6),
+        "{runs:?}"
+    );
 }
 
 #[test]

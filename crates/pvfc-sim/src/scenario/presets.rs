@@ -17,7 +17,7 @@ use crate::model::disturbance::Disturbance;
 use crate::model::friction::{JointFriction, Stribeck};
 use crate::scenario::preset_id::{
     Arm3dCase, ContactCase, Digital, DigitalCase, Fig1Contour, PresetId, SaturatedPath,
-    ToolPathCase, DIGITAL_RATES, FIG1_SATURATED_SPEEDS, ROBUSTNESS_GAINS, STRIBECK_PACINGS,
+    ToolPathCase,
 };
 use crate::scenario::*;
 
@@ -297,14 +297,24 @@ fn passive(mut s: Scenario, spec: PassiveSpec) -> Scenario {
 /// velocity by a filtered difference); and Fig. 8's run (`R = 100`, friction) with the passive
 /// controller at 1 kHz beside the continuous-time controller, for tracking.
 pub fn digital() -> Vec<Scenario> {
-    let mut v = Vec::new();
-    for case in DigitalCase::ALL {
-        for rate in DIGITAL_RATES {
-            for controller in [Digital::Passive, Digital::Zoh] {
-                v.push(digital_run(case, rate, controller));
-            }
-        }
-    }
+    PresetId::all()
+        .into_iter()
+        .filter(|id| {
+            matches!(
+                id,
+                PresetId::Digital { .. }
+                    | PresetId::DigitalDrive
+                    | PresetId::Fig8Passive
+                    | PresetId::Fig8Continuous
+            )
+        })
+        .filter_map(planar)
+        .collect()
+}
+
+/// The wall at 1 kHz on a realistic drive: torque limits (15, 5) N·m, 2¹⁷-count encoders,
+/// positions only, the passive controller.
+fn digital_drive() -> Scenario {
     let mut drive = passive(
         sampled_at(contact_wall(), 1000.0),
         PassiveSpec {
@@ -317,18 +327,24 @@ pub fn digital() -> Vec<Scenario> {
     );
     drive.name = PresetId::DigitalDrive.name();
     drive.description = "Contact 1 on a drive: torque limits (15, 5) N·m, 2^17-count encoders, positions only, passive controller at 1 kHz".into();
-    v.push(drive);
-    let mut fig8_passive = passive(sampled_at(fig8(100), 1000.0), PassiveSpec::default());
-    fig8_passive.name = PresetId::Fig8Passive.name();
-    v.push(fig8_passive);
-    let mut fig8_continuous = fig8(100);
-    fig8_continuous.name = PresetId::Fig8Continuous.name();
-    fig8_continuous.description =
-        "Fig. 8 (R = 100) with the continuous-time controller (RK4 at 1 kHz)".into();
-    fig8_continuous.simulation.mode = Mode::Continuous;
-    fig8_continuous.simulation.plant_substeps = 1;
-    v.push(fig8_continuous);
-    v
+    drive
+}
+
+/// Fig. 8 (`R = 100`) with the passive controller at 1 kHz.
+fn fig8_passive() -> Scenario {
+    let mut s = passive(sampled_at(fig8(100), 1000.0), PassiveSpec::default());
+    s.name = PresetId::Fig8Passive.name();
+    s
+}
+
+/// Fig. 8 (`R = 100`) with the continuous-time controller.
+fn fig8_continuous() -> Scenario {
+    let mut s = fig8(100);
+    s.name = PresetId::Fig8Continuous.name();
+    s.description = "Fig. 8 (R = 100) with the continuous-time controller (RK4 at 1 kHz)".into();
+    s.simulation.mode = Mode::Continuous;
+    s.simulation.plant_substeps = 1;
+    s
 }
 
 /// One run of the digital comparison: `case` with `controller` at `rate` Hz.
@@ -380,26 +396,45 @@ pub fn robustness(gamma_energy: u32) -> Scenario {
     s
 }
 
-/// Every preset, in the order `pvfc reproduce` runs them.
+/// Every planar preset, in the order `pvfc reproduce` runs them: those of
+/// [`PresetId::all`] that [`planar`] builds (the UR5's are [`arms_3d`] and [`tool_paths`]).
 pub fn all() -> Vec<Scenario> {
-    let mut v = vec![fig6(), fig7(0), fig7(100)];
-    v.extend([0, 100, 200].map(fig8));
-    v.extend([0, 50, 100, 200].map(fig9));
-    v.extend([1, 2, 3].map(fig10));
-    v.extend([1, 2, 3].map(fig10_level));
-    for compensated in [true, false] {
-        v.extend(STRIBECK_PACINGS.map(|pacing| stribeck(compensated, pacing)));
-    }
-    v.push(fig1());
-    v.push(energy_check(Mode::Continuous));
-    v.push(energy_check(Mode::Sampled));
-    v.extend(contact());
-    v.extend(digital());
-    for contour in Fig1Contour::ALL {
-        v.extend(FIG1_SATURATED_SPEEDS.map(|speed| fig1_saturated(contour, speed)));
-    }
-    v.extend(ROBUSTNESS_GAINS.map(robustness));
-    v
+    PresetId::all().into_iter().filter_map(planar).collect()
+}
+
+/// The planar preset of `id`, built here; `None` for the UR5's, which are read from the
+/// workspace's `scenarios/` ([`arms_3d`], [`tool_paths`]). [`PresetId::all`] is the one list
+/// of presets: this match is exhaustive, so a new id has a builder or says it is read.
+pub fn planar(id: PresetId) -> Option<Scenario> {
+    Some(match id {
+        PresetId::Fig6 => fig6(),
+        PresetId::Fig7 { pacing } => fig7(pacing),
+        PresetId::Fig8 { pacing } => fig8(pacing),
+        PresetId::Fig9 { pacing } => fig9(pacing),
+        PresetId::Fig10 { nominal_speed } => fig10(nominal_speed),
+        PresetId::Fig10Level { nominal_speed } => fig10_level(nominal_speed),
+        PresetId::Stribeck {
+            compensated,
+            pacing,
+        } => stribeck(compensated, pacing),
+        PresetId::Fig1 => fig1(),
+        PresetId::Energy(mode) => energy_check(mode),
+        PresetId::Contact(case) => contact_case(case),
+        PresetId::Digital {
+            case,
+            rate,
+            controller,
+        } => digital_run(case, rate, controller),
+        PresetId::DigitalDrive => digital_drive(),
+        PresetId::Fig8Passive => fig8_passive(),
+        PresetId::Fig8Continuous => fig8_continuous(),
+        PresetId::Fig1Saturated { contour, speed } => fig1_saturated(contour, speed),
+        PresetId::Robustness { gamma_energy } => robustness(gamma_energy),
+        PresetId::Arm3d(_)
+        | PresetId::ToolPath(_)
+        | PresetId::ToolPathTask(_)
+        | PresetId::Ur5Saturated { .. } => return None,
+    })
 }
 
 /// The torque limits of Fig. 1 on saturating drives (N·m).
@@ -631,14 +666,23 @@ pub fn contact_obstacle() -> Scenario {
 
 /// The contact scenarios, in the order `pvfc reproduce` runs them.
 pub fn contact() -> Vec<Scenario> {
-    vec![
-        contact_wall(),
-        contact_wall_sampled(),
-        contact_deburr(),
-        contact_deburr_unscheduled(),
-        contact_push(),
-        contact_obstacle(),
-    ]
+    PresetId::all()
+        .into_iter()
+        .filter(|id| matches!(id, PresetId::Contact(_)))
+        .filter_map(planar)
+        .collect()
+}
+
+/// The planar contact scenario of `case`.
+fn contact_case(case: ContactCase) -> Scenario {
+    match case {
+        ContactCase::Wall => contact_wall(),
+        ContactCase::WallSampled => contact_wall_sampled(),
+        ContactCase::Deburr => contact_deburr(),
+        ContactCase::DeburrUnscheduled => contact_deburr_unscheduled(),
+        ContactCase::Push => contact_push(),
+        ContactCase::Obstacle => contact_obstacle(),
+    }
 }
 
 /// The 3-D contact scenarios of a UR5, read from the workspace's `scenarios/`
