@@ -250,11 +250,24 @@ where
         &self,
         s: &AugmentedState<T, G, D>,
     ) -> Result<(AugmentedVector<T, D>, CouplingOutput<T, G, D>)> {
+        self.evaluate_then(s, |out| *out)
+    }
+
+    /// [`evaluate`](Self::evaluate) keeping only what `finish` takes of the coupling output.
+    /// The output is large (the field's sample, the coupling's matrices): a caller that needs
+    /// a few of its numbers at every evaluation (a simulator's integration stages) saves
+    /// copying it out.
+    #[inline(always)]
+    pub fn evaluate_then<R>(
+        &self,
+        s: &AugmentedState<T, G, D>,
+        finish: impl FnOnce(&CouplingOutput<T, G, D>) -> R,
+    ) -> Result<(AugmentedVector<T, D>, R)> {
         if Sys::HAS_GRAVITY && self.gravity_compensation {
-            return self.evaluate_compensated(s, |out| *out);
+            return self.evaluate_compensated(s, finish);
         }
         let out = self.law.evaluate(s)?;
-        Ok((self.add_ons(s, &out), out))
+        Ok((self.add_ons(s, &out), finish(&out)))
     }
 
     /// What [`step`](Self::step) needs of the law: the total torque and the diagnostics. The

@@ -310,10 +310,22 @@ where
     // The environment's torque: the contact's and the disturbance's.
     let fc = E::torque(&contact) + torque_of::<N>(disturbance, t);
     let ff = friction.torque(&st.v);
-    // The controller's output used in place (not moved into an `Evaluation`).
-    let (torque, c) = sys.controller.evaluate(st)?;
+    // Only the few numbers the stage keeps are taken of the controller's (large) output.
+    let (torque, c) = sys.controller.evaluate_then(st, |c| {
+        (
+            c.torque,
+            [
+                c.beta,
+                c.velocity_field_error_energy(),
+                c.field.potential,
+                c.field.lambda1,
+                c.field.lambda2,
+            ],
+        )
+    })?;
+    let (coupling, [beta, w_beta, potential, lambda1, lambda2]) = c;
     let derivative = sys.rate(st, &torque, &(fc + ff))?;
-    let addon = torque - c.torque;
+    let addon = torque - coupling;
     let controller =
         addon.robot.dot(&st.v) + addon.tau * st.tau_dot + addon.flywheel * st.flywheel_speed;
     let gravity = -sys.plant.gravity(&st.q).dot(&st.v);
@@ -322,11 +334,11 @@ where
         contact,
         derivative,
         torque: torque.robot,
-        beta: c.beta,
-        w_beta: c.velocity_field_error_energy(),
-        potential: c.field.potential,
-        lambda1: c.field.lambda1,
-        lambda2: c.field.lambda2,
+        beta,
+        w_beta,
+        potential,
+        lambda1,
+        lambda2,
     })
 }
 
