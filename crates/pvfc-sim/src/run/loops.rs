@@ -234,11 +234,11 @@ where
 }
 
 /// Holds the motor torque `u` over one controller period from time `t`: the plant (gravity,
-/// friction, contact and the scenario's disturbance) in RK4 substeps of `h`, the works `[contact, friction, motor, gravity]`
-/// integrated by the stages' powers. The motor's power is counted only when asked (the timed
-/// baseline's; PVFC's add-ons are what its controller accounts). `fc0` is the contact torque
-/// at the sample, the first stage of the period; the contact's work counts the disturbance's
-/// (both are the environment).
+/// friction, contact and the scenario's disturbance) in RK4 substeps of `h`, the works
+/// `[contact, friction, motor, gravity]` integrated by the stages' powers. The motor's power
+/// is counted only when asked (the timed baseline's; PVFC's add-ons are what its controller
+/// accounts). `fc0` is the contact torque at the sample, the first stage of the period; the
+/// contact's work counts the disturbance's (both are the environment).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn hold<G, Sys, E, const N: usize>(
     s: &Scenario,
