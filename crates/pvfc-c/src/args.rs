@@ -80,6 +80,23 @@ pub(crate) unsafe fn joints<'a>(
     unsafe { doubles(p, n, name) }
 }
 
+/// An optional joint vector: `None` for NULL, else exactly `dof` doubles (as [`joints`]).
+///
+/// # Safety
+/// `p` is NULL or points to `n` readable doubles.
+pub(crate) unsafe fn optional_joints<'a>(
+    p: *const f64,
+    n: usize,
+    dof: usize,
+    name: &str,
+) -> Result<Option<&'a [f64]>, Failure> {
+    if p.is_null() {
+        return Ok(None);
+    }
+    // SAFETY: forwarded from the caller.
+    unsafe { joints(p, n, dof, name) }.map(Some)
+}
+
 /// The caller's output array of `dof` doubles.
 ///
 /// # Safety

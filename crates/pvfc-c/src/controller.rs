@@ -111,27 +111,18 @@ pub unsafe extern "C" fn pvfc_controller_new(
         let robot = &unsafe { object(robot, "robot") }?.robot;
         let contour = unsafe { object(contour, "contour") }?;
         let n = robot.dof();
-        let h = if h.is_null() {
-            vec![1.0; n]
-        } else {
-            unsafe { joints(h, h_len, n, "h") }?.to_vec()
-        };
+        let h = unsafe { optional_joints(h, h_len, n, "h") }?
+            .map_or_else(|| vec![1.0; n], <[f64]>::to_vec);
         let s = unsafe { sized(settings, pvfc_settings_default(), "settings") }?;
-        let friction = if s.friction_compensation.is_null() {
-            None
-        } else {
-            Some(
-                unsafe {
-                    joints(
-                        s.friction_compensation,
-                        s.friction_compensation_len,
-                        n,
-                        "settings.friction_compensation",
-                    )
-                }?
-                .to_vec(),
+        let friction = unsafe {
+            optional_joints(
+                s.friction_compensation,
+                s.friction_compensation_len,
+                n,
+                "settings.friction_compensation",
             )
-        };
+        }?
+        .map(<[f64]>::to_vec);
         let (contour, field) = contour.resolve(robot)?;
         let settings = ArmSettings {
             contour,

@@ -82,12 +82,8 @@ pub unsafe extern "C" fn pvfc_passive_new(
         let n = c.dof();
         let o = &unsafe { sized(options, pvfc_passive_options_default(), "options") }?;
         let array = |p: *const f64, name: &str| -> Result<Option<Vec<f64>>, Failure> {
-            if p.is_null() {
-                Ok(None)
-            } else {
-                // SAFETY: o.n readable doubles at p, as documented.
-                Ok(Some(unsafe { joints(p, o.n, n, name) }?.to_vec()))
-            }
+            // SAFETY: NULL or o.n readable doubles at p, as documented.
+            Ok(unsafe { optional_joints(p, o.n, n, name) }?.map(<[f64]>::to_vec))
         };
         let options = PassiveOptions {
             torque_limit: array(o.torque_limit, "options.torque_limit")?,
@@ -126,16 +122,8 @@ pub unsafe extern "C" fn pvfc_passive_step(
         let p = &mut unsafe { object_mut(p, "p") }?.p;
         let dof = p.dof();
         let q = unsafe { joints(q, n, dof, "q") }?;
-        let v = if qdot.is_null() {
-            None
-        } else {
-            Some(unsafe { joints(qdot, n, dof, "qdot") }?)
-        };
-        let u = if applied.is_null() {
-            None
-        } else {
-            Some(unsafe { joints(applied, n, dof, "applied") }?)
-        };
+        let v = unsafe { optional_joints(qdot, n, dof, "qdot") }?;
+        let u = unsafe { optional_joints(applied, n, dof, "applied") }?;
         if !(dt.is_finite() && dt > 0.0) {
             return Err(Failure(
                 PVFC_ERROR_INVALID_ARGUMENT,
