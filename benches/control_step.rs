@@ -71,19 +71,7 @@ fn scara_f64() -> (ScaraLissajousController<f64>, Samples<f64>) {
 fn scara_f32(
     samples: &[(Torus<f64, 2>, Vector2<f64>)],
 ) -> (ScaraLissajousController<f32>, Samples<f32>) {
-    let field32 = SuspendedField::new(
-        Lissajous::<f32, 2>::paper(),
-        TorusNavigation::paper(Vector2::new(1.0f32, 1.0)).expect("valid"),
-        ExponentialPacing::new(100.0f32).expect("valid"),
-    );
-    let law32 = PvfcLaw::new(
-        Scara::<f32>::pelican(),
-        field32,
-        Flywheel::new(1.0f32, 50.0).expect("valid"),
-        0.05,
-    )
-    .expect("valid");
-    let scara32 = Controller::new(law32).starting_at_rest(0.0);
+    let scara32 = ScaraLissajousController::<f32>::pelican_example().expect("valid");
     let samples32: Vec<_> = samples
         .iter()
         .map(|(q, v)| {

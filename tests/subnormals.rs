@@ -52,19 +52,7 @@ fn recorded_run() -> Vec<(Torus<f32, 2>, Vector2<f32>)> {
 }
 
 fn scara_f32() -> ScaraLissajousController<f32> {
-    let field = SuspendedField::new(
-        Lissajous::<f32, 2>::paper(),
-        TorusNavigation::paper(Vector2::new(1.0f32, 1.0)).expect("valid"),
-        ExponentialPacing::new(100.0f32).expect("valid"),
-    );
-    let law = PvfcLaw::new(
-        Scara::<f32>::pelican(),
-        field,
-        Flywheel::new(1.0f32, 50.0).expect("valid"),
-        0.05,
-    )
-    .expect("valid");
-    Controller::new(law).starting_at_rest(0.0)
+    ScaraLissajousController::pelican_example().expect("valid")
 }
 
 #[test]

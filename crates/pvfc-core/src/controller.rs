@@ -460,3 +460,38 @@ pub type ScaraLissajousController<T> = Controller<
     >,
     2,
 >;
+
+impl<T: Real> ScaraLissajousController<T> {
+    /// The core example in any scalar: the Pelican SCARA (`Scara::pelican`) on the paper's
+    /// Lissajous contour, the torus navigation function of eq. (17) with `h = (1, 1)`,
+    /// exponential self-pacing `R = 100` (eq. 21), `Ē = 50`, `M_F = 1`, `γ = 0.05`, from rest at
+    /// `τ = 0` with all of `Ē` in the flywheel, no add-ons (add them with the `with_*`
+    /// builders). The same controller as `pvfc_sim::scenario::presets::pelican_example`'s.
+    ///
+    /// ```
+    /// use pvfc_core::controller::ScaraLissajousController;
+    /// let ctl = ScaraLissajousController::<f32>::pelican_example().unwrap();
+    /// assert_eq!(ctl.state().tau_dot, 0.0);
+    /// ```
+    pub fn pelican_example() -> Result<Self> {
+        use crate::contour::Lissajous;
+        use crate::coupling::Flywheel;
+        use crate::field::SuspendedField;
+        use crate::mechanics::Scara;
+        use crate::navigation::TorusNavigation;
+        use crate::pacing::ExponentialPacing;
+        use crate::scalar::cast;
+        let field = SuspendedField::new(
+            Lissajous::paper(),
+            TorusNavigation::paper(nalgebra::Vector2::new(T::one(), T::one()))?,
+            ExponentialPacing::new(cast(100.0))?,
+        );
+        let law = PvfcLaw::new(
+            Scara::pelican(),
+            field,
+            Flywheel::new(T::one(), cast(50.0))?,
+            cast(0.05),
+        )?;
+        Ok(Controller::new(law).starting_at_rest(T::zero()))
+    }
+}

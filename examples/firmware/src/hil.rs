@@ -26,22 +26,9 @@ pub const TRACE_EVERY: usize = 100;
 /// Known-good constants: the `Err` branches cannot be taken; a firmware still maps them to a
 /// fault rather than unwrapping.
 pub fn controller<T: Real>() -> Result<ScaraLissajousController<T>, pvfc_core::Error> {
-    let field = SuspendedField::new(
-        Lissajous::paper(),
-        TorusNavigation::paper(Vector2::new(T::one(), T::one()))?,
-        ExponentialPacing::new(cast(100.0))?,
-    );
-    let law = PvfcLaw::new(
-        Scara::pelican(),
-        field,
-        Flywheel::new(T::one(), cast(50.0))?,
-        cast(0.05),
-    )?;
     let friction =
         FrictionCompensation::new(Vector2::new(cast(2.0), cast(3.0)))?.with_band(cast(0.1))?;
-    Ok(Controller::new(law)
-        .starting_at_rest(T::zero())
-        .with_friction_compensation(friction))
+    Ok(ScaraLissajousController::pelican_example()?.with_friction_compensation(friction))
 }
 
 /// The simulated arm: Pelican SCARA, Coulomb `(2.0, 3.0) N·m` regularised linearly within
