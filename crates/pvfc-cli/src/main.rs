@@ -257,8 +257,14 @@ fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
             println!("{name}: tool path: {b}");
         }
         if let Some(c) = pvfc_sim::trace::metrics::contact_summary(t) {
+            // With a disturbance torque, the environment is the contact and the disturbance.
+            let environment = if s.plant.disturbance.is_some() {
+                "the environment (contact and disturbance)"
+            } else {
+                "the contact"
+            };
             println!(
-                "{name}: contact: peak force {:.1} N, energy pumped into the contact {:.3} J, work of the environment {:+.3} J, audit residual {:.1e} of {:.3} J",
+                "{name}: contact: peak force {:.1} N, energy pumped into {environment} {:.3} J, work of the environment {:+.3} J, audit residual {:.1e} of {:.3} J",
                 c.peak_force, c.energy_pumped, c.work_contact, c.audit, c.energy_scale
             );
         }
