@@ -243,7 +243,7 @@ impl WaypointCurve {
 #[pyclass(module = "pvfc", frozen, from_py_object)]
 #[derive(Clone)]
 pub(crate) struct So3ConstantRate {
-    c: ConstantRate<f64, So3<f64>, 3>,
+    pub(crate) c: ConstantRate<f64, So3<f64>, 3>,
 }
 
 #[pymethods]

@@ -4,6 +4,7 @@
 #![allow(missing_docs)] // The Python API is documented in the `.pyi` stubs and docstrings.
 
 mod arm;
+mod attitude;
 mod cartesian;
 mod contours;
 mod controller;
@@ -40,6 +41,7 @@ fn _pvfc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<runs::SimulationResult>()?;
     m.add_class::<study::Study>()?;
     m.add_class::<controller::Controller>()?;
+    m.add_class::<attitude::AttitudeController>()?;
     m.add_class::<passive::PassiveController>()?;
     m.add_function(wrap_pyfunction!(runs::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(runs::simulate_many, m)?)?;

@@ -64,7 +64,7 @@ impl TorusNavigation {
 #[pyclass(module = "pvfc", frozen, from_py_object)]
 #[derive(Clone)]
 pub(crate) struct So3Navigation {
-    n: pvfc_core::navigation::So3Navigation<f64>,
+    pub(crate) n: pvfc_core::navigation::So3Navigation<f64>,
 }
 
 #[pymethods]

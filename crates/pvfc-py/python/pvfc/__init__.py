@@ -11,6 +11,7 @@ with numpy arrays, MCAP logs, and the paper's figures (``pvfc.plot``, needs matp
 
 from ._pvfc import (
     ArmController,
+    AttitudeController,
     CartesianPath,
     TaskSpaceField,
     Controller,
@@ -50,6 +51,7 @@ from .study import sweep
 
 __all__ = [
     "ArmController",
+    "AttitudeController",
     "CartesianPath",
     "TaskSpaceField",
     "Controller",

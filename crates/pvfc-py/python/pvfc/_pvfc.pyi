@@ -13,6 +13,7 @@ _PathLike: TypeAlias = Union[str, "os.PathLike[str]"]
 
 __all__ = [
     "ArmController",
+    "AttitudeController",
     "CartesianPath",
     "TaskSpaceField",
     "Controller",
@@ -435,6 +436,27 @@ class Controller:
         self, q: _ArrayLike, qdot: _ArrayLike, tau: float, tau_dot: float, flywheel_speed: float
     ) -> dict[str, Any]: ...
     def step(self, q: _ArrayLike, qdot: _ArrayLike, dt: float) -> _F64Array: ...
+    @property
+    def state(self) -> Tuple[float, float, float, int]: ...
+    def reset(self) -> None: ...
+
+@final
+class AttitudeController:
+    def __new__(
+        cls,
+        inertia: _ArrayLike,
+        contour: So3ConstantRate,
+        navigation: So3Navigation,
+        self_pacing: float = 20.0,
+        energy: float = 20.0,
+        flywheel_inertia: float = 1.0,
+        gamma: float = 0.1,
+        tau0: float = 0.0,
+    ) -> AttitudeController: ...
+    def evaluate(
+        self, rotation: _ArrayLike, omega: _ArrayLike, tau: float, tau_dot: float, flywheel_speed: float
+    ) -> dict[str, Any]: ...
+    def step(self, rotation: _ArrayLike, omega: _ArrayLike, dt: float) -> _F64Array: ...
     @property
     def state(self) -> Tuple[float, float, float, int]: ...
     def reset(self) -> None: ...
