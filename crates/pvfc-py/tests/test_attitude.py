@@ -51,7 +51,7 @@ def test_a_body_reaches_its_attitude_contour_and_follows_it():
     ctl = controller()
     r = expm(np.array([1.2, -0.8, 0.5]))
     w = np.zeros(3)
-    dt, h = 1e-3, 2.5e-4
+    dt, h = 1e-3, 5e-4
     u0 = ctl.evaluate(r, w, *ctl.state[:3])["potential"]
     kappa0 = 20.0  # all of Ē in the flywheel, the body at rest
     worst_drift = 0.0
