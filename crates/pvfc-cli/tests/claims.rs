@@ -150,8 +150,8 @@ fn every_claim_is_evaluated_and_the_table_renders() {
     let c = &all_claims().1;
     assert_eq!(
         c.len(),
-        27,
-        "17 claims of sections II–V (Fig. 1 on saturating drives on a circle and on the Lissajous curve, Fig. 10 at its energy levels, Remark 1's rate and Figs. 8–9 with stiction among them), 6 of contact, 4 of the digital controller"
+        28,
+        "18 claims of sections II–V (Fig. 1 on saturating drives on a circle and on the Lissajous curve, Fig. 10 at its energy levels, Remark 1's rate, the robustness under a disturbance and Figs. 8–9 with stiction among them), 6 of contact, 4 of the digital controller"
     );
     let md = pvfc_cli::report::markdown(c);
     assert_eq!(md.lines().count(), 2 + c.len());
