@@ -202,3 +202,14 @@ fn sampled_data_controller_follows_the_contour() {
     assert!(st.unwrapped_tau(Some(6.0)) > 6.0);
     assert!(e_rel < 1e-2, "energy error of the sampled loop {e_rel:e}");
 }
+
+/// The core's example controller is the scenario `pelican_example`'s, number for number (the
+/// firmware, the benches and the f32 tests build the former; the simulator the latter).
+#[test]
+fn the_core_example_controller_is_the_scenarios() {
+    let from_scenario = pvfc::sim::scenario::presets::pelican_example()
+        .controller()
+        .unwrap();
+    let core = pvfc::core::controller::ScaraLissajousController::<f64>::pelican_example().unwrap();
+    assert_eq!(core, from_scenario);
+}

@@ -3,7 +3,7 @@
 //! function of eq. (26), exponential self-pacing.
 
 use crate::contours::So3ConstantRate;
-use crate::convert::{matrix, out1, vector};
+use crate::convert::{internal_state, matrix, out1, vector};
 use crate::errors::core_err;
 use crate::navigation::So3Navigation;
 use nalgebra::{Matrix3, Vector3};
@@ -28,11 +28,6 @@ type Attitude = Controller<f64, So3<f64>, RigidBody<f64>, AttitudeField, 3>;
 pub(crate) struct AttitudeController {
     ctl: Attitude,
     initial: Attitude,
-}
-
-/// A rotation matrix, checked (orthonormal to 1e-6, determinant +1).
-fn rotation(r: &Bound<'_, PyAny>) -> PyResult<So3<f64>> {
-    So3::from_matrix(matrix::<3, 3>(r, "rotation")?, 1e-6).map_err(core_err)
 }
 
 #[pymethods]
@@ -85,7 +80,7 @@ impl AttitudeController {
         flywheel_speed: f64,
     ) -> PyResult<Bound<'py, PyDict>> {
         let s = AugmentedState {
-            q: self::rotation(rotation)?,
+            q: crate::convert::rotation(rotation, "rotation")?,
             v: Vector3::from(vector::<3>(omega, "omega")?),
             tau,
             tau_dot,
@@ -120,7 +115,7 @@ impl AttitudeController {
         omega: &Bound<'py, PyAny>,
         dt: f64,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let q = self::rotation(rotation)?;
+        let q = crate::convert::rotation(rotation, "rotation")?;
         let v = Vector3::from(vector::<3>(omega, "omega")?);
         let out = self.ctl.step(&q, &v, dt).map_err(core_err)?;
         Ok(out1(py, out.torque.iter().cloned().collect()))
@@ -129,8 +124,7 @@ impl AttitudeController {
     /// The internal states (τ, τ̇, q̇_F, laps).
     #[getter]
     fn state(&self) -> (f64, f64, f64, i64) {
-        let s = self.ctl.state();
-        (s.tau, s.tau_dot, s.flywheel_speed, s.laps)
+        internal_state(self.ctl.state())
     }
 
     /// Back to the initial internal states.

@@ -1,7 +1,7 @@
 //! Contours: `pvfc.Lissajous`, `Ellipse`, `WaypointCurve` (joint space, 1 to 8 coordinates),
 //! `So3ConstantRate`.
 
-use crate::convert::{any_array, dyn_vector, matrix, out1, out_matrix, vector};
+use crate::convert::{any_array, dyn_vector, out1, out_matrix, rotation, vector};
 use crate::errors::{core_err, sim_err, InvalidParameterError};
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArray2};
@@ -250,7 +250,7 @@ pub(crate) struct So3ConstantRate {
 impl So3ConstantRate {
     #[new]
     fn new(start: &Bound<'_, PyAny>, rate: &Bound<'_, PyAny>) -> PyResult<Self> {
-        let r0 = So3::from_matrix(matrix::<3, 3>(start, "start")?, 1e-6).map_err(core_err)?;
+        let r0 = rotation(start, "start")?;
         Ok(So3ConstantRate {
             c: ConstantRate::new(r0, Vector3::from(vector::<3>(rate, "rate")?))
                 .map_err(core_err)?,

@@ -1,6 +1,6 @@
 //! `pvfc.Controller`: the scenario's controller (the paper's SCARA).
 
-use crate::convert::{out1, out_matrix, vector};
+use crate::convert::{internal_state, out1, out_matrix, vector};
 use crate::errors::{core_err, sim_err};
 use crate::runs::Scenario;
 use nalgebra::Vector2;
@@ -112,8 +112,7 @@ impl Controller {
     /// The internal states (τ, τ̇, q̇_F, laps).
     #[getter]
     fn state(&self) -> (f64, f64, f64, i64) {
-        let s = self.ctl.state();
-        (s.tau, s.tau_dot, s.flywheel_speed, s.laps)
+        internal_state(self.ctl.state())
     }
 
     /// Back to the scenario's initial internal states.

@@ -107,3 +107,14 @@ pub fn out_column<'py>(py: Python<'py>, v: pvfc_sim::trace::Values<'_>) -> Bound
         pvfc_sim::trace::Values::Vectors(s) => out_series(py, s).into_any(),
     }
 }
+
+/// A rotation matrix `name`, shape (3, 3), checked (orthonormal to 1e-6, determinant +1).
+pub fn rotation(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<pvfc_core::lie::So3<f64>> {
+    pvfc_core::lie::So3::from_matrix(matrix::<3, 3>(obj, name)?, 1e-6)
+        .map_err(crate::errors::core_err)
+}
+
+/// A controller's internal states as Python sees them: (τ, τ̇, q̇_F, laps).
+pub fn internal_state(s: &pvfc_core::controller::InternalState<f64>) -> (f64, f64, f64, i64) {
+    (s.tau, s.tau_dot, s.flywheel_speed, s.laps)
+}

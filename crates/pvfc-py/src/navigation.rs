@@ -1,6 +1,6 @@
 //! Navigation functions: `pvfc.TorusNavigation`, `So3Navigation`, `JointNavigation`.
 
-use crate::convert::{any_array, dyn_vector, matrix, out1, vector};
+use crate::convert::{any_array, dyn_vector, matrix, out1, rotation, vector};
 use crate::errors::core_err;
 use nalgebra::{SVector, Vector2};
 use numpy::PyArray1;
@@ -79,7 +79,7 @@ impl So3Navigation {
 
     /// U(E) for a rotation matrix E, shape (3, 3).
     fn value(&self, e: &Bound<'_, PyAny>) -> PyResult<f64> {
-        let e = So3::from_matrix(matrix::<3, 3>(e, "e")?, 1e-6).map_err(core_err)?;
+        let e = rotation(e, "e")?;
         Ok(self.n.value(&e))
     }
 
@@ -89,7 +89,7 @@ impl So3Navigation {
         py: Python<'py>,
         e: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let e = So3::from_matrix(matrix::<3, 3>(e, "e")?, 1e-6).map_err(core_err)?;
+        let e = rotation(e, "e")?;
         Ok(out1(py, self.n.gradient(&e).iter().cloned().collect()))
     }
 

@@ -159,10 +159,7 @@ impl PassiveController {
     #[getter]
     fn state(&self) -> (f64, f64, f64, i64) {
         match &self.ctl {
-            Inner::Scara(c) => {
-                let s = c.controller().state();
-                (s.tau, s.tau_dot, s.flywheel_speed, s.laps)
-            }
+            Inner::Scara(c) => crate::convert::internal_state(c.controller().state()),
             Inner::Arm(c) => c.state(),
         }
     }

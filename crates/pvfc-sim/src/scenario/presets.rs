@@ -290,28 +290,6 @@ fn passive(mut s: Scenario, spec: PassiveSpec) -> Scenario {
     s
 }
 
-/// The digital controller (`pvfc_core::passive`) against `Controller::step`, both at 1 kHz,
-/// 250 Hz and 100 Hz with the plant and the contact at 20 kHz: free motion (frictionless, 60 s), the wall,
-/// the push and the obstacle; the wall at 1 kHz on a realistic drive (torque limits well below
-/// what the law asks at the wall, encoders of 2¹⁷ counts per turn, positions only, the
-/// velocity by a filtered difference); and Fig. 8's run (`R = 100`, friction) with the passive
-/// controller at 1 kHz beside the continuous-time controller, for tracking.
-pub fn digital() -> Vec<Scenario> {
-    PresetId::all()
-        .into_iter()
-        .filter(|id| {
-            matches!(
-                id,
-                PresetId::Digital { .. }
-                    | PresetId::DigitalDrive
-                    | PresetId::Fig8Passive
-                    | PresetId::Fig8Continuous
-            )
-        })
-        .filter_map(planar)
-        .collect()
-}
-
 /// The wall at 1 kHz on a realistic drive: torque limits (15, 5) N·m, 2¹⁷-count encoders,
 /// positions only, the passive controller.
 fn digital_drive() -> Scenario {
@@ -662,15 +640,6 @@ pub fn contact_obstacle() -> Scenario {
     );
     s.controller.self_pacing = 100.0;
     s
-}
-
-/// The contact scenarios, in the order `pvfc reproduce` runs them.
-pub fn contact() -> Vec<Scenario> {
-    PresetId::all()
-        .into_iter()
-        .filter(|id| matches!(id, PresetId::Contact(_)))
-        .filter_map(planar)
-        .collect()
 }
 
 /// The planar contact scenario of `case`.

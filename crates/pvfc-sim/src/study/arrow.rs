@@ -57,41 +57,35 @@ mod slot {
     pub const FOOTER_RECORD_BATCHES: u16 = 10;
 }
 
-/// A column's Arrow type.
+/// Where a column's values come from in a [`StudyRow`]; its Arrow type and nullability follow.
 #[derive(Clone, Copy)]
-enum Kind {
-    Int64,
-    Float64,
-    Utf8,
+enum Source {
+    /// The run's index: Int64, never null.
+    Run,
+    /// Axis `i`'s value: Float64, never null.
+    Axis(usize),
+    /// Metric `i`: Float64, null where absent.
+    Metric(usize),
+    /// The error: Utf8, null for a run that succeeded.
+    Error,
 }
 
-/// A column: its name, type, and whether it may hold nulls.
+/// A column: its name and where its values come from.
 struct Column<'a> {
     name: &'a str,
-    kind: Kind,
-    nullable: bool,
+    source: Source,
 }
 
-/// The columns of a table with `header` (from [`crate::study::table::header`]) and `axes`
-/// axis columns after `run`.
-fn columns(header: &[String], axes: usize) -> Vec<Column<'_>> {
-    let last = header.len().saturating_sub(1);
+/// The columns of [`table::header`]`(keys, metrics)`, in its order.
+fn columns<'a>(header: &'a [String], keys: usize, metrics: usize) -> Vec<Column<'a>> {
+    let sources = std::iter::once(Source::Run)
+        .chain((0..keys).map(Source::Axis))
+        .chain((0..metrics).map(Source::Metric))
+        .chain(std::iter::once(Source::Error));
     header
         .iter()
-        .enumerate()
-        .map(|(i, name)| {
-            let (kind, nullable) = match i {
-                0 => (Kind::Int64, false),
-                i if i == last => (Kind::Utf8, true),
-                i if i <= axes => (Kind::Float64, false),
-                _ => (Kind::Float64, true),
-            };
-            Column {
-                name,
-                kind,
-                nullable,
-            }
-        })
+        .zip(sources)
+        .map(|(name, source)| Column { name, source })
         .collect()
 }
 
@@ -119,23 +113,24 @@ fn schema(fbb: &mut FlatBufferBuilder<'_>, columns: &[Column<'_>]) -> Table {
         .map(|c| {
             let name = fbb.create_string(c.name);
             let t = fbb.start_table();
-            let tag = match c.kind {
-                Kind::Int64 => {
+            let tag = match c.source {
+                Source::Run => {
                     fbb.push_slot::<i32>(slot::INT_BIT_WIDTH, 64, 0);
                     fbb.push_slot::<bool>(slot::INT_IS_SIGNED, true, false);
                     INT
                 }
-                Kind::Float64 => {
+                Source::Axis(_) | Source::Metric(_) => {
                     fbb.push_slot::<i16>(slot::FLOATING_POINT_PRECISION, DOUBLE, 0);
                     FLOATING_POINT
                 }
-                Kind::Utf8 => UTF8,
+                Source::Error => UTF8,
             };
+            let nullable = matches!(c.source, Source::Metric(_) | Source::Error);
             let ty = fbb.end_table(t);
             let children = fbb.create_vector::<Table>(&[]);
             let f = fbb.start_table();
             fbb.push_slot_always(slot::FIELD_NAME, name);
-            fbb.push_slot::<bool>(slot::FIELD_NULLABLE, c.nullable, false);
+            fbb.push_slot::<bool>(slot::FIELD_NULLABLE, nullable, false);
             fbb.push_slot::<u8>(slot::FIELD_TYPE_TYPE, tag, 0);
             fbb.push_slot_always(slot::FIELD_TYPE, ty);
             fbb.push_slot_always(slot::FIELD_CHILDREN, children);
@@ -224,10 +219,18 @@ fn body(columns: &[Column<'_>], rows: &[StudyRow]) -> Body {
         nodes: Vec::new(),
         buffers: Vec::new(),
     };
-    let axes = rows.first().map_or(0, |r| r.parameters.len());
-    for (c, column) in columns.iter().enumerate() {
-        match column.kind {
-            Kind::Int64 => {
+    let floats = |b: &mut Body, value: &dyn Fn(&StudyRow) -> Option<f64>| {
+        let values: Vec<Option<f64>> = rows.iter().map(value).collect();
+        b.validity(&values.iter().map(Option::is_some).collect::<Vec<_>>());
+        let bytes: Vec<u8> = values
+            .iter()
+            .flat_map(|v| v.unwrap_or(0.0).to_le_bytes())
+            .collect();
+        b.buffer(&bytes);
+    };
+    for column in columns {
+        match column.source {
+            Source::Run => {
                 b.validity(&vec![true; rows.len()]);
                 let values: Vec<u8> = rows
                     .iter()
@@ -235,22 +238,9 @@ fn body(columns: &[Column<'_>], rows: &[StudyRow]) -> Body {
                     .collect();
                 b.buffer(&values);
             }
-            Kind::Float64 => {
-                let value = |r: &StudyRow| -> Option<f64> {
-                    match c - 1 {
-                        a if a < axes => r.parameters.get(a).copied(),
-                        m => r.metrics.get(m - axes).copied().flatten(),
-                    }
-                };
-                let values: Vec<Option<f64>> = rows.iter().map(value).collect();
-                b.validity(&values.iter().map(Option::is_some).collect::<Vec<_>>());
-                let bytes: Vec<u8> = values
-                    .iter()
-                    .flat_map(|v| v.unwrap_or(0.0).to_le_bytes())
-                    .collect();
-                b.buffer(&bytes);
-            }
-            Kind::Utf8 => {
+            Source::Axis(i) => floats(&mut b, &|r| r.parameters.get(i).copied()),
+            Source::Metric(i) => floats(&mut b, &|r| r.metrics.get(i).copied().flatten()),
+            Source::Error => {
                 b.validity(&rows.iter().map(|r| r.error.is_some()).collect::<Vec<_>>());
                 let mut offsets = vec![0i32];
                 let mut data = Vec::new();
@@ -294,7 +284,7 @@ pub fn encode(keys: &[String], metrics: &[&str], rows: &[StudyRow]) -> Result<Ve
         ));
     }
     let header = table::header(keys, metrics);
-    let columns = columns(&header, axes);
+    let columns = columns(&header, axes, metrics.len());
     let body = body(&columns, rows);
     let mut out = Vec::new();
     out.extend_from_slice(MAGIC);

@@ -395,6 +395,12 @@ pub fn velocity_field_error_bound(trace: &Trace, from: f64, to: f64) -> Option<f
         .iter()
         .zip(&trace.w_beta)
         .filter(|(t, _)| (from..to).contains(*t))
-        .map(|(_, w)| (2.0 * w.max(0.0)).sqrt())
+        .map(|(_, w)| velocity_field_error(*w))
         .reduce(f64::max)
+}
+
+/// The velocity-field error `‖e_β‖_a = √(2W_β)` (eq. 12) of a sample's `W_β` (the trace's
+/// `w_beta` column).
+pub fn velocity_field_error(w_beta: f64) -> f64 {
+    (2.0 * w_beta.max(0.0)).sqrt()
 }
