@@ -13,6 +13,7 @@
 // Library code never unwraps: bad input is an error value.
 #![warn(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+pub mod body_plot;
 pub mod canvas;
 pub mod chain_plot;
 pub mod plot;
@@ -24,6 +25,7 @@ mod report_paths;
 pub mod reproduce;
 pub mod robustness;
 pub mod runs;
+mod satellite;
 pub mod speed_sweep;
 pub mod study_plot;
 pub mod sweep;

@@ -256,7 +256,20 @@ fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
         if let Some(b) = budget {
             println!("{name}: tool path: {b}");
         }
-        if let Some(c) = pvfc_sim::trace::metrics::contact_summary(t) {
+        if s.is_body() {
+            let angle = pvfc_sim::trace::metrics::attitude_errors(t, &s.attitude_contour()?);
+            println!(
+                "{name}: attitude error ‖log(R_d(τ)ᵀR)‖ {:.3} → {:.2e} rad",
+                angle[0], angle[n]
+            );
+        }
+        match pvfc_sim::trace::metrics::contact_summary(t) {
+            // A rigid body touches nothing: its environment is the disturbance.
+            Some(c) if s.is_body() => println!(
+                "{name}: disturbance: energy pumped into it {:.3} J, its work {:+.3} J, audit residual {:.1e} of {:.3} J",
+                c.energy_pumped, c.work_contact, c.audit, c.energy_scale
+            ),
+            Some(c) => {
             // With a disturbance torque, the environment is the contact and the disturbance.
             let environment = if s.plant.disturbance.is_some() {
                 "the environment (contact and disturbance)"
@@ -267,6 +280,8 @@ fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
                 "{name}: contact: peak force {:.1} N, energy pumped into {environment} {:.3} J, work of the environment {:+.3} J, audit residual {:.1e} of {:.3} J",
                 c.peak_force, c.energy_pumped, c.work_contact, c.audit, c.energy_scale
             );
+            }
+            None => {}
         }
     }
     if s.contact.is_some() {
@@ -276,6 +291,11 @@ fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
     }
     if s.is_chain() {
         for p in plot::chain_figures(&runs, out)? {
+            println!("wrote {}", p.display());
+        }
+    }
+    if s.is_body() {
+        for p in plot::body_figures(&runs, out)? {
             println!("wrote {}", p.display());
         }
     }

@@ -310,6 +310,20 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
         )
     };
     files.extend(chain_figures_where(runs, dir, |name| !swept(name))?);
+    files.extend(body_figures(runs, dir)?);
+    Ok(files)
+}
+
+/// Draws the figure of every rigid body's run into `dir/NAME.png`; returns the files written.
+pub fn body_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for (name, (s, t)) in &runs.runs {
+        if s.is_body() {
+            let p = dir.join(format!("{name}.png"));
+            crate::body_plot::body_figure(s, t, &p)?;
+            files.push(p);
+        }
+    }
     Ok(files)
 }
 

@@ -120,6 +120,10 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     {
         crate::robustness::claim(r, &mut push)?;
     }
+    // Section IV-B's satellite on SO(3), when its run is among these.
+    if r.run(PresetId::Satellite).is_ok() {
+        crate::satellite::claim(r, &mut push)?;
+    }
 
     // Fig. 6.
     let f6 = r.trace(PresetId::Fig6)?;

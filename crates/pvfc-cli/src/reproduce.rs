@@ -46,8 +46,8 @@ pub fn write_logs(runs: &Runs, dir: &Path, rate: Option<f64>) -> Result<Vec<Path
         .map(|(name, (s, t))| {
             let p = logs.join(format!("{name}.mcap"));
             let scene = match runs.arm_system(s)? {
-                Some(sys) => Some(pvfc_sim::log::scene::ArmScene::of_run_with(s, &sys, t)?),
-                None => None,
+                Some(sys) => Some(pvfc_sim::log::scene::Scene::of_run_with(s, &sys, t)?),
+                None => pvfc_sim::log::scene::Scene::of_run(s, t)?,
             };
             let options = pvfc_sim::log::LogOptions {
                 scene: scene.as_ref(),

@@ -135,6 +135,12 @@ fn on_a_drive_the_passive_controller_creates_no_more_than_the_encoder_bound() {
     assert_holds("digital.drive");
 }
 
+/// Section IV-B: the satellite on SO(3) reaches its attitude contour with κ_a constant.
+#[test]
+fn the_satellite_reaches_its_attitude_contour() {
+    assert_holds("satellite");
+}
+
 #[test]
 fn the_passive_controller_tracks_as_the_continuous_one() {
     assert_holds("digital.tracking");
@@ -150,8 +156,8 @@ fn every_claim_is_evaluated_and_the_table_renders() {
     let c = &all_claims().1;
     assert_eq!(
         c.len(),
-        28,
-        "18 claims of sections II–V (Fig. 1 on saturating drives on a circle and on the Lissajous curve, Fig. 10 at its energy levels, Remark 1's rate, the robustness under a disturbance and Figs. 8–9 with stiction among them), 6 of contact, 4 of the digital controller"
+        29,
+        "19 claims of sections II–V (Fig. 1 on saturating drives on a circle and on the Lissajous curve, Fig. 10 at its energy levels, Remark 1's rate, the robustness under a disturbance, the satellite on SO(3) and Figs. 8–9 with stiction among them), 6 of contact, 4 of the digital controller"
     );
     let md = pvfc_cli::report::markdown(c);
     assert_eq!(md.lines().count(), 2 + c.len());

@@ -12,15 +12,8 @@ use pvfc_core::prelude::*;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-type AttitudeField = SuspendedField<
-    f64,
-    So3<f64>,
-    ConstantRate<f64, So3<f64>, 3>,
-    pvfc_core::navigation::So3Navigation<f64>,
-    ExponentialPacing<f64>,
-    3,
->;
-type Attitude = Controller<f64, So3<f64>, RigidBody<f64>, AttitudeField, 3>;
+/// The scenario's attitude controller type: the same field (eq. 26, eq. 21) and law.
+type Attitude = pvfc_sim::scenario::AttitudeController;
 
 /// PVFC of a rigid body's attitude (`J ω̇ + ω × Jω = T`, `ω` in the body frame) along a contour
 /// on SO(3). `step` keeps the internal states τ, τ̇, q̇_F; `evaluate` is pure.

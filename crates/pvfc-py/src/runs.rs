@@ -334,7 +334,7 @@ impl SimulationResult {
         rate: Option<f64>,
     ) -> PyResult<()> {
         let scene = match scenario {
-            Some(s) => pvfc_sim::log::scene::ArmScene::of_run(&s.s, &self.t).map_err(sim_err)?,
+            Some(s) => pvfc_sim::log::scene::Scene::of_run(&s.s, &self.t).map_err(sim_err)?,
             None => None,
         };
         let options = pvfc_sim::log::LogOptions {

@@ -214,12 +214,12 @@ fn a_cartesian_tool_path_becomes_joint_waypoints_or_a_named_error() {
 
 #[test]
 fn an_arm_log_carries_its_3d_scene_for_foxglove() {
-    use pvfc_sim::log::scene::{ArmScene, ARM_TOPIC, FRAMES_TOPIC, PATH_TOPIC};
+    use pvfc_sim::log::scene::{Scene, ARM_TOPIC, FRAMES_TOPIC, PATH_TOPIC};
     use pvfc_sim::log::{read_mcap, write_mcap_with, LogOptions};
     let mut s = ur5();
     s.duration = 0.2;
     let t = pvfc_sim::run::simulate(&s, &mut |_| {}).unwrap();
-    let scene = ArmScene::of_run(&s, &t).unwrap().unwrap();
+    let scene = Scene::of_run(&s, &t).unwrap().unwrap();
     assert_eq!(scene.frames.len(), 7);
     assert_eq!(scene.frames.last().map(String::as_str), Some("tool"));
     let dir = std::env::temp_dir().join(format!("pvfc-scene-{}", std::process::id()));
@@ -256,7 +256,7 @@ fn an_arm_log_carries_its_3d_scene_for_foxglove() {
     let mut planar = pvfc_sim::scenario::presets::fig8(100);
     planar.duration = 0.01;
     let tp = pvfc_sim::run::simulate(&planar, &mut |_| {}).unwrap();
-    assert!(ArmScene::of_run(&planar, &tp).unwrap().is_none());
+    assert!(Scene::of_run(&planar, &tp).unwrap().is_none());
     std::fs::remove_dir_all(&dir).ok();
 }
 

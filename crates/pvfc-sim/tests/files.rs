@@ -34,6 +34,9 @@ fn shipped_scenarios_are_the_presets() {
         .expect("the contact example has a [contact] table");
     assert_eq!(c.obstacles.len(), 2);
     assert_eq!(c.obstacles[1].motion.len(), 3);
+    let ex = Scenario::from_file(&repo().join("scenarios/example_satellite.toml")).unwrap();
+    assert!(ex.is_body() && ex.plant.disturbance.is_some());
+    assert_eq!(ex.dof().unwrap(), 3);
 }
 
 /// Every preset is named by its typed id, in `pvfc reproduce`'s order, and every id names

@@ -242,7 +242,7 @@ fn spreads_and_steady_passes() {
 /// the same numbers `path_budget` gives.
 #[test]
 fn the_log_carries_the_budget() {
-    use pvfc_sim::log::scene::{ArmScene, BUDGET_METADATA};
+    use pvfc_sim::log::scene::{Scene, BUDGET_METADATA};
     use pvfc_sim::log::{write_mcap_with, LogOptions};
     use pvfc_sim::trace::path_budget::path_budget;
     let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
@@ -254,7 +254,7 @@ fn the_log_carries_the_budget() {
     }
     let t = pvfc_sim::simulate(&s, &mut |_| {}).unwrap();
     let b = path_budget(&s, &s.robot().unwrap(), &t).unwrap().unwrap();
-    let scene = ArmScene::of_run(&s, &t).unwrap().unwrap();
+    let scene = Scene::of_run(&s, &t).unwrap().unwrap();
     let dir = std::env::temp_dir().join(format!("pvfc-budget-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let p = dir.join("ur5.mcap");

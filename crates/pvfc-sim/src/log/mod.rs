@@ -8,7 +8,7 @@ pub mod scene;
 use crate::error::{Result, SimError};
 use crate::trace::{Column, Precision, Shape, Trace, Values, CONTACT_COLUMNS, TRACE_COLUMNS};
 use cdr::{Field, MessageType, Width};
-use scene::ArmScene;
+use scene::Scene;
 use std::collections::BTreeMap;
 use std::io::BufWriter;
 use std::path::Path;
@@ -83,7 +83,7 @@ fn encode_sample(
 #[derive(Clone, Copy, Debug, Default)]
 pub struct LogOptions<'a> {
     /// An arm's 3-D scene for Foxglove's 3-D panel ([`scene`]).
-    pub scene: Option<&'a ArmScene>,
+    pub scene: Option<&'a Scene>,
     /// The plot channels' rate (Hz): a sample is written when its time reaches the next
     /// multiple of `1/rate`, and the last sample always is. `None` writes every sample of the
     /// trace. The audit's claims are computed from the full trace, never from a log.

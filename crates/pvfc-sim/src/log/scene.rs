@@ -1,18 +1,22 @@
-//! What Foxglove's 3-D panel shows of an arm's run: every link's frame as
+//! What Foxglove's 3-D panel shows of a run. An arm: every link's frame as
 //! `foxglove.FrameTransforms`, the arm as a line through its joints and the desired tool path
-//! as a closed line (`foxglove.SceneUpdate`), all in the robot's base frame. The messages are
-//! Foxglove's own (the `foxglove` crate), in protobuf with the SDK's schemas.
+//! as a closed line (`foxglove.SceneUpdate`), all in the robot's base frame. A rigid body: its
+//! frame and the desired attitude's, a box in each, and the path of the desired attitude's
+//! x axis. The messages are Foxglove's own (the `foxglove` crate), in protobuf with the SDK's
+//! schemas.
 
 use crate::error::{Result, SimError};
 use crate::scenario::ArmSystem;
 use crate::scenario::Scenario;
 use crate::trace::Trace;
 use foxglove::messages::{
-    line_primitive, Color, FrameTransform, FrameTransforms, LinePrimitive, Point3, Quaternion,
-    SceneEntity, SceneUpdate, Timestamp, Vector3,
+    line_primitive, Color, CubePrimitive, FrameTransform, FrameTransforms, LinePrimitive, Point3,
+    Quaternion, SceneEntity, SceneUpdate, Timestamp, Vector3,
 };
 use foxglove::Encode;
 use nalgebra::{Rotation3, UnitQuaternion};
+use pvfc_core::contour::Contour;
+use pvfc_core::lie::{LieGroup, So3};
 use pvfc_core::mechanics::Pose;
 use std::collections::BTreeMap;
 use std::io::{Seek, Write};
@@ -21,6 +25,13 @@ use std::io::{Seek, Write};
 pub const FRAMES_TOPIC: &str = "/tf";
 /// Topic of the arm drawn as a line through its joints (`foxglove.SceneUpdate`).
 pub const ARM_TOPIC: &str = "/scene/arm";
+/// Topic of a rigid body drawn as a box in its frame and in the desired attitude's
+/// (`foxglove.SceneUpdate`, once at the start: the frames move them).
+pub const BODY_TOPIC: &str = "/scene/body";
+/// A rigid body's frame.
+pub const BODY_FRAME: &str = "body";
+/// The desired attitude's frame, `R_d(τ)` at the run's `τ`.
+pub const DESIRED_FRAME: &str = "desired";
 /// Topic of the desired tool path, and the Cartesian path if one was given
 /// (`foxglove.SceneUpdate`, once at the start).
 pub const PATH_TOPIC: &str = "/scene/path";
@@ -28,16 +39,18 @@ pub const PATH_TOPIC: &str = "/scene/path";
 /// The 3-D frames are logged at most this often (Hz): enough for the panel's playback.
 pub const SCENE_RATE: f64 = 50.0;
 
-/// An arm run's 3-D scene: frame names, link poses at the logged samples, the paths.
+/// A run's 3-D scene: frame names, poses at the logged samples, the paths.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ArmScene {
-    /// The base frame (the URDF's base link).
+pub struct Scene {
+    /// The base frame (the URDF's base link; `world` for a rigid body).
     pub base: String,
-    /// The moving links' frames, base to tip, then `tool`.
+    /// The moving frames: an arm's links, base to tip, then `tool`; a rigid body's
+    /// [`BODY_FRAME`] and [`DESIRED_FRAME`].
     pub frames: Vec<String>,
     /// `(time in ns, the poses of `frames` in the base frame)` at the logged samples.
     pub poses: Vec<(u64, Vec<Pose<f64>>)>,
-    /// The desired contour's tool path (the forward kinematics of `x_d(τ)` over a period).
+    /// The desired contour's tool path (the forward kinematics of `x_d(τ)` over a period); for
+    /// a rigid body, the tip of the desired attitude's x axis (1 m long) over a period.
     pub desired: Vec<[f64; 3]>,
     /// The Cartesian path the contour was made from, if any.
     pub cartesian: Vec<[f64; 3]>,
@@ -45,6 +58,9 @@ pub struct ArmScene {
     /// named numbers in SI units (m, m/s, rad, s), written as the log's metadata record
     /// [`BUDGET_METADATA`]; empty without a Cartesian path or a steady pass.
     pub budget: BTreeMap<String, String>,
+    /// A rigid body's box (its sides, m), drawn in [`BODY_FRAME`] and [`DESIRED_FRAME`]
+    /// instead of an arm's line; `None` for an arm.
+    pub body: Option<[f64; 3]>,
 }
 
 /// The name of the MCAP metadata record that holds a run's tool-path error budget.
@@ -86,13 +102,80 @@ fn budget_record(b: &crate::trace::path_budget::PathBudget) -> BTreeMap<String, 
     m
 }
 
-impl ArmScene {
-    /// The scene of run `t` of scenario `s`; `None` when the scenario is not a URDF arm.
+/// Every how many samples of `t` the scene keeps a pose (at most [`SCENE_RATE`]).
+fn scene_stride(t: &Trace) -> usize {
+    (match t.t.get(1).zip(t.t.first()) {
+        Some((t1, t0)) if t1 > t0 => ((1.0 / SCENE_RATE) / (t1 - t0)).round().max(1.0),
+        _ => 1.0,
+    }) as usize
+}
+
+impl Scene {
+    /// The scene of run `t` of scenario `s`; `None` for the planar SCARA.
     pub fn of_run(s: &Scenario, t: &Trace) -> Result<Option<Self>> {
+        if s.is_body() {
+            return Ok(Some(Self::of_body(s, t)?));
+        }
         if !s.is_chain() {
             return Ok(None);
         }
         Ok(Some(Self::of_run_with(s, &ArmSystem::build(s)?, t)?))
+    }
+
+    /// The scene of run `t` of a rigid body's scenario `s`: the body's attitude `exp(q̂)` and
+    /// the desired attitude `R_d(τ)` at each kept sample, the desired x axis's path over a
+    /// period, and the body as a box with the proportions of a uniform box of its inertia's
+    /// diagonal (the longest side 1 m).
+    pub fn of_body(s: &Scenario, t: &Trace) -> Result<Self> {
+        let contour = s.attitude_contour()?;
+        let inertia = s
+            .plant
+            .rigid_body
+            .ok_or_else(|| SimError::Setting("plant.rigid_body is not set".into()))?
+            .inertia;
+        let at = |r: &So3<f64>| Pose {
+            rotation: *r.matrix(),
+            translation: nalgebra::Vector3::zeros(),
+        };
+        let poses = (0..t.len())
+            .step_by(scene_stride(t))
+            .map(|i| {
+                let q = crate::model::fixed::<3>(&t.q[i], "trace q")?;
+                let body = So3::exp(&q);
+                let desired = contour.sample(t.tau[i]).point;
+                Ok(((t.t[i] * 1e9).round() as u64, vec![at(&body), at(&desired)]))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let period = s.period();
+        let desired = (0..400)
+            .map(|k| {
+                let x = contour
+                    .sample(period * k as f64 / 400.0)
+                    .point
+                    .matrix()
+                    .column(0)
+                    .into_owned();
+                [x.x, x.y, x.z]
+            })
+            .collect();
+        // A uniform box of unit mass with `J_xx = (b² + c²)/12`, …: `a² = 6(J_yy + J_zz − J_xx)`.
+        let (jx, jy, jz) = (inertia[0][0], inertia[1][1], inertia[2][2]);
+        let side = |a: f64, b: f64, c: f64| (6.0 * (b + c - a)).max(0.0).sqrt();
+        let sides = [side(jx, jy, jz), side(jy, jz, jx), side(jz, jx, jy)];
+        let longest = sides
+            .iter()
+            .cloned()
+            .fold(0.0, f64::max)
+            .max(f64::MIN_POSITIVE);
+        Ok(Scene {
+            base: "world".into(),
+            frames: vec![BODY_FRAME.into(), DESIRED_FRAME.into()],
+            poses,
+            desired,
+            cartesian: vec![],
+            budget: BTreeMap::new(),
+            body: Some(sides.map(|x| x / longest)),
+        })
     }
 
     /// The scene of run `t` of a URDF arm's scenario `s` whose system is built.
@@ -102,12 +185,8 @@ impl ArmScene {
         let d = robot.description();
         let mut frames: Vec<String> = d.joints.iter().map(|j| j.child_link.clone()).collect();
         frames.push("tool".into());
-        let every = match t.t.get(1).zip(t.t.first()) {
-            Some((t1, t0)) if t1 > t0 => ((1.0 / SCENE_RATE) / (t1 - t0)).round().max(1.0),
-            _ => 1.0,
-        } as usize;
         let poses = (0..t.len())
-            .step_by(every)
+            .step_by(scene_stride(t))
             .map(|i| Ok(((t.t[i] * 1e9).round() as u64, robot.link_poses(&t.q[i])?)))
             .collect::<Result<Vec<_>>>()?;
         let period = s.period();
@@ -129,13 +208,14 @@ impl ArmScene {
         let budget = crate::trace::path_budget::path_budget(s, robot, t)?
             .map(|b| budget_record(&b))
             .unwrap_or_default();
-        Ok(ArmScene {
+        Ok(Scene {
             base: d.base_link.clone(),
             frames,
             poses,
             desired,
             cartesian,
             budget,
+            body: None,
         })
     }
 }
@@ -190,7 +270,7 @@ fn entity(id: &str, frame: &str, ns: u64, lines: Vec<LinePrimitive>) -> SceneEnt
 }
 
 /// The link frames at one sample.
-pub fn frame_transforms(scene: &ArmScene, ns: u64, poses: &[Pose<f64>]) -> FrameTransforms {
+pub fn frame_transforms(scene: &Scene, ns: u64, poses: &[Pose<f64>]) -> FrameTransforms {
     let transforms = scene
         .frames
         .iter()
@@ -222,7 +302,7 @@ pub fn frame_transforms(scene: &ArmScene, ns: u64, poses: &[Pose<f64>]) -> Frame
 }
 
 /// The arm as one line from the base through every link frame's origin to the tool.
-pub fn arm_update(scene: &ArmScene, ns: u64, poses: &[Pose<f64>]) -> SceneUpdate {
+pub fn arm_update(scene: &Scene, ns: u64, poses: &[Pose<f64>]) -> SceneUpdate {
     let points: Vec<[f64; 3]> = std::iter::once([0.0; 3])
         .chain(poses.iter().map(|p| {
             let t = p.translation;
@@ -241,8 +321,38 @@ pub fn arm_update(scene: &ArmScene, ns: u64, poses: &[Pose<f64>]) -> SceneUpdate
     }
 }
 
+/// A rigid body as a box of `sides` (m) in its frame, and a translucent one in the desired
+/// attitude's.
+pub fn body_update(ns: u64, sides: [f64; 3]) -> SceneUpdate {
+    let cube = |rgba: [f64; 4]| CubePrimitive {
+        pose: None,
+        size: Some(Vector3 {
+            x: sides[0],
+            y: sides[1],
+            z: sides[2],
+        }),
+        color: Some(Color {
+            r: rgba[0],
+            g: rgba[1],
+            b: rgba[2],
+            a: rgba[3],
+        }),
+    };
+    let entity = |id: &str, frame: &str, rgba| SceneEntity {
+        cubes: vec![cube(rgba)],
+        ..entity(id, frame, ns, vec![])
+    };
+    SceneUpdate {
+        deletions: vec![],
+        entities: vec![
+            entity("body", BODY_FRAME, [0.2, 0.4, 0.9, 1.0]),
+            entity("desired", DESIRED_FRAME, [0.1, 0.7, 0.3, 0.3]),
+        ],
+    }
+}
+
 /// The desired tool path (and the Cartesian path), closed lines in the base frame.
-pub fn path_update(scene: &ArmScene, ns: u64) -> SceneUpdate {
+pub fn path_update(scene: &Scene, ns: u64) -> SceneUpdate {
     let mut lines = vec![line(
         line_primitive::Type::LineLoop,
         &scene.desired,
@@ -299,11 +409,16 @@ fn put<M: Encode, W: Write + Seek>(
 /// Writes the scene's channels into an open log.
 pub(crate) fn write_scene<W: Write + Seek>(
     w: &mut mcap::Writer<W>,
-    scene: &ArmScene,
+    scene: &Scene,
     meta: &BTreeMap<String, String>,
 ) -> Result<()> {
     let frames = channel::<FrameTransforms, W>(w, FRAMES_TOPIC, meta)?;
-    let arm = channel::<SceneUpdate, W>(w, ARM_TOPIC, meta)?;
+    let robot_topic = if scene.body.is_some() {
+        BODY_TOPIC
+    } else {
+        ARM_TOPIC
+    };
+    let robot = channel::<SceneUpdate, W>(w, robot_topic, meta)?;
     let path = channel::<SceneUpdate, W>(w, PATH_TOPIC, meta)?;
     if !scene.budget.is_empty() {
         w.write_metadata(&mcap::records::Metadata {
@@ -315,6 +430,9 @@ pub(crate) fn write_scene<W: Write + Seek>(
     let mut buf = Vec::new();
     let start = scene.poses.first().map(|(ns, _)| *ns).unwrap_or(0);
     put(w, path, 0, start, &path_update(scene, start), &mut buf)?;
+    if let Some(sides) = scene.body {
+        put(w, robot, 0, start, &body_update(start, sides), &mut buf)?;
+    }
     for (k, (ns, poses)) in scene.poses.iter().enumerate() {
         put(
             w,
@@ -324,14 +442,16 @@ pub(crate) fn write_scene<W: Write + Seek>(
             &frame_transforms(scene, *ns, poses),
             &mut buf,
         )?;
-        put(
-            w,
-            arm,
-            k as u32,
-            *ns,
-            &arm_update(scene, *ns, poses),
-            &mut buf,
-        )?;
+        if scene.body.is_none() {
+            put(
+                w,
+                robot,
+                k as u32,
+                *ns,
+                &arm_update(scene, *ns, poses),
+                &mut buf,
+            )?;
+        }
     }
     Ok(())
 }

@@ -7,7 +7,6 @@
 use crate::contact::spatial::SpatialContact;
 use crate::error::{Result, SimError};
 use crate::model::arm::{arm_controller, ArmControllerN};
-use crate::run::integrate::ClosedLoop;
 use crate::run::loops::{self, Surroundings};
 use crate::run::stepper::PassiveDrive;
 use crate::scenario::ArmSystem;
@@ -15,7 +14,6 @@ use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
 use crate::trace::{ContactSample, ContactTrace, Trace, Work};
 use crate::with_dof;
 use nalgebra::SVector;
-use pvfc_core::augmented::AugmentedState;
 use pvfc_core::prelude::*;
 
 /// Runs the PVFC loop of a URDF arm's scenario. `progress` is called with the fraction done.
@@ -70,18 +68,7 @@ fn run<const N: usize>(
                 loops::sampled(s, &plant, drive, (q, v), &mut env, columns, progress)
             }
         },
-        Mode::Continuous => {
-            let sys = ClosedLoop::matched(ctl);
-            let i = *sys.controller.state();
-            let st = AugmentedState {
-                q,
-                v,
-                tau: i.tau,
-                tau_dot: i.tau_dot,
-                flywheel_speed: i.flywheel_speed,
-            };
-            loops::continuous(s, sys, st, &mut env, columns, progress)
-        }
+        Mode::Continuous => loops::continuous(s, ctl, (q, v), &mut env, columns, progress),
     }
 }
 

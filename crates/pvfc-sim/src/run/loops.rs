@@ -21,21 +21,28 @@ use pvfc_core::augmented::AugmentedState;
 use pvfc_core::prelude::*;
 
 /// The coordinates a trace logs for a configuration (the torus's unwrapped angles, the joint
-/// space's coordinates).
+/// space's coordinates, an attitude's rotation vector).
 pub(crate) trait Coordinates<const N: usize> {
     /// The coordinates.
-    fn coordinates(&self) -> &SVector<f64, N>;
+    fn coordinates(&self) -> SVector<f64, N>;
 }
 
 impl<const N: usize> Coordinates<N> for Torus<f64, N> {
-    fn coordinates(&self) -> &SVector<f64, N> {
-        self.angles()
+    fn coordinates(&self) -> SVector<f64, N> {
+        *self.angles()
     }
 }
 
 impl<const N: usize> Coordinates<N> for JointSpace<f64, N> {
-    fn coordinates(&self) -> &SVector<f64, N> {
-        self.coords()
+    fn coordinates(&self) -> SVector<f64, N> {
+        *self.coords()
+    }
+}
+
+/// An attitude `R` as its rotation vector `r`, `R = exp(r̂)`, `‖r‖ ≤ π`.
+impl Coordinates<3> for So3<f64> {
+    fn coordinates(&self) -> SVector<f64, 3> {
+        self.log()
     }
 }
 
@@ -124,9 +131,10 @@ where
         schedule(s, ctl.nominal_speed_mut(), E::normal_force(&c0))?;
         let out = ctl.sample(&q, &v, dt)?;
         work.0[2] += out.add_ons_ended;
+        let coordinates = q.coordinates();
         trace.push(Row::of_sample(
             t,
-            (q.coordinates().as_slice(), v.as_slice()),
+            (coordinates.as_slice(), v.as_slice()),
             &out,
             period,
             plant.kinetic_energy(&q, &v),
@@ -191,9 +199,10 @@ where
         let t = k as f64 * dt;
         let tau = s.initial.tau + tau_rate * t;
         let (u, potential) = law(tau, &q, &v)?;
+        let coordinates = q.coordinates();
         trace.push(Row {
             t,
-            q: q.coordinates().as_slice(),
+            q: coordinates.as_slice(),
             v: v.as_slice(),
             tau,
             tau_dot: tau_rate,
@@ -342,23 +351,35 @@ where
     })
 }
 
-/// The continuous-time loop: the closed loop (plant, controller and their contact) integrated
+/// The continuous-time loop from `(q, q̇)` and the controller's internal states: the closed
+/// loop (the controller's model as the plant, the controller and their contact) integrated
 /// with RKMK4 at the plant's step, logged at the controller's rate. With a force schedule,
 /// `r` of (36) is set from the contact force at each logged sample.
 pub(crate) fn continuous<G, Sys, F, E, const N: usize>(
     s: &Scenario,
-    mut sys: ClosedLoop<f64, G, Sys, Sys, F, N>,
-    mut st: AugmentedState<f64, G, N>,
+    controller: Controller<f64, G, Sys, F, N>,
+    (q, v): (G, SVector<f64, N>),
     env: &mut E,
     columns: Option<usize>,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace>
 where
     G: LieGroup<f64, N> + Coordinates<N>,
-    Sys: MechanicalSystem<f64, G, N>,
+    Sys: MechanicalSystem<f64, G, N> + Clone,
     F: VelocityField<f64, G, N>,
     E: Surroundings<G, N> + ?Sized,
 {
+    // The plant is the controller's own model; the controller's internal states join the
+    // plant's in the integrated state.
+    let mut sys = ClosedLoop::matched(controller);
+    let i = *sys.controller.state();
+    let mut st = AugmentedState {
+        q,
+        v,
+        tau: i.tau,
+        tau_dot: i.tau_dot,
+        flywheel_speed: i.flywheel_speed,
+    };
     let friction = (&s.plant.friction, s.plant.disturbance.as_ref());
     let (dt, h, n) = timing(s)?;
     let mut trace = Trace::with_capacity(s.name.clone(), N, n + 1);
@@ -371,9 +392,10 @@ where
         if schedule(s, sys.controller.nominal_speed_mut(), normal)? {
             first = stage(&sys, env, friction, t, &st)?;
         }
+        let coordinates = st.q.coordinates();
         trace.push(Row {
             t,
-            q: st.q.coordinates().as_slice(),
+            q: coordinates.as_slice(),
             v: st.v.as_slice(),
             tau: st.tau,
             tau_dot: st.tau_dot,

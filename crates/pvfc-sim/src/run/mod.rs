@@ -1,8 +1,10 @@
 //! Running a scenario's system: PVFC in the sampled-data or continuous-time loop, and the
-//! timed baseline, for every robot. The paper's SCARA ([`planar`]) and any URDF arm
-//! ([`chain`]) differ only in their model and in what they touch; both run through the same
-//! loops (`loops`), steppers (`stepper`) and integrator ([`integrate`]).
+//! timed baseline, for every robot. The paper's SCARA ([`planar`]), any URDF arm ([`chain`])
+//! and a rigid body's attitude ([`body`]) differ only in their model and in what they touch;
+//! all run through the same loops (`loops`), steppers (`stepper`) and integrator
+//! ([`integrate`]).
 
+pub mod body;
 pub mod chain;
 pub mod integrate;
 pub(crate) mod loops;
@@ -21,7 +23,9 @@ pub use planar::{environment, simulate_in, simulate_timed_in};
 /// Runs the PVFC loop of a scenario (with its contact world, if it has one): the SCARA's or a
 /// URDF arm's. `progress` is called with the fraction done.
 pub fn simulate(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
-    if s.is_chain() {
+    if s.is_body() {
+        body::simulate_body(s, progress)
+    } else if s.is_chain() {
         chain::simulate_chain(s, progress)
     } else {
         planar::simulate(s, progress)
@@ -36,7 +40,11 @@ pub fn simulate_timed(
     tau_rate: f64,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    if s.is_chain() {
+    if s.is_body() {
+        Err(crate::SimError::Setting(
+            "baseline: the timed tracker is for arms; a rigid body runs PVFC alone".into(),
+        ))
+    } else if s.is_chain() {
         chain::simulate_timed_chain(s, b, tau_rate, progress)
     } else {
         planar::simulate_timed(s, b, tau_rate, progress)
@@ -63,7 +71,7 @@ pub fn run_scenario_with(
 ) -> Result<Vec<Trace>> {
     let pvfc = match system {
         Some(sys) => chain::simulate_chain_with(s, sys, progress)?,
-        None => planar::simulate(s, progress)?,
+        None => simulate(s, progress)?,
     };
     let mut out = vec![];
     if let Some(b) = &s.baseline {
@@ -81,7 +89,7 @@ pub fn run_scenario_with(
         };
         out.push(match system {
             Some(sys) => chain::simulate_timed_chain_with(s, sys, b, rate, &mut |_| {})?,
-            None => planar::simulate_timed(s, b, rate, &mut |_| {})?,
+            None => simulate_timed(s, b, rate, &mut |_| {})?,
         });
     }
     out.insert(0, pvfc);

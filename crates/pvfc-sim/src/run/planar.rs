@@ -4,7 +4,6 @@
 
 use crate::contact::{ContactForces, Environment, PlanarArm};
 use crate::error::{Result, SimError};
-use crate::run::integrate::ClosedLoop;
 use crate::run::loops::{self, Surroundings};
 use crate::run::stepper::Stepper;
 use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
@@ -175,23 +174,14 @@ fn simulate_continuous<E: Environment + ?Sized>(
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
     let ctl = s.controller_with(arm)?;
-    let sys = ClosedLoop {
-        plant: arm,
-        controller: ctl,
-    };
-    let i = ctl.state();
-    let st = AugmentedState {
-        q: Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?),
-        v: joint_vector::<2>(&s.initial.v, "initial.v")?,
-        tau: i.tau,
-        tau_dot: i.tau_dot,
-        flywheel_speed: i.flywheel_speed,
-    };
+    let q = Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?);
+    let v = joint_vector::<2>(&s.initial.v, "initial.v")?;
     let mut planar = Planar {
         env,
         kin: PlanarArm::from(arm),
     };
-    loops::continuous(s, sys, st, &mut planar, columns(s, with_contact), progress)
+    let columns = columns(s, with_contact);
+    loops::continuous(s, ctl, (q, v), &mut planar, columns, progress)
 }
 
 /// The timed-trajectory baseline of Fig. 1: computed torque + PD tracking `x_d(τ(t))` with

@@ -5,14 +5,14 @@
 //! builds it with.
 
 use super::{
-    direct_drive_arm, joint_vector, run_size, ArmSpec, Mode, PaperController, PaperField,
-    PaperPassiveController, Scenario,
+    direct_drive_arm, joint_vector, run_size, ArmSpec, AttitudeController, Mode, PaperController,
+    PaperField, PaperPassiveController, Scenario,
 };
 use crate::error::{Result, SimError};
 use crate::model::arm::{ArmController, ArmSettings, JointContourSpec};
 use crate::model::arm_field::FieldSpec;
 use crate::model::robot::Robot;
-use nalgebra::Vector2;
+use nalgebra::{Matrix3, Vector2, Vector3};
 use pvfc_core::prelude::*;
 
 /// A URDF arm's scenario built once, as the data flows (file → system → run): the robot (its
@@ -104,6 +104,9 @@ impl Scenario {
         if self.plant.mass_scale.is_some() && !self.is_chain() {
             return bad("plant.mass_scale: a model error of a URDF arm's links ([plant] urdf)");
         }
+        if self.is_body() {
+            return self.check_body();
+        }
         if self.is_chain() {
             // A URDF arm is validated by building its system: the same code path as a run's,
             // the URDF read once.
@@ -134,10 +137,13 @@ impl Scenario {
         Ok(())
     }
 
-    /// The number of joints: the URDF's, or 2 for the planar arm.
+    /// The number of joints: the URDF's, 2 for the planar arm, 3 for a rigid body (its
+    /// angular velocity's).
     pub fn dof(&self) -> Result<usize> {
         Ok(if self.is_chain() {
             self.robot()?.dof()
+        } else if self.is_body() {
+            3
         } else {
             2
         })
@@ -317,6 +323,136 @@ impl Scenario {
         Ok(())
     }
 
+    /// The checks of a rigid body's scenario (`[plant.rigid_body]`): what a body in free
+    /// space does not have (contact, a timed baseline, the passive joint drive, an arm's
+    /// contour), the lengths of its three-entry lists, and its controller built once.
+    fn check_body(&self) -> Result<()> {
+        let bad = |what: &str| Err(SimError::Setting(what.to_string()));
+        if self.is_chain() {
+            return bad("plant.rigid_body and plant.urdf: a scenario has one robot");
+        }
+        if self.contact.is_some() || self.contact_3d.is_some() {
+            return bad("contact, contact_3d: a rigid body's scenario is in free space");
+        }
+        if self.baseline.is_some() {
+            return bad("baseline: the timed tracker is for arms; a rigid body runs PVFC alone");
+        }
+        if self.controller.passive.is_some() {
+            return bad(
+                "controller.passive: the passive drive measures joint positions; a rigid body's attitude is on SO(3)",
+            );
+        }
+        let k = &self.contour;
+        if k.waypoints.is_some()
+            || k.cartesian.is_some()
+            || k.lissajous.is_some()
+            || k.ellipse.is_some()
+        {
+            return bad("contour: a rigid body follows [contour.attitude], not an arm's contour");
+        }
+        for (x, field) in [
+            (&self.initial.q, "initial.q"),
+            (&self.initial.v, "initial.v"),
+        ] {
+            joint_vector::<3>(x, field)?;
+        }
+        self.plant.friction.validate_for(3)?;
+        if let Some(d) = &self.plant.disturbance {
+            d.validate_for(3)?;
+        }
+        self.attitude_controller().map(drop)
+    }
+
+    /// The controller of a rigid body's scenario: `[plant.rigid_body]`'s inertia, the
+    /// rotation at constant rate of `[contour.attitude]`, the navigation function of SO(3)
+    /// (eq. 26) with `P = diag(controller.h)`, exponential self-pacing (eq. 21), with its
+    /// add-ons and initial internal states.
+    pub fn attitude_controller(&self) -> Result<AttitudeController> {
+        let setting = |what: String| SimError::Setting(what);
+        let body = self
+            .plant
+            .rigid_body
+            .ok_or_else(|| setting("plant.rigid_body is not set".into()))?;
+        let j = Matrix3::from_fn(|r, c| body.inertia[r][c]);
+        let body =
+            RigidBody::new(j).map_err(|e| setting(format!("plant.rigid_body.inertia: {e}")))?;
+        let contour = self.attitude_contour()?;
+        let h = &self.controller.h;
+        if h.len() != 3 {
+            return Err(setting(format!(
+                "controller.h: {} entries; a rigid body's are the diagonal of P in eq. (26), three distinct weights",
+                h.len()
+            )));
+        }
+        let p = Matrix3::from_diagonal(&Vector3::from_column_slice(h));
+        let navigation =
+            So3Navigation::new(p).map_err(|e| setting(format!("controller.h: {e}")))?;
+        let field = SuspendedField::new(
+            contour,
+            navigation,
+            ExponentialPacing::new(self.controller.self_pacing)?,
+        );
+        self.with_add_ons(body, field)
+    }
+
+    /// A rigid body's contour (`[contour.attitude]`): `R_d(τ) = exp(r̂₀) exp(τ ω̂)`.
+    pub fn attitude_contour(&self) -> Result<ConstantRate<f64, So3<f64>, 3>> {
+        let setting = |what: String| SimError::Setting(what);
+        let a = self.contour.attitude.ok_or_else(|| {
+            setting("contour.attitude: a rigid body follows a rotation at constant rate".into())
+        })?;
+        let rate = Vector3::from(a.rate);
+        if !(rate.iter().all(|x| x.is_finite()) && rate.norm() > 0.0) {
+            return Err(setting(format!(
+                "contour.attitude.rate = {:?}: finite and not zero (the contour turns once per 2π/‖ω‖ of τ)",
+                a.rate
+            )));
+        }
+        if !a.start.iter().all(|x| x.is_finite()) {
+            return Err(setting("contour.attitude.start: not finite".into()));
+        }
+        Ok(ConstantRate::new(So3::exp(&Vector3::from(a.start)), rate)?)
+    }
+
+    /// The PVFC controller of `system` on `field` with the scenario's flywheel, coupling
+    /// gain, initial internal states and add-ons (friction compensation, eq. 35; nominal
+    /// speed, eq. 36): one builder for every robot.
+    fn with_add_ons<G, Sys, F, const N: usize>(
+        &self,
+        system: Sys,
+        field: F,
+    ) -> Result<Controller<f64, G, Sys, F, N>>
+    where
+        G: LieGroup<f64, N>,
+        Sys: MechanicalSystem<f64, G, N>,
+        F: VelocityField<f64, G, N>,
+    {
+        let c = &self.controller;
+        let flywheel = Flywheel::new(c.flywheel_inertia, c.energy)?;
+        let law = PvfcLaw::new(system, field, flywheel, c.gamma)?;
+        let mut ctl = Controller::new(law).with_state(InternalState {
+            tau: self.initial.tau,
+            tau_dot: self.initial.tau_dot,
+            flywheel_speed: self
+                .initial
+                .flywheel_speed
+                .unwrap_or_else(|| flywheel.speed_for_unit_beta()),
+            laps: 0,
+        });
+        if let Some(f) = &c.friction_compensation {
+            let f = joint_vector::<N>(f, "controller.friction_compensation")?;
+            let mut comp = FrictionCompensation::new(f)?;
+            if let Some(band) = c.friction_band {
+                comp = comp.with_band(band)?;
+            }
+            ctl = ctl.with_friction_compensation(comp);
+        }
+        if let Some(n) = c.nominal_speed {
+            ctl = ctl.with_nominal_speed(NominalSpeed::new(n.c, n.r)?);
+        }
+        Ok(ctl)
+    }
+
     /// The arm's parameters.
     pub fn arm(&self) -> Result<ScaraParameters<f64>> {
         Ok(match &self.plant.arm {
@@ -357,30 +493,7 @@ impl Scenario {
     /// [`controller`](Self::controller) with the arm's model already built (a run reads the
     /// arm once).
     pub fn controller_with(&self, arm: Scara<f64>) -> Result<PaperController> {
-        let c = &self.controller;
-        let flywheel = Flywheel::new(c.flywheel_inertia, c.energy)?;
-        let law = PvfcLaw::new(arm, self.field()?, flywheel, c.gamma)?;
-        let mut ctl = Controller::new(law).with_state(InternalState {
-            tau: self.initial.tau,
-            tau_dot: self.initial.tau_dot,
-            flywheel_speed: self
-                .initial
-                .flywheel_speed
-                .unwrap_or_else(|| flywheel.speed_for_unit_beta()),
-            laps: 0,
-        });
-        if let Some(f) = &c.friction_compensation {
-            let f = joint_vector::<2>(f, "controller.friction_compensation")?;
-            let mut comp = FrictionCompensation::new(f)?;
-            if let Some(band) = c.friction_band {
-                comp = comp.with_band(band)?;
-            }
-            ctl = ctl.with_friction_compensation(comp);
-        }
-        if let Some(n) = c.nominal_speed {
-            ctl = ctl.with_nominal_speed(NominalSpeed::new(n.c, n.r)?);
-        }
-        Ok(ctl)
+        self.with_add_ons(arm, self.field()?)
     }
 
     /// The passive digital controller of `[controller.passive]` around

@@ -48,6 +48,45 @@ pub type PaperController = Controller<f64, Torus<f64, 2>, Scara<f64>, PaperField
 /// That controller in the passive digital mode (`pvfc_core::passive`).
 pub type PaperPassiveController = PassiveController<f64, Torus<f64, 2>, Scara<f64>, PaperField, 2>;
 
+/// The velocity field of a rigid body's attitude (section IV-B, the satellite): a rotation at
+/// constant rate `R_d(τ) = R₀ exp(τ ω̂)`, the navigation function of SO(3) (eq. 26),
+/// exponential self-pacing (eq. 21).
+pub type AttitudeField = SuspendedField<
+    f64,
+    So3<f64>,
+    ConstantRate<f64, So3<f64>, 3>,
+    So3Navigation<f64>,
+    ExponentialPacing<f64>,
+    3,
+>;
+
+/// The controller of a rigid body's attitude scenario ([`Scenario::attitude_controller`]).
+pub type AttitudeController = Controller<f64, So3<f64>, RigidBody<f64>, AttitudeField, 3>;
+
+/// `[plant.rigid_body]`: a rigid body rotating freely, `J ω̇ + ω × Jω = T` with `ω` its body
+/// angular velocity: a satellite's attitude on SO(3) (section IV-B). Its configuration is
+/// the attitude `R`; a scenario gives attitudes as rotation vectors (`R = exp(r̂)`, rad) and
+/// the trace logs them so.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigidBodySpec {
+    /// The body's inertia `J` about its centre of mass, in body axes (kg·m², symmetric
+    /// positive definite), row by row.
+    pub inertia: [[f64; 3]; 3],
+}
+
+/// `[contour.attitude]`: a rotation at constant rate, `R_d(τ) = exp(r̂₀) exp(τ ω̂)`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AttitudeContourSpec {
+    /// The attitude at `τ = 0`, as a rotation vector `r₀` (rad).
+    #[serde(default)]
+    pub start: [f64; 3],
+    /// The body angular velocity `ω` per unit of `τ` (rad); the contour's period is
+    /// `2π/‖ω‖`.
+    pub rate: [f64; 3],
+}
+
 /// Which arm to simulate.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, rename_all = "snake_case")]
@@ -132,6 +171,12 @@ pub struct PlantSpec {
     /// environment, unknown to the controller, its work in `work_contact`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub disturbance: Option<Disturbance>,
+    /// A rigid body's attitude (a satellite, section IV-B) instead of an arm: the
+    /// configuration is on SO(3), `initial.q` a rotation vector and `initial.v` the body
+    /// angular velocity; with `[contour.attitude]` and `controller.h` the diagonal of eq.
+    /// (26)'s `P`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rigid_body: Option<RigidBodySpec>,
 }
 
 fn default_arm() -> ArmSpec {
@@ -149,6 +194,7 @@ impl Default for PlantSpec {
             gravity: None,
             mass_scale: None,
             disturbance: None,
+            rigid_body: None,
         }
     }
 }
@@ -187,6 +233,10 @@ pub struct ContourSpec {
     /// `waypoints`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ellipse: Option<JointEllipseSpec>,
+    /// For a rigid body (`[plant.rigid_body]`): a rotation at constant rate
+    /// (`[contour.attitude]`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attitude: Option<AttitudeContourSpec>,
 }
 
 /// A URDF arm's Lissajous curve `x_i = c_i + a_i sin(2πτ/T_i + φ_i)`, one entry per joint.
@@ -234,6 +284,7 @@ impl Default for ContourSpec {
             cartesian: None,
             lissajous: None,
             ellipse: None,
+            attitude: None,
         }
     }
 }
@@ -648,12 +699,22 @@ impl Scenario {
         self.plant.urdf.is_some()
     }
 
+    /// `true` for a rigid body's attitude (`[plant.rigid_body]`, on SO(3)).
+    pub fn is_body(&self) -> bool {
+        self.plant.rigid_body.is_some()
+    }
+
     /// The contour's period in `τ`: for a URDF arm `spacing × waypoints` (or × the Cartesian
-    /// path's fixed samples) or the joint-space Lissajous curve's or ellipse's period;
+    /// path's fixed samples) or the joint-space Lissajous curve's or ellipse's period; for a
+    /// rigid body `2π/‖ω‖`, one turn of its attitude contour (infinite without rotation);
     /// `contour.period` for the planar arm's Lissajous curve and an adaptively sampled
     /// Cartesian path.
     pub fn period(&self) -> f64 {
         let c = &self.contour;
+        if let (true, Some(a)) = (self.is_body(), &c.attitude) {
+            let rate = nalgebra::Vector3::from(a.rate).norm();
+            return std::f64::consts::TAU / rate;
+        }
         if !self.is_chain() {
             return c.period;
         }

@@ -253,6 +253,9 @@ pub enum PresetId {
         /// `γĒ` (s⁻¹): the coupling's gain `γ` times the energy `Ē`.
         gamma_energy: u32,
     },
+    /// Section IV-B's satellite: a rigid body's attitude on SO(3)
+    /// ([`presets::satellite`](crate::scenario::presets::satellite)).
+    Satellite,
     /// A UR5 3-D contact scenario.
     Arm3d(Arm3dCase),
     /// A UR5 tool path at machining accuracy.
@@ -323,6 +326,7 @@ impl PresetId {
                 f64::from(speed) / 100.0
             ),
             PresetId::Robustness { gamma_energy } => format!("robustness_g{gamma_energy}"),
+            PresetId::Satellite => "satellite".into(),
             PresetId::Arm3d(a) => format!("ur5_{}", a.label()),
             PresetId::ToolPath(ToolPathCase::Free) => "ur5_cartesian".into(),
             PresetId::ToolPath(ToolPathCase::Deburr) => "ur5_deburr_fine".into(),
@@ -343,7 +347,7 @@ impl PresetId {
         format!("{}{}", self.name(), crate::trace::TIMED_SUFFIX)
     }
 
-    /// Every preset, in the order `pvfc reproduce` runs them (the planar ones of
+    /// Every preset, in the order `pvfc reproduce` runs them (the built-in ones of
     /// [`presets::all`](crate::scenario::presets::all), then the UR5's of
     /// [`presets::arms_3d`](crate::scenario::presets::arms_3d) and
     /// [`presets::tool_paths`](crate::scenario::presets::tool_paths)).
@@ -397,6 +401,7 @@ impl PresetId {
             v.extend(FIG1_SATURATED_SPEEDS.map(|speed| PresetId::Fig1Saturated { contour, speed }));
         }
         v.extend(ROBUSTNESS_GAINS.map(|gamma_energy| PresetId::Robustness { gamma_energy }));
+        v.push(PresetId::Satellite);
         v.extend(Arm3dCase::FILES.map(PresetId::Arm3d));
         v.push(PresetId::Arm3d(Arm3dCase::DeburrContinuous));
         v.extend(ToolPathCase::ALL.map(PresetId::ToolPath));

@@ -374,16 +374,51 @@ pub fn robustness(gamma_energy: u32) -> Scenario {
     s
 }
 
-/// Every planar preset, in the order `pvfc reproduce` runs them: those of
-/// [`PresetId::all`] that [`planar`] builds (the UR5's are [`arms_3d`] and [`tool_paths`]).
-pub fn all() -> Vec<Scenario> {
-    PresetId::all().into_iter().filter_map(planar).collect()
+/// Section IV-B's satellite: a rigid body (an off-diagonal inertia, 0.8–1.2 kg·m²) following
+/// a rotation at constant rate about a tilted axis, `R_d(τ) = exp(τ ω̂)` with
+/// `ω = (0.2, 0.1, 0.5)` rad per unit of `τ` (one turn every 11.3 of `τ`), from an attitude
+/// 1.52 rad away at rest; the navigation function of SO(3) (eq. 26) with `P = diag(1, 2, 3)`,
+/// `R = 20` (eq. 21), `Ē = 20`, `γ = 0.1`, in continuous time for 30 s.
+pub fn satellite() -> Scenario {
+    let mut s = pelican_example();
+    s.name = PresetId::Satellite.name();
+    s.description = "Section IV-B: a satellite's attitude on SO(3) follows a rotation at constant rate from 1.52 rad away".into();
+    s.duration = 30.0;
+    s.plant = crate::scenario::PlantSpec {
+        rigid_body: Some(crate::scenario::RigidBodySpec {
+            inertia: [[1.2, 0.05, 0.0], [0.05, 1.0, 0.02], [0.0, 0.02, 0.8]],
+        }),
+        ..Default::default()
+    };
+    s.contour = crate::scenario::ContourSpec {
+        attitude: Some(crate::scenario::AttitudeContourSpec {
+            start: [0.0; 3],
+            rate: [0.2, 0.1, 0.5],
+        }),
+        ..Default::default()
+    };
+    s.controller.h = vec![1.0, 2.0, 3.0];
+    s.controller.self_pacing = 20.0;
+    s.controller.energy = 20.0;
+    s.controller.gamma = 0.1;
+    s.initial.q = vec![1.2, -0.8, 0.5];
+    s.initial.v = vec![0.0; 3];
+    s.simulation.mode = Mode::Continuous;
+    s.simulation.plant_substeps = 5;
+    s
 }
 
-/// The planar preset of `id`, built here; `None` for the UR5's, which are read from the
-/// workspace's `scenarios/` ([`arms_3d`], [`tool_paths`]). [`PresetId::all`] is the one list
-/// of presets: this match is exhaustive, so a new id has a builder or says it is read.
-pub fn planar(id: PresetId) -> Option<Scenario> {
+/// Every built-in preset, in the order `pvfc reproduce` runs them: those of
+/// [`PresetId::all`] that [`built_in`] builds (the UR5's are [`arms_3d`] and [`tool_paths`]).
+pub fn all() -> Vec<Scenario> {
+    PresetId::all().into_iter().filter_map(built_in).collect()
+}
+
+/// The preset of `id` built here (the planar arm's and the satellite); `None` for the UR5's,
+/// which are read from the workspace's `scenarios/` ([`arms_3d`], [`tool_paths`]).
+/// [`PresetId::all`] is the one list of presets: this match is exhaustive, so a new id has a
+/// builder or says it is read.
+pub fn built_in(id: PresetId) -> Option<Scenario> {
     Some(match id {
         PresetId::Fig6 => fig6(),
         PresetId::Fig7 { pacing } => fig7(pacing),
@@ -408,6 +443,7 @@ pub fn planar(id: PresetId) -> Option<Scenario> {
         PresetId::Fig8Continuous => fig8_continuous(),
         PresetId::Fig1Saturated { contour, speed } => fig1_saturated(contour, speed),
         PresetId::Robustness { gamma_energy } => robustness(gamma_energy),
+        PresetId::Satellite => satellite(),
         PresetId::Arm3d(_)
         | PresetId::ToolPath(_)
         | PresetId::ToolPathTask(_)

@@ -1,8 +1,25 @@
 //! Numbers computed from traces: the measures behind the paper's claims.
 
 use crate::trace::Trace;
-use nalgebra::Vector2;
-use pvfc_core::contour::Lissajous;
+use nalgebra::{Vector2, Vector3};
+use pvfc_core::contour::{ConstantRate, Contour, Lissajous};
+use pvfc_core::lie::{LieGroup, So3};
+
+/// A rigid body's attitude error at each sample: the angle `‖log(R_d(τ)ᵀ R)‖` (rad) between
+/// the body's attitude `R = exp(q̂)` (the trace's rotation vector) and the contour's at the
+/// sample's `τ`. A sample whose `q` is not three numbers gives NaN.
+pub fn attitude_errors(trace: &Trace, contour: &ConstantRate<f64, So3<f64>, 3>) -> Vec<f64> {
+    (0..trace.len())
+        .map(|i| match <[f64; 3]>::try_from(&trace.q[i][..]) {
+            Ok(r) => {
+                let body = So3::exp(&Vector3::from(r));
+                let desired = contour.sample(trace.tau[i]).point;
+                desired.inverse().compose(&body).log().norm()
+            }
+            Err(_) => f64::NAN,
+        })
+        .collect()
+}
 
 /// The last complete pass of the contour in a trace: the sample range with
 /// `τ ∈ [kP, (k+1)P)` for the largest `k` whose pass the trace covers.
