@@ -275,41 +275,46 @@ where
         let a = jac * jac.transpose() + SMatrix::<T, M, M>::identity() * mu2;
         let a_inv = a.try_inverse().unwrap_or_else(SMatrix::<T, M, M>::zeros);
         let damped = |y: &SVector<T, M>| jac.tr_mul(&(a_inv * y));
-        let damped_dot = |y: &SVector<T, M>| {
+        // `J⁺y` and `d(J⁺)/dt y` together, sharing `z = A⁻¹y`.
+        let damped_both = |y: &SVector<T, M>| {
             let z = a_inv * y;
-            jac_dot.tr_mul(&z) - damped(&(jac_dot * jac.tr_mul(&z) + jac * jac_dot.tr_mul(&z)))
+            let (jt_z, jdt_z) = (jac.tr_mul(&z), jac_dot.tr_mul(&z));
+            (jt_z, jdt_z - damped(&(jac_dot * jt_z + jac * jdt_z)))
         };
-        // One step of iterative refinement, `K = J⁺(2I − JJ⁺)`: the damped inverse's bias
-        // `I − JJ⁺` (eigenvalues `μ²/(σ² + μ²)`) squared, `I − JK = (I − JJ⁺)²`, while `K` stays
-        // bounded (`|K| ≤ 1/μ`). Its rate: `K̇y = J̇⁺(2y − JJ⁺y) − J⁺(J̇J⁺y + JJ̇⁺y)`.
-        let two: T = cast(2.0);
-        let pinv = |y: &SVector<T, M>| {
-            let x = damped(y);
-            x + damped(&(y - jac * x))
+        // One step of iterative refinement, `K = J⁺(2I − JJ⁺)`: `Ky = x + J⁺r` with `x = J⁺y`
+        // and the residual `r = y − Jx`. The damped inverse's bias `I − JJ⁺` (eigenvalues
+        // `μ²/(σ² + μ²)`) is squared, `I − JK = (I − JJ⁺)²`, while `K` stays bounded
+        // (`|K| ≤ 1/μ`). Given `y` and its rate `ẏ`, `refined` returns `Ky` and
+        // `d(Ky)/dt = ẋ + d(J⁺)/dt r + J⁺ṙ`, `ẋ = d(J⁺)/dt y + J⁺ẏ`, `ṙ = ẏ − J̇x − Jẋ`.
+        let refined = |y: &SVector<T, M>, y_dot: &SVector<T, M>| {
+            let (x, dx) = damped_both(y);
+            let x_dot = dx + damped(y_dot);
+            let r = y - jac * x;
+            let r_dot = y_dot - jac_dot * x - jac * x_dot;
+            let (kr, dkr) = damped_both(&r);
+            (x + kr, x_dot + dkr + damped(&r_dot))
         };
-        let pinv_dot = |y: &SVector<T, M>| {
-            let x = damped(y);
-            let x_dot = damped_dot(y);
-            damped_dot(&(y * two - jac * x)) - damped(&(jac_dot * x + jac * x_dot))
-        };
-        let mut velocity = pinv(w);
-        let mut rate = pinv_dot(w) + pinv(w_dot);
+        let (mut velocity, mut rate) = refined(w, w_dot);
         if let Some((rest, gain)) = &self.rest {
             let to_rest = q
                 .inverse()
                 .compose(&JointSpace::new(*rest, q.kinds()))
                 .log()
                 * *gain;
-            // The projector P = I − J⁺J and its rate Ṗ = −(d(J⁺)/dt J + J⁺J̇), applied.
-            let project = |x: &SVector<T, N>| x - pinv(&(jac * x));
+            // The projection `(I − KJ) t` of `t = g_r log(q⁻¹q_r)` and its rate, with
+            // `ṫ = −g_r q̇`: `ṫ − d(K Jt)/dt`, `d(Jt)/dt = J̇t + Jṫ`.
             let pulled = v * *gain;
-            velocity += project(&to_rest);
-            rate += -(pinv_dot(&(jac * to_rest)) + pinv(&(jac_dot * to_rest))) - project(&pulled);
+            let (k_jt, k_jt_rate) = refined(&(jac * to_rest), &(jac_dot * to_rest - jac * pulled));
+            velocity += to_rest - k_jt;
+            rate += -pulled - k_jt_rate;
         }
+        // The path's direction needs no rate: `Ky` alone.
+        let x = damped(along);
+        let along = x + damped(&(along - jac * x));
         Pulled {
             velocity,
             rate,
-            along: pinv(along),
+            along,
         }
     }
 
