@@ -75,6 +75,9 @@ typedef struct pvfc_cartesian_options {
   // The task-space field's pull towards the seed in the task's null space (1/s), for
   // arms with more joints than the task has coordinates.
   double task_rest_gain;
+  // The distance `ℓ` (m) at which the task-space field's position function saturates,
+  // `U = kℓ²(√(1 + |e|²/ℓ²) − 1)` (its pull below `kℓ`); 0: `½ k |e|²`.
+  double task_saturation;
 } pvfc_cartesian_options;
 
 // The settings of a controller, apart from its robot, contour and navigation weights. Get
@@ -229,7 +232,7 @@ enum pvfc_status pvfc_contour_ellipse(const double *center,
 
 // The default options: no seed (set it), adaptive sampling to 10 µm, the orientation free,
 // the joint contour (not the task-space field), and the task-space field's defaults
-// `k = 4/s`, `k_R = k`, `μ = 0.01 m`, rest gain 1/s.
+// `k = 4/s`, `k_R = k`, `μ = 0.01 m`, rest gain 1/s, no saturation.
 struct pvfc_cartesian_options pvfc_cartesian_options_default(void);
 
 // A closed polygon of the tool's position through `n_corners` corners (row-major `x, y, z`,

@@ -215,11 +215,14 @@ pub struct pvfc_cartesian_options {
     /// The task-space field's pull towards the seed in the task's null space (1/s), for
     /// arms with more joints than the task has coordinates.
     pub task_rest_gain: f64,
+    /// The distance `ℓ` (m) at which the task-space field's position function saturates,
+    /// `U = kℓ²(√(1 + |e|²/ℓ²) − 1)` (its pull below `kℓ`); 0: `½ k |e|²`.
+    pub task_saturation: f64,
 }
 
 /// The default options: no seed (set it), adaptive sampling to 10 µm, the orientation free,
 /// the joint contour (not the task-space field), and the task-space field's defaults
-/// `k = 4/s`, `k_R = k`, `μ = 0.01 m`, rest gain 1/s.
+/// `k = 4/s`, `k_R = k`, `μ = 0.01 m`, rest gain 1/s, no saturation.
 #[no_mangle]
 pub extern "C" fn pvfc_cartesian_options_default() -> pvfc_cartesian_options {
     pvfc_cartesian_options {
@@ -234,6 +237,7 @@ pub extern "C" fn pvfc_cartesian_options_default() -> pvfc_cartesian_options {
         task_orientation_stiffness: 0.0,
         task_damping: pvfc_sim::model::cartesian::DEFAULT_TASK_DAMPING,
         task_rest_gain: 1.0,
+        task_saturation: 0.0,
     }
 }
 
@@ -264,6 +268,7 @@ unsafe fn cartesian(
                 .then_some(o.task_orientation_stiffness),
             damping: Some(o.task_damping),
             rest_gain: Some(o.task_rest_gain),
+            saturation: (o.task_saturation != 0.0).then_some(o.task_saturation),
         });
     }
     unsafe { store(spec, PathBuf::new(), period, None, out) }

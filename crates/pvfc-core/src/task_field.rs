@@ -4,7 +4,10 @@
 //! passivity holds as for any field (it is a property of the coupling, eq. 9).
 //!
 //! With the tool position `x(q)`, the path `p_d(τ)` (a contour on `ℝ³`), the error
-//! `e = x(q) − p_d(τ)` and the navigation function `U = ½ k |e|²`:
+//! `e = x(q) − p_d(τ)` and the navigation function `U = ½ k |e|²` (or, saturated at a
+//! distance `ℓ` ([`with_saturation`](TaskSpaceField::with_saturation)), `U = kℓ²(s − 1)`,
+//! `s = √(1 + |e|²/ℓ²)`, whose gradient `ke/s` stays below `kℓ`; `ke` below stands for the
+//! gradient):
 //!
 //! * the desired tool velocity `w = λ₁ p_d'(τ) − λ₂ k e` (eq. 30's two terms, in the task
 //!   space: along the path, and down the gradient of `U`), with the self-pacing gains
@@ -62,6 +65,7 @@ pub struct TaskSpaceField<T: Real, X, S, const N: usize, O = HeldOrientation<T>>
     pacing: S,
     stiffness: T,
     damping: T,
+    saturation: Option<T>,
     rest: Option<(SVector<T, N>, T)>,
     orientation: Option<(O, T)>,
 }
@@ -119,6 +123,7 @@ where
             pacing,
             stiffness,
             damping,
+            saturation: None,
             rest: None,
             orientation: None,
         })
@@ -178,6 +183,7 @@ where
             pacing: self.pacing,
             stiffness: self.stiffness,
             damping: self.damping,
+            saturation: self.saturation,
             rest: self.rest,
             orientation,
         })
@@ -186,6 +192,22 @@ where
     /// The orientation's contour, with its stiffness, if any.
     pub fn orientation(&self) -> Option<&(O, T)> {
         self.orientation.as_ref()
+    }
+
+    /// The position's navigation function saturated at the distance `ℓ` > 0 (m): the
+    /// pseudo-Huber `U = kℓ²(√(1 + |e|²/ℓ²) − 1)`, which is `½k|e|²` near the path and grows
+    /// only linearly far from it, so that the pull `k e/√(1 + |e|²/ℓ²)` stays below `kℓ` (a
+    /// start far from the path does not ask for a large `Ē` or a small `k`). Its gradient is
+    /// zero only at `e = 0`, so the path stays its only minimum.
+    pub fn with_saturation(mut self, distance: T) -> Result<Self> {
+        if !(distance.is_finite() && distance > T::zero()) {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "TaskSpaceField: the saturation distance must be finite and > 0",
+            ));
+        }
+        self.saturation = Some(distance);
+        Ok(self)
     }
 
     /// With a pull of `gain` (1/s, ≥ 0) towards the posture `rest` in the null space of the
@@ -332,9 +354,23 @@ where
         let e = kin.x - c.point.coords();
         let e_dot = kin.x_dot - c.velocity * tau_dot;
         let half: T = cast(0.5);
-        let mut u = half * k * e.dot(&e);
-        let mut u_dot = k * e.dot(&e_dot);
-        let mut gradient = kin.jac.fixed_rows::<3>(0).transpose() * (e * k);
+        // The position's navigation function, its gradient `f = ∇U` in the task space and
+        // the gradient's rate: `U = ½k|e|²`, `f = ke`; saturated at `ℓ`,
+        // `U = kℓ²(s − 1)`, `s = √(1 + |e|²/ℓ²)`, `f = ke/s` (|f| < kℓ),
+        // `ḟ = (k/s)(ė − e (eᵀė)/(ℓ²s²))`. Either way `U̇ = fᵀė`.
+        let (mut u, f, f_dot) = match self.saturation {
+            None => (half * k * e.dot(&e), e * k, e_dot * k),
+            Some(l) => {
+                let l2 = l * l;
+                let s2 = T::one() + e.dot(&e) / l2;
+                let s = s2.sqrt();
+                let f = e * (k / s);
+                let f_dot = (e_dot - e * (e.dot(&e_dot) / (l2 * s2))) * (k / s);
+                (k * l2 * (s - T::one()), f, f_dot)
+            }
+        };
+        let mut u_dot = f.dot(&e_dot);
+        let mut gradient = kin.jac.fixed_rows::<3>(0).transpose() * f;
         // The orientation's error `e_R = vee(½(E − Eᵀ))`, `E = R R_dᵀ`, its rate, and the path's
         // spatial angular velocity per τ with its derivative.
         let turn = self.orientation.as_ref().map(|(o, kr)| {
@@ -368,10 +404,10 @@ where
         }
         let g = self.pacing.gains(u);
         let (l1_dot, l2_dot) = (g.dlambda1 * u_dot, g.dlambda2 * u_dot);
-        let w = c.velocity * g.lambda1 - e * (g.lambda2 * k);
+        let w = c.velocity * g.lambda1 - f * g.lambda2;
         let w_dot = c.velocity * l1_dot + c.acceleration * (g.lambda1 * tau_dot)
-            - e * (l2_dot * k)
-            - e_dot * (g.lambda2 * k);
+            - f * l2_dot
+            - f_dot * g.lambda2;
         let pulled = match &turn {
             None => self.pull_back::<3>(
                 q,

@@ -196,9 +196,11 @@ impl CartesianPath {
     /// (`U_R = k_R (1 − cos θ)`, `orientation_stiffness` k_R, default `stiffness`), pulled back
     /// through the damped inverse `Jᵀ(J Jᵀ + μ² I)⁻¹` (`damping` μ, m), and for a redundant
     /// arm a pull of `rest_gain` (1/s) towards `rest` (default: the seed) in the task's null
-    /// space. One pass of the path every `period` of τ. The path's joint waypoints are solved
-    /// too (same arguments as `joint_waypoints`): `ArmController.contour_point` gives them.
-    #[pyo3(signature = (robot, seed, period, *, fixed_orientation=false, stiffness=None, orientation_stiffness=None, damping=None, rest=None, rest_gain=None, max_jump=0.6, min_manipulability=1e-4))]
+    /// space. `saturation` ℓ (m) saturates the position's function, `U = kℓ²(√(1 + |e|²/ℓ²) −
+    /// 1)`, so that its pull stays below kℓ. One pass of the path every `period` of τ. The
+    /// path's joint waypoints are solved too (same arguments as `joint_waypoints`):
+    /// `ArmController.contour_point` gives them.
+    #[pyo3(signature = (robot, seed, period, *, fixed_orientation=false, stiffness=None, orientation_stiffness=None, damping=None, rest=None, rest_gain=None, max_jump=0.6, min_manipulability=1e-4, saturation=None))]
     #[allow(clippy::too_many_arguments)]
     fn task_field(
         &self,
@@ -213,6 +215,7 @@ impl CartesianPath {
         rest_gain: Option<f64>,
         max_jump: f64,
         min_manipulability: f64,
+        saturation: Option<f64>,
     ) -> PyResult<TaskSpaceField> {
         if !(period.is_finite() && period > 0.0) {
             return Err(PyValueError::new_err(format!(
@@ -233,6 +236,7 @@ impl CartesianPath {
             orientation_stiffness,
             damping,
             rest_gain,
+            saturation,
         });
         let base = std::path::Path::new(".");
         let field = spec

@@ -212,3 +212,19 @@ def test_the_timed_tracker_saturates_at_its_torque_limit():
     with pytest.raises(pvfc.PvfcError, match="torque_limit"):
         pvfc.simulate_timed(s, [400.0, 400.0], [40.0, 40.0], 2.0, torque_limit=[15.0, -1.0])
     assert held.period == s.to_dict()["contour"]["period"]
+
+
+def test_the_task_field_saturates_its_pull():
+    """`saturation` bounds the position's pull: off the path U is below ½k|e|², and a bad
+    distance is refused."""
+    robot, _, _ = models("ur5")
+    path = pvfc.CartesianPath(points=RECTANGLE, corner_radius=0.03, samples=0)
+    settings = pvfc.ControllerSettings(self_pacing=50.0, energy=40.0, gamma=10.0)
+    u = {}
+    for ell in (None, 0.02):
+        task = path.task_field(robot, UR5_SEED, 12.0, fixed_orientation=True, stiffness=4.0, saturation=ell)
+        arm = pvfc.ArmController.compose(robot, task, settings=settings)
+        u[ell] = arm.evaluate(UR5_SEED, np.zeros(6), 0.0, 0.0, 9.0)["potential"]
+    assert 0.0 < u[0.02] < u[None], u
+    with pytest.raises(pvfc.PvfcError, match="saturation"):
+        path.task_field(robot, UR5_SEED, 12.0, saturation=-0.01)

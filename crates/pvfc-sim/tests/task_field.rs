@@ -128,6 +128,50 @@ fn the_rate_is_the_derivative_along_the_motion_ur5_and_panda() {
     check_rate(&field, chain.kinds(), rest);
 }
 
+/// The saturated navigation function (pseudo-Huber, `ℓ` = 2 cm, errors of a few to tens of
+/// centimetres in these states): the rate is still the derivative along the motion, the pull
+/// stays below `kℓ` and equals `½k|e|²`'s near the path.
+#[test]
+fn the_saturated_field_has_its_rate_and_a_bounded_pull() {
+    let chain = ur5_chain();
+    let q0 = SVector::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0]);
+    let field = field_of(chain).with_saturation(0.02).unwrap();
+    check_rate(&field, chain.kinds(), q0);
+    let chain = panda_chain();
+    let rest = SVector::from(PANDA_REST);
+    let field = field_of(chain)
+        .with_rest(rest, 2.0)
+        .unwrap()
+        .with_saturation(0.02)
+        .unwrap();
+    check_rate(&field, chain.kinds(), rest);
+    // Far from the path: U grows like kℓ|e| instead of ½k|e|²; near it they agree.
+    let plain = field_of(ur5_chain());
+    let saturated = field_of(ur5_chain()).with_saturation(0.02).unwrap();
+    let mut seed = 5;
+    for _ in 0..50 {
+        let q = q0 + SVector::<f64, 6>::from_fn(|_, _| 0.8 * (lcg(&mut seed) - 0.5));
+        let at = JointSpace::new(q, ur5_chain().kinds());
+        let (p, s) = (
+            plain.sample(&at, &SVector::zeros(), 1.0, 0.0),
+            saturated.sample(&at, &SVector::zeros(), 1.0, 0.0),
+        );
+        // |e| from U = 2|e|² (k = 4); the saturated U = 4ℓ²(√(1 + |e|²/ℓ²) − 1).
+        let e = (p.potential / 2.0).sqrt();
+        let l = 0.02;
+        let expected = 4.0 * l * l * ((1.0 + e * e / (l * l)).sqrt() - 1.0);
+        assert!(
+            (s.potential - expected).abs() < 1e-12 * (1.0 + expected),
+            "{} {expected}",
+            s.potential
+        );
+        assert!(s.potential <= p.potential + 1e-15);
+    }
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        assert!(field_of(ur5_chain()).with_saturation(bad).is_err());
+    }
+}
+
 /// The tool pointing down (the UR5 scenarios' orientation): `x` along the base's `x`, `z`
 /// down.
 fn down() -> nalgebra::Matrix3<f64> {

@@ -305,3 +305,50 @@ fn bad_task_settings_name_the_key() {
     let e = s.validate().unwrap_err().to_string();
     assert!(e.contains("orientations or fixed_orientation"), "{e}");
 }
+
+/// A stiff field far from the path: with `k = 10/s` the UR5's start (17 cm off the rectangle)
+/// asks more than `Ē = 40 J` of `U = ½k|e|²`'s field, a typed error; saturated at 2 cm
+/// (`[contour.cartesian.task] saturation`) the pull is bounded, the run starts, reaches the
+/// path, and the start's torque peak falls.
+#[test]
+fn a_saturated_field_starts_far_from_the_path() {
+    let with = |saturation: Option<f64>, k: f64| {
+        let mut s = ur5_task();
+        s.duration = 12.0;
+        s.baseline = None;
+        if let Some(c) = s.contour.cartesian.as_mut() {
+            c.task = Some(TaskSpec {
+                stiffness: Some(k),
+                saturation,
+                ..TaskSpec::default()
+            });
+        }
+        s
+    };
+    let e = simulate(&with(None, 10.0), &mut |_| {}).unwrap_err();
+    assert!(e.to_string().contains("energy level too low"), "{e}");
+    let peak = |t: &pvfc_sim::trace::Trace| {
+        (0..t.len())
+            .flat_map(|i| t.torque[i].iter().map(|x| x.abs()).collect::<Vec<_>>())
+            .fold(0.0, f64::max)
+    };
+    let stiff = simulate(&with(Some(0.02), 10.0), &mut |_| {}).unwrap();
+    let plain = simulate(&with(None, 4.0), &mut |_| {}).unwrap();
+    let soft = simulate(&with(Some(0.02), 4.0), &mut |_| {}).unwrap();
+    let n = stiff.len() - 1;
+    println!(
+        "k = 10, ℓ = 2 cm: U {:.2e} → {:.2e}, peak torque {:.0} N·m; k = 4: peak {:.0} N·m plain, {:.0} saturated",
+        stiff.potential[0],
+        stiff.potential[n],
+        peak(&stiff),
+        peak(&plain),
+        peak(&soft)
+    );
+    assert!(stiff.potential[n] < 1e-3 * stiff.potential[0]);
+    assert!(peak(&soft) < 0.5 * peak(&plain));
+    // Bad distances are named.
+    let mut bad = with(Some(-0.01), 4.0);
+    bad.duration = 0.1;
+    let e = bad.validate().unwrap_err().to_string();
+    assert!(e.contains("task.saturation"), "{e}");
+}

@@ -184,6 +184,29 @@ int main(int argc, char **argv) {
   CHECK(pvfc_robot_tool_pose(robot, seed, DOF, NULL, p) == PVFC_OK);
   CHECK(pvfc_contour_distance(circle, p, &distance, NULL) == PVFC_OK);
   CHECK(distance > 0.0 && distance < 1.0);
+  /* Saturated at 2 cm: the same field with its pull bounded, U below ½k|e|² off the path; a
+     negative distance is refused. */
+  const double plain_potential = d.potential;
+  cartesian.task_saturation = 0.02;
+  pvfc_contour *soft = NULL;
+  pvfc_controller *saturated = NULL;
+  CHECK(pvfc_contour_cartesian_circle(center, normal, 0.1, NULL, 0.0, 10.0, &cartesian, &soft) ==
+        PVFC_OK);
+  CHECK(pvfc_controller_new(robot, soft, NULL, 0, &settings, &saturated) == PVFC_OK);
+  CHECK(pvfc_controller_step(saturated, q, v, DOF, 1e-3, torque, DOF, &d) == PVFC_OK);
+  CHECK(d.potential > 0.0 && d.potential < plain_potential);
+  pvfc_controller_destroy(saturated);
+  pvfc_contour_destroy(soft);
+  cartesian.task_saturation = -1.0;
+  soft = NULL;
+  saturated = NULL;
+  if (pvfc_contour_cartesian_circle(center, normal, 0.1, NULL, 0.0, 10.0, &cartesian, &soft) ==
+      PVFC_OK) {
+    CHECK(pvfc_controller_new(robot, soft, NULL, 0, &settings, &saturated) != PVFC_OK);
+    CHECK(saturated == NULL);
+    pvfc_contour_destroy(soft);
+  }
+  cartesian.task_saturation = 0.0;
   pvfc_controller_destroy(task);
   pvfc_contour_destroy(circle);
   pvfc_contour_destroy(NULL);

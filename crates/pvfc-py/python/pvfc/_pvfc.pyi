@@ -132,6 +132,7 @@ class CartesianPath:
         rest_gain: Optional[float] = None,
         max_jump: float = 0.6,
         min_manipulability: float = 1e-4,
+        saturation: Optional[float] = None,
     ) -> TaskSpaceField: ...
     def distances(self, tool: _ArrayLike) -> _F64Array: ...
 

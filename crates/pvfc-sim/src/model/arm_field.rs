@@ -97,6 +97,9 @@ pub struct TaskFieldSpec {
     pub stiffness: f64,
     /// The damping `μ` of the Jacobian's inverse (m, > 0).
     pub damping: f64,
+    /// The distance `ℓ` (m, > 0) at which the position's navigation function saturates;
+    /// `None`: `½k|e|²`.
+    pub saturation: Option<f64>,
     /// The tool's orientation along the path and its stiffness `k_R` (1/s, > 0); `None`: the
     /// orientation is free.
     pub orientation: Option<(TaskOrientation, f64)>,
@@ -145,6 +148,9 @@ impl TaskFieldSpec {
             .with_orientation_option(orientation)?;
         if let Some((rest, gain)) = &self.rest {
             field = field.with_rest(fixed::<N>(rest, "contour.cartesian.rest")?, *gain)?;
+        }
+        if let Some(l) = self.saturation {
+            field = field.with_saturation(l)?;
         }
         Ok(field)
     }

@@ -107,6 +107,10 @@ pub struct TaskSpec {
     /// space, for arms with more joints than the task has coordinates; default 1.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rest_gain: Option<f64>,
+    /// The distance `ℓ` (m) at which the position's navigation function saturates: the
+    /// pseudo-Huber `kℓ²(√(1 + |e|²/ℓ²) − 1)`, whose pull stays below `kℓ`; none: `½k|e|²`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub saturation: Option<f64>,
 }
 
 /// The task-space field's default stiffness `k` (1/s).
@@ -196,6 +200,10 @@ impl CartesianSpec {
         let turn = positive(t.orientation_stiffness, stiffness, "orientation_stiffness")?;
         let damping = positive(t.damping, DEFAULT_TASK_DAMPING, "damping")?;
         let gain = positive(t.rest_gain, 1.0, "rest_gain")?;
+        let saturation = match t.saturation {
+            None => None,
+            Some(l) => Some(positive(Some(l), l, "saturation")?),
+        };
         let n = robot.dof();
         if self.seed.len() != n || !self.seed.iter().all(|x| x.is_finite()) {
             return Err(bad(format!("seed: {n} finite joint coordinates")));
@@ -221,6 +229,7 @@ impl CartesianSpec {
             path: self.path(base_dir)?,
             stiffness,
             damping,
+            saturation,
             orientation,
             rest,
         }))
