@@ -190,7 +190,7 @@ impl CartesianPath {
         geometry_dict(py, &g)
     }
 
-    /// The task-space field on this path for `robot` (`ArmController.compose` takes it in
+    /// The task-space field on this path for `robot` (`Controller.compose` takes it in
     /// place of a joint contour): the tool's error to the exact path, `U = ½ k |e|²`
     /// (`stiffness` k, 1/s), with `fixed_orientation` the tool held at the seed's orientation
     /// (`U_R = k_R (1 − cos θ)`, `orientation_stiffness` k_R, default `stiffness`), pulled back
@@ -199,7 +199,7 @@ impl CartesianPath {
     /// space. `saturation` ℓ (m) saturates the position's function, `U = kℓ²(√(1 + |e|²/ℓ²) −
     /// 1)`, so that its pull stays below kℓ. One pass of the path every `period` of τ. The
     /// path's joint waypoints are solved too (same arguments as `joint_waypoints`):
-    /// `ArmController.contour_point` gives them.
+    /// `Controller.contour_point` gives them.
     #[pyo3(signature = (robot, seed, period, *, fixed_orientation=false, stiffness=None, orientation_stiffness=None, damping=None, rest=None, rest_gain=None, max_jump=0.6, min_manipulability=1e-4, saturation=None))]
     #[allow(clippy::too_many_arguments)]
     fn task_field(
@@ -352,7 +352,7 @@ pub(crate) fn geometry_dict<'py>(
 }
 
 /// The task-space field on a tool path for one robot (`CartesianPath.task_field`), which
-/// `ArmController.compose` takes in place of a joint contour.
+/// `Controller.compose` takes in place of a joint contour.
 #[pyclass(module = "pvfc", frozen)]
 pub(crate) struct TaskSpaceField {
     /// The path's joint-space image (its joint waypoints, one pass per period).

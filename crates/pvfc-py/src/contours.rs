@@ -35,7 +35,7 @@ fn list_or_zeros(obj: Option<&Bound<'_, PyAny>>, name: &str, n: usize) -> PyResu
 }
 
 /// A joint-space contour built once from its plain data, with the data kept to rebuild it for
-/// a robot's joint kinds (`ArmController.compose`).
+/// a robot's joint kinds (`Controller.compose`).
 #[derive(Clone)]
 pub(crate) struct JointSpaceContour {
     pub(crate) spec: JointContourSpec,

@@ -9,6 +9,7 @@ mod cartesian;
 mod contours;
 mod controller;
 mod convert;
+mod deprecated;
 mod errors;
 mod navigation;
 mod passive;
@@ -28,7 +29,7 @@ fn _pvfc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<robots::Robot>()?;
     m.add_class::<cartesian::CartesianPath>()?;
     m.add_class::<cartesian::TaskSpaceField>()?;
-    m.add_class::<arm::ArmController>()?;
+    m.add_class::<deprecated::ArmController>()?;
     m.add_class::<contours::Lissajous>()?;
     m.add_class::<contours::Ellipse>()?;
     m.add_class::<contours::WaypointCurve>()?;
@@ -41,7 +42,7 @@ fn _pvfc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<runs::SimulationResult>()?;
     m.add_class::<study::Study>()?;
     m.add_class::<controller::Controller>()?;
-    m.add_class::<attitude::AttitudeController>()?;
+    m.add_class::<deprecated::AttitudeController>()?;
     m.add_class::<passive::PassiveController>()?;
     m.add_function(wrap_pyfunction!(runs::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(runs::simulate_many, m)?)?;

@@ -104,7 +104,7 @@ impl So3Navigation {
 /// U(E) = Σ h_i u_i(E_i) on a robot's joint space: `½(1 − cos E_i)` on revolute joints,
 /// `¼E_i²` on prismatic ones (`pvfc_core::navigation::JointNavigation`). `kinds` ("revolute"
 /// or "prismatic" per joint) is for evaluating it on its own; composed with a robot
-/// (`ArmController.compose`), the robot's joints decide, and given kinds must match them.
+/// (`Controller.compose`), the robot's joints decide, and given kinds must match them.
 #[pyclass(module = "pvfc", frozen, from_py_object)]
 #[derive(Clone)]
 pub(crate) struct JointNavigation {

@@ -1,14 +1,14 @@
-//! `pvfc.PassiveController`: a scenario's controller or an `ArmController` in the passive
-//! digital mode (`pvfc_core::passive`), to drive one's own plant (MuJoCo, hardware) from
+//! `pvfc.PassiveController`: a scenario's controller or a `pvfc.Controller` (the SCARA's or an
+//! arm's) in the passive digital mode (`pvfc_core::passive`), to drive one's own plant (MuJoCo, hardware) from
 //! Python.
 
-use crate::arm::ArmController;
+use crate::controller::{Controller, Law};
 use crate::convert::{dyn_vector, out1, vector};
 use crate::errors::{core_err, sim_err};
 use crate::runs::Scenario;
 use nalgebra::Vector2;
 use numpy::PyArray1;
-use pvfc_core::passive::EnergyAccount;
+use pvfc_core::passive::{EnergyAccount, PassiveController as CorePassive};
 use pvfc_core::prelude::*;
 use pvfc_sim::model::arm::{PassiveArm, PassiveOptions};
 use pvfc_sim::scenario::PaperPassiveController;
@@ -16,8 +16,8 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-/// The controller behind a `pvfc.PassiveController`: the paper's SCARA (from a scenario) or
-/// any arm (from an `ArmController`).
+/// The controller behind a `pvfc.PassiveController`: the paper's SCARA (from a scenario or a
+/// `pvfc.Controller`) or any arm (from a `pvfc.Controller`).
 #[derive(Clone)]
 enum Inner {
     Scara(Box<PaperPassiveController>),
@@ -26,8 +26,9 @@ enum Inner {
 
 /// A controller, passive for any sampling period: it accounts the energy it gives the robot
 /// at the samples from the positions and the applied torque, and pays it from its flywheel
-/// and τ̇. From a scenario (settings default to its `[controller.passive]`) or from an
-/// `ArmController` (any robot; its internal states as they are).
+/// and τ̇. From a SCARA scenario (settings default to its `[controller.passive]`) or from a
+/// `pvfc.Controller` of the SCARA or of an arm (its internal states as they are; settings
+/// default to none).
 #[pyclass(module = "pvfc")]
 pub(crate) struct PassiveController {
     ctl: Inner,
@@ -51,29 +52,51 @@ impl PassiveController {
         reserve: Option<f64>,
     ) -> PyResult<Self> {
         let ctl = if let Ok(scenario) = controller.cast::<Scenario>() {
+            let mut s = scenario.borrow().s.clone();
+            s.controller.passive.get_or_insert_with(Default::default);
+            let base = s
+                .passive_controller()
+                .map_err(sim_err)?
+                .ok_or_else(|| PyTypeError::new_err("no passive controller"))?;
             Inner::Scara(Box::new(scara(
-                &scenario.borrow(),
+                base,
                 torque_limit,
                 encoder_resolution,
                 velocity_filter,
                 reserve,
             )?))
-        } else if let Ok(arm) = controller.cast::<ArmController>() {
-            let arm = arm.borrow();
-            let n = arm.ctl.dof();
-            let per_joint = |x: Option<&Bound<'_, PyAny>>, name: &str| {
-                x.map(|x| dyn_vector(x, name, n)).transpose()
-            };
-            let options = PassiveOptions {
-                torque_limit: per_joint(torque_limit, "torque_limit")?,
-                encoder_resolution: per_joint(encoder_resolution, "encoder_resolution")?,
-                velocity_filter: velocity_filter.unwrap_or(0.0),
-                reserve: reserve.unwrap_or(0.0),
-            };
-            Inner::Arm(Box::new(arm.ctl.passive(&options).map_err(sim_err)?))
+        } else if let Ok(c) = controller.cast::<Controller>() {
+            let c = c.borrow();
+            match &c.law {
+                Law::Scara(ctl) => Inner::Scara(Box::new(scara(
+                    CorePassive::new(**ctl),
+                    torque_limit,
+                    encoder_resolution,
+                    velocity_filter,
+                    reserve,
+                )?)),
+                Law::Arm(arm) => {
+                    let n = arm.dof();
+                    let per_joint = |x: Option<&Bound<'_, PyAny>>, name: &str| {
+                        x.map(|x| dyn_vector(x, name, n)).transpose()
+                    };
+                    let options = PassiveOptions {
+                        torque_limit: per_joint(torque_limit, "torque_limit")?,
+                        encoder_resolution: per_joint(encoder_resolution, "encoder_resolution")?,
+                        velocity_filter: velocity_filter.unwrap_or(0.0),
+                        reserve: reserve.unwrap_or(0.0),
+                    };
+                    Inner::Arm(Box::new(arm.passive(&options).map_err(sim_err)?))
+                }
+                Law::Attitude(_) => {
+                    return Err(PyTypeError::new_err(
+                        "PassiveController: a rigid body's attitude controller has no passive mode here; give a SCARA or an arm controller",
+                    ))
+                }
+            }
         } else {
             return Err(PyTypeError::new_err(
-                "PassiveController: expected a pvfc.Scenario or a pvfc.ArmController",
+                "PassiveController: expected a pvfc.Scenario or a pvfc.Controller",
             ));
         };
         Ok(PassiveController {
@@ -171,21 +194,14 @@ impl PassiveController {
     }
 }
 
-/// The scenario's SCARA controller in the passive mode, the arguments overriding its
-/// `[controller.passive]`.
+/// The SCARA's passive controller `ctl` with the arguments overriding its settings.
 fn scara(
-    scenario: &Scenario,
+    mut ctl: PaperPassiveController,
     torque_limit: Option<&Bound<'_, PyAny>>,
     encoder_resolution: Option<&Bound<'_, PyAny>>,
     velocity_filter: Option<f64>,
     reserve: Option<f64>,
 ) -> PyResult<PaperPassiveController> {
-    let mut s = scenario.s.clone();
-    s.controller.passive.get_or_insert_with(Default::default);
-    let mut ctl = s
-        .passive_controller()
-        .map_err(sim_err)?
-        .ok_or_else(|| pyo3::exceptions::PyRuntimeError::new_err("no passive controller"))?;
     if let Some(l) = torque_limit {
         ctl = ctl
             .with_torque_limits(pair(l, "torque_limit")?)

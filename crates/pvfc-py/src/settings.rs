@@ -1,5 +1,5 @@
 //! `pvfc.ControllerSettings`: the numbers of a controller apart from its robot, contour and
-//! navigation function (`ArmController.compose`).
+//! navigation function (`Controller.compose`).
 
 use crate::convert::any_array;
 use numpy::PyArray1;

@@ -1,4 +1,4 @@
-"""Any serial arm from Python: pvfc.Robot from a URDF and pvfc.ArmController driving a plant
+"""Any serial arm from Python: pvfc.Robot from a URDF and pvfc.Controller.arm driving a plant
 integrated in Python (the way a user drives their own simulator), on the UR5 and the Panda."""
 
 import pathlib
@@ -58,7 +58,7 @@ def rk4(robot: pvfc.Robot, q, v, torque, h):
 
 def test_arm_controller_drives_a_python_plant_onto_the_contour() -> None:
     robot = ur5()
-    ctl = pvfc.ArmController(
+    ctl = pvfc.Controller.arm(
         robot, UR5_WAYPOINTS, 1.0, h=[4.0] * 6, self_pacing=50.0, energy=40.0, gamma=1.0
     )
     q = np.array(UR5_WAYPOINTS[0]) + 0.25
@@ -85,13 +85,13 @@ def test_arm_controller_drives_a_python_plant_onto_the_contour() -> None:
 def test_the_coupling_is_workless(q, v, tau, tau_dot, fly) -> None:
     """q̇ᵀ(T − g(q)) + τ̇ T_τ + q̇_F T_F = 0: gravity compensation aside, no energy is made."""
     robot = ur5()
-    ctl = pvfc.ArmController(robot, UR5_WAYPOINTS, 1.0, energy=400.0, self_pacing=20.0)
+    ctl = pvfc.Controller.arm(robot, UR5_WAYPOINTS, 1.0, energy=400.0, self_pacing=20.0)
     q, v = np.array(q), np.array(v)
     try:
         out = ctl.evaluate(q, v, tau, tau_dot, fly)
     except pvfc.EnergyTooLowError:
         return
-    t = out["torque"] - robot.gravity(q)
+    t = out["robot_torque"] - robot.gravity(q)
     power = t @ v + out["tau_torque"] * tau_dot + out["flywheel_torque"] * fly
     scale = np.abs(t * v).sum() + abs(out["tau_torque"] * tau_dot) + abs(out["flywheel_torque"] * fly)
     assert abs(power) <= 1e-11 * (1.0 + scale)
@@ -110,10 +110,10 @@ def test_bad_inputs_raise_documented_errors(tmp_path: pathlib.Path) -> None:
     with pytest.raises(pvfc.UrdfError, match="tree"):
         pvfc.Robot.from_urdf(PANDA)
     with pytest.raises(ValueError, match="waypoints"):
-        pvfc.ArmController(robot, UR5_WAYPOINTS[:2], 1.0)
+        pvfc.Controller.arm(robot, UR5_WAYPOINTS[:2], 1.0)
     with pytest.raises(ValueError, match="waypoints"):
-        pvfc.ArmController(robot, [w[:5] for w in UR5_WAYPOINTS], 1.0)
-    ctl = pvfc.ArmController(robot, UR5_WAYPOINTS, 1.0)
+        pvfc.Controller.arm(robot, [w[:5] for w in UR5_WAYPOINTS], 1.0)
+    ctl = pvfc.Controller.arm(robot, UR5_WAYPOINTS, 1.0)
     with pytest.raises(ValueError, match="qdot"):
         ctl.step(np.zeros(6), np.zeros(7), 1e-3)
     before = ctl.state
@@ -121,7 +121,7 @@ def test_bad_inputs_raise_documented_errors(tmp_path: pathlib.Path) -> None:
         ctl.step([np.nan] * 6, np.zeros(6), 1e-3)
     assert ctl.state == before
     with pytest.raises(pvfc.EnergyTooLowError):
-        pvfc.ArmController(robot, UR5_WAYPOINTS, 1.0, energy=1e-6).evaluate(
+        pvfc.Controller.arm(robot, UR5_WAYPOINTS, 1.0, energy=1e-6).evaluate(
             np.zeros(6), np.zeros(6), 0.0, 0.0, 1e-3
         )
     floating = UR5.read_text().replace('name="shoulder_pan_joint" type="revolute"', 'name="shoulder_pan_joint" type="floating"')

@@ -1,5 +1,5 @@
 """A controller composed of parts: a robot, a joint-space contour, a navigation function and
-settings (ArmController.compose), with the contours and the navigation function usable on
+settings (Controller.compose), with the contours and the navigation function usable on
 their own for any number of joints."""
 
 import math
@@ -22,10 +22,10 @@ def ur5() -> pvfc.Robot:
 def test_composed_controller_equals_the_one_built_from_arguments() -> None:
     robot = ur5()
     settings = pvfc.ControllerSettings(self_pacing=50.0, energy=400.0, gamma=1.0, nominal_speed=(0.5, 1.0))
-    composed = pvfc.ArmController.compose(
+    composed = pvfc.Controller.compose(
         robot, pvfc.WaypointCurve(UR5_WAYPOINTS, 1.0), pvfc.JointNavigation([4.0] * 6), settings
     )
-    direct = pvfc.ArmController(
+    direct = pvfc.Controller.arm(
         robot, UR5_WAYPOINTS, 1.0, h=[4.0] * 6, self_pacing=50.0, energy=400.0, gamma=1.0, nominal_speed=(0.5, 1.0)
     )
     rng = np.random.default_rng(3)
@@ -62,7 +62,7 @@ def test_a_six_joint_lissajous_and_ellipse_sample_their_formulas() -> None:
 def test_a_composed_lissajous_controller_drives_the_ur5_onto_its_contour() -> None:
     robot = ur5()
     contour = pvfc.Lissajous([0.4, 0.2, 0.2, 0.2, 0.2, 0.3], [8.0, 4.0, 8.0, 4.0, 8.0, 8.0], offset=UR5_WAYPOINTS[0], period=8.0)
-    ctl = pvfc.ArmController.compose(
+    ctl = pvfc.Controller.compose(
         robot, contour, pvfc.JointNavigation([4.0] * 6), pvfc.ControllerSettings(self_pacing=50.0, energy=40.0)
     )
     q, v = UR5_WAYPOINTS[0] + 0.25, np.zeros(6)
@@ -79,17 +79,17 @@ def test_a_composed_lissajous_controller_drives_the_ur5_onto_its_contour() -> No
 def test_composition_errors_name_the_part() -> None:
     robot = ur5()
     with pytest.raises(ValueError, match="contour: 2 coordinates for the 6-joint robot"):
-        pvfc.ArmController.compose(robot, pvfc.Lissajous.paper())
+        pvfc.Controller.compose(robot, pvfc.Lissajous.paper())
     with pytest.raises(ValueError, match="navigation: 3 weights"):
-        pvfc.ArmController.compose(robot, pvfc.WaypointCurve(UR5_WAYPOINTS, 1.0), pvfc.JointNavigation([1.0] * 3))
+        pvfc.Controller.compose(robot, pvfc.WaypointCurve(UR5_WAYPOINTS, 1.0), pvfc.JointNavigation([1.0] * 3))
     with pytest.raises(ValueError, match="joint kinds differ"):
-        pvfc.ArmController.compose(
+        pvfc.Controller.compose(
             robot, pvfc.WaypointCurve(UR5_WAYPOINTS, 1.0), pvfc.JointNavigation([1.0] * 6, kinds=["prismatic"] * 6)
         )
     with pytest.raises(TypeError, match="contour"):
-        pvfc.ArmController.compose(robot, UR5_WAYPOINTS)
+        pvfc.Controller.compose(robot, UR5_WAYPOINTS)
     with pytest.raises(pvfc.InvalidParameterError, match="friction_compensation"):
-        pvfc.ArmController.compose(
+        pvfc.Controller.compose(
             robot, pvfc.WaypointCurve(UR5_WAYPOINTS, 1.0), settings=pvfc.ControllerSettings(friction_compensation=[1.0, 2.0])
         )
     with pytest.raises(pvfc.InvalidParameterError):

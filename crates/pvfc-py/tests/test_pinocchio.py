@@ -186,7 +186,7 @@ from test_arm import UR5_WAYPOINTS  # noqa: E402
 
 @pytest.mark.parametrize("rate", [1000.0, 100.0])
 def test_passive_arm_controller_on_a_pinocchio_plant(rate: float) -> None:
-    """The passive digital mode of an ``ArmController`` drives the UR5 simulated by Pinocchio
+    """The passive digital mode of a ``Controller.arm`` drives the UR5 simulated by Pinocchio
     (``aba``, RK4 at 10 kHz, with gravity) at 1 kHz and 100 Hz, with gravity compensation and
     torque limits. At every sample the energy balance closes: kinetic + potential energy of
     the robot + the controller's storage, less what the add-ons (gravity compensation) put in,
@@ -194,7 +194,7 @@ def test_passive_arm_controller_on_a_pinocchio_plant(rate: float) -> None:
     robot, model, _ = models("ur5")
     data = model.createData()
     energy = 20.0
-    arm = pvfc.ArmController(
+    arm = pvfc.Controller.arm(
         robot, UR5_WAYPOINTS, 1.0, h=[4.0] * 6, self_pacing=20.0, energy=energy, gamma=1.0
     )
     limits = np.array([150.0, 150.0, 150.0, 28.0, 28.0, 28.0])
@@ -238,7 +238,7 @@ def test_passive_arm_controller_on_a_pinocchio_plant(rate: float) -> None:
 
 def test_passive_arm_controller_checks_its_arguments() -> None:
     robot, _, _ = models("ur5")
-    arm = pvfc.ArmController(robot, UR5_WAYPOINTS, 1.0)
+    arm = pvfc.Controller.arm(robot, UR5_WAYPOINTS, 1.0)
     with pytest.raises(ValueError, match="torque_limit"):
         pvfc.PassiveController(arm, torque_limit=[1.0] * 5)
     with pytest.raises(pvfc.InvalidParameterError):

@@ -39,7 +39,7 @@ def contour_tool(name, waypoints, samples_per_waypoint=24):
     robot, model, frame = models(name)
     data = model.createData()
     k = len(waypoints)
-    arm = pvfc.ArmController(robot, waypoints, 1.0, h=[4.0] * robot.dof, energy=40.0)
+    arm = pvfc.Controller.arm(robot, waypoints, 1.0, h=[4.0] * robot.dof, energy=40.0)
     out = []
     for i in range(k * samples_per_waypoint):
         q = arm.contour_point((i + 0.5) / samples_per_waypoint)
@@ -147,13 +147,13 @@ def test_a_ur5_closed_loop_on_pinocchio_meets_the_tracking_target(field):
     if field == "joint":
         q_way = path.joint_waypoints(robot, UR5_SEED, fixed_orientation=True)
         contour = pvfc.WaypointCurve(q_way, 12.0 / len(q_way))
-        arm = pvfc.ArmController.compose(robot, contour, pvfc.JointNavigation([4.0] * 6), settings)
+        arm = pvfc.Controller.compose(robot, contour, pvfc.JointNavigation([4.0] * 6), settings)
     else:
         task = path.task_field(robot, UR5_SEED, 12.0, fixed_orientation=True, stiffness=4.0)
         assert task.dof == 6 and task.period == pytest.approx(12.0)
-        arm = pvfc.ArmController.compose(robot, task, settings=settings)
+        arm = pvfc.Controller.compose(robot, task, settings=settings)
         with pytest.raises(ValueError, match="navigation"):
-            pvfc.ArmController.compose(robot, task, pvfc.JointNavigation([4.0] * 6))
+            pvfc.Controller.compose(robot, task, pvfc.JointNavigation([4.0] * 6))
     dt, substeps = 1e-3, 4
     h = dt / substeps
     x = np.concatenate([np.array(UR5_SEED), np.zeros(6)])
@@ -223,7 +223,7 @@ def test_the_task_field_saturates_its_pull():
     u = {}
     for ell in (None, 0.02):
         task = path.task_field(robot, UR5_SEED, 12.0, fixed_orientation=True, stiffness=4.0, saturation=ell)
-        arm = pvfc.ArmController.compose(robot, task, settings=settings)
+        arm = pvfc.Controller.compose(robot, task, settings=settings)
         u[ell] = arm.evaluate(UR5_SEED, np.zeros(6), 0.0, 0.0, 9.0)["potential"]
     assert 0.0 < u[0.02] < u[None], u
     with pytest.raises(pvfc.PvfcError, match="saturation"):

@@ -1,11 +1,11 @@
 """Type stubs of the native module pvfc._pvfc (hand-written; checked by mypy.stubtest)."""
 
 import os
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
-from typing_extensions import TypeAlias, final
+from typing_extensions import TypeAlias, deprecated, disjoint_base, final
 
 _ArrayLike: TypeAlias = npt.ArrayLike
 _F64Array: TypeAlias = npt.NDArray[np.float64]
@@ -187,43 +187,6 @@ class Robot:
     def jacobian(self, q: _ArrayLike, frame: str = "world") -> _F64Array: ...
     def inverse_kinematics(self, target: _ArrayLike, seed: _ArrayLike, tolerance: float = 1e-9) -> _F64Array: ...
     def manipulability(self, q: _ArrayLike) -> float: ...
-
-@final
-class ArmController:
-    def __new__(
-        cls,
-        robot: Robot,
-        waypoints: _ArrayLike,
-        spacing: float,
-        *,
-        h: Optional[_ArrayLike] = None,
-        self_pacing: float = 0.0,
-        energy: float = 10.0,
-        flywheel_inertia: float = 1.0,
-        gamma: float = 1.0,
-        gravity_compensation: bool = True,
-        friction_compensation: Optional[_ArrayLike] = None,
-        friction_band: float = 0.0,
-        nominal_speed: Optional[Tuple[float, float]] = None,
-        tau0: float = 0.0,
-    ) -> ArmController: ...
-    @staticmethod
-    def compose(
-        robot: Robot,
-        contour: Union[WaypointCurve, Lissajous, Ellipse, TaskSpaceField],
-        navigation: Optional[JointNavigation] = None,
-        settings: Optional[ControllerSettings] = None,
-    ) -> ArmController: ...
-    @property
-    def dof(self) -> int: ...
-    def step(self, q: _ArrayLike, qdot: _ArrayLike, dt: float) -> _F64Array: ...
-    def evaluate(
-        self, q: _ArrayLike, qdot: _ArrayLike, tau: float, tau_dot: float, flywheel_speed: float
-    ) -> Dict[str, Any]: ...
-    def contour_point(self, tau: float) -> _F64Array: ...
-    @property
-    def state(self) -> Tuple[float, float, float, int]: ...
-    def reset(self) -> None: ...
 
 @final
 class Lissajous:
@@ -427,22 +390,91 @@ class SimulationResult:
     ) -> None: ...
     def __len__(self) -> int: ...
 
-@final
+@disjoint_base
 class Controller:
     def __new__(cls, scenario: Scenario) -> Controller: ...
-    def torque(
-        self, q: _ArrayLike, qdot: _ArrayLike, tau: float, tau_dot: float, flywheel_speed: float
-    ) -> _F64Array: ...
+    @staticmethod
+    def arm(
+        robot: Robot,
+        waypoints: _ArrayLike,
+        spacing: float,
+        *,
+        h: Optional[_ArrayLike] = None,
+        self_pacing: float = 0.0,
+        energy: float = 10.0,
+        flywheel_inertia: float = 1.0,
+        gamma: float = 1.0,
+        gravity_compensation: bool = True,
+        friction_compensation: Optional[_ArrayLike] = None,
+        friction_band: float = 0.0,
+        nominal_speed: Optional[Tuple[float, float]] = None,
+        tau0: float = 0.0,
+    ) -> Controller: ...
+    @staticmethod
+    def compose(
+        robot: Robot,
+        contour: Union[WaypointCurve, Lissajous, Ellipse, TaskSpaceField],
+        navigation: Optional[JointNavigation] = None,
+        settings: Optional[ControllerSettings] = None,
+    ) -> Controller: ...
+    @staticmethod
+    def attitude(
+        inertia: _ArrayLike,
+        contour: So3ConstantRate,
+        navigation: So3Navigation,
+        self_pacing: float = 20.0,
+        energy: float = 20.0,
+        flywheel_inertia: float = 1.0,
+        gamma: float = 0.1,
+        tau0: float = 0.0,
+    ) -> Controller: ...
+    @property
+    def dof(self) -> int: ...
+    @property
+    def robot(self) -> Literal["scara", "arm", "rigid_body"]: ...
+    def step(self, q: _ArrayLike, qdot: _ArrayLike, dt: float) -> _F64Array: ...
     def evaluate(
         self, q: _ArrayLike, qdot: _ArrayLike, tau: float, tau_dot: float, flywheel_speed: float
     ) -> dict[str, Any]: ...
-    def step(self, q: _ArrayLike, qdot: _ArrayLike, dt: float) -> _F64Array: ...
+    def torque(
+        self, q: _ArrayLike, qdot: _ArrayLike, tau: float, tau_dot: float, flywheel_speed: float
+    ) -> _F64Array: ...
+    def contour_point(self, tau: float) -> _F64Array: ...
     @property
     def state(self) -> Tuple[float, float, float, int]: ...
     def reset(self) -> None: ...
 
 @final
-class AttitudeController:
+@deprecated("use pvfc.Controller.arm or pvfc.Controller.compose")
+class ArmController(Controller):
+    def __new__(
+        cls,
+        robot: Robot,
+        waypoints: _ArrayLike,
+        spacing: float,
+        *,
+        h: Optional[_ArrayLike] = None,
+        self_pacing: float = 0.0,
+        energy: float = 10.0,
+        flywheel_inertia: float = 1.0,
+        gamma: float = 1.0,
+        gravity_compensation: bool = True,
+        friction_compensation: Optional[_ArrayLike] = None,
+        friction_band: float = 0.0,
+        nominal_speed: Optional[Tuple[float, float]] = None,
+        tau0: float = 0.0,
+    ) -> ArmController: ...
+    @staticmethod
+    def compose(
+        robot: Robot,
+        contour: Union[WaypointCurve, Lissajous, Ellipse, TaskSpaceField],
+        navigation: Optional[JointNavigation] = None,
+        settings: Optional[ControllerSettings] = None,
+    ) -> ArmController: ...
+
+@final
+@deprecated("use pvfc.Controller.attitude")
+class AttitudeController(Controller):
     def __new__(
         cls,
         inertia: _ArrayLike,
@@ -454,19 +486,16 @@ class AttitudeController:
         gamma: float = 0.1,
         tau0: float = 0.0,
     ) -> AttitudeController: ...
-    def evaluate(
+    def evaluate(  # type: ignore[override]
         self, rotation: _ArrayLike, omega: _ArrayLike, tau: float, tau_dot: float, flywheel_speed: float
     ) -> dict[str, Any]: ...
-    def step(self, rotation: _ArrayLike, omega: _ArrayLike, dt: float) -> _F64Array: ...
-    @property
-    def state(self) -> Tuple[float, float, float, int]: ...
-    def reset(self) -> None: ...
+    def step(self, rotation: _ArrayLike, omega: _ArrayLike, dt: float) -> _F64Array: ...  # type: ignore[override]
 
 @final
 class PassiveController:
     def __new__(
         cls,
-        controller: Union[Scenario, ArmController],
+        controller: Union[Scenario, Controller],
         torque_limit: Optional[_ArrayLike] = None,
         encoder_resolution: Optional[_ArrayLike] = None,
         velocity_filter: Optional[float] = None,

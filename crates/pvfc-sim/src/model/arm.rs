@@ -6,6 +6,7 @@
 use super::fixed;
 use crate::error::{Result, SimError};
 use crate::model::arm_field::{ArmField, FieldSpec};
+use crate::model::evaluation::Evaluation;
 pub use crate::model::joint_contour::{DynJointContour, JointContour, JointContourSpec};
 use crate::model::robot::{ChainModel, Robot};
 use pvfc_core::augmented::AugmentedState;
@@ -145,6 +146,14 @@ impl ArmController {
         on_arm!(self, _c, N => N)
     }
 
+    /// This controller with the internal states `state` gives for its flywheel.
+    pub fn with_internal(self, state: impl FnOnce(&Flywheel<f64>) -> InternalState<f64>) -> Self {
+        on_arm!(self, c, N => {
+            let s = state(c.law().flywheel());
+            ArmController::from(c.with_state(s))
+        })
+    }
+
     /// One control step at the measured `(q, q̇)`: the torque, and the internal states advanced
     /// over `dt`. On error the state is unchanged.
     pub fn step(&mut self, q: &[f64], v: &[f64], dt: f64) -> Result<ArmStep> {
@@ -186,13 +195,9 @@ impl ArmController {
         })
     }
 
-    /// The torque at a full augmented state (pure): `(T_robot, T_τ, T_F, U, β)`.
-    pub fn evaluate(
-        &self,
-        q: &[f64],
-        v: &[f64],
-        internal: (f64, f64, f64),
-    ) -> Result<(Vec<f64>, f64, f64, f64, f64)> {
+    /// The law at a full augmented state (pure): the full torque with its add-ons and the
+    /// coupling's quantities ([`Evaluation`]).
+    pub fn evaluate(&self, q: &[f64], v: &[f64], internal: (f64, f64, f64)) -> Result<Evaluation> {
         on_arm!(self, c, N => {
             let kinds = c.law().system().kinds();
             let s = AugmentedState {
@@ -203,7 +208,7 @@ impl ArmController {
                 flywheel_speed: internal.2,
             };
             let (t, o) = c.evaluate(&s)?;
-            Ok((t.robot.as_slice().to_vec(), t.tau, t.flywheel, o.field.potential, o.beta))
+            Evaluation::from_core::<_, N, { N + 2 }>(&t, &o)
         })
     }
 

@@ -1,7 +1,7 @@
 //! Robot models with a number of joints known at run time, over the const-generic core: a
 //! serial chain read from a URDF ([`robot`], dispatched onto `SerialChain<N>` by
 //! [`with_dof!`](crate::with_dof)), the PVFC controller of any chain and its joint-space
-//! contours ([`arm`]), tool paths in Cartesian space and their inverse kinematics
+//! contours ([`arm`]), the law at one state for any robot ([`evaluation`]), tool paths in Cartesian space and their inverse kinematics
 //! ([`cartesian`]), joint friction ([`friction`]) and disturbance torques ([`disturbance`]).
 
 pub mod arm;
@@ -9,6 +9,7 @@ pub mod arm_field;
 pub mod cartesian;
 pub mod dispatch;
 pub mod disturbance;
+pub mod evaluation;
 pub mod friction;
 pub mod joint_contour;
 pub mod path_orientation;

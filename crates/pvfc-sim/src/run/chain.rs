@@ -46,16 +46,8 @@ fn run<const N: usize>(
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
     let base: ArmControllerN<N> = arm_controller(chain, &system.settings)?;
-    let flywheel = *base.law().flywheel();
-    let ctl = base.with_state(InternalState {
-        tau: s.initial.tau,
-        tau_dot: s.initial.tau_dot,
-        flywheel_speed: s
-            .initial
-            .flywheel_speed
-            .unwrap_or_else(|| flywheel.speed_for_unit_beta()),
-        laps: 0,
-    });
+    let initial = s.initial_internal(base.law().flywheel());
+    let ctl = base.with_state(initial);
     let (q, v) = initial_state(s, &chain)?;
     let mut env = Spatial::of(s, system, &plant)?;
     let columns = env.columns();

@@ -29,7 +29,8 @@ pub struct ArmSystem {
     pub plant: Robot,
     /// The controller's settings.
     pub settings: ArmSettings,
-    /// The controller, at its initial state.
+    /// The controller, at the scenario's initial internal states
+    /// ([`Scenario::initial_internal`]).
     pub controller: ArmController,
 }
 
@@ -42,7 +43,8 @@ impl ArmSystem {
         let robot = s.robot()?;
         s.check_chain(&robot)?;
         let settings = s.arm_settings_for(&robot)?;
-        let controller = ArmController::new(&robot, &settings)?;
+        let controller =
+            ArmController::new(&robot, &settings)?.with_internal(|f| s.initial_internal(f));
         let plant = s.plant_robot(&robot)?;
         Ok(ArmSystem {
             robot,
@@ -430,15 +432,7 @@ impl Scenario {
         let c = &self.controller;
         let flywheel = Flywheel::new(c.flywheel_inertia, c.energy)?;
         let law = PvfcLaw::new(system, field, flywheel, c.gamma)?;
-        let mut ctl = Controller::new(law).with_state(InternalState {
-            tau: self.initial.tau,
-            tau_dot: self.initial.tau_dot,
-            flywheel_speed: self
-                .initial
-                .flywheel_speed
-                .unwrap_or_else(|| flywheel.speed_for_unit_beta()),
-            laps: 0,
-        });
+        let mut ctl = Controller::new(law).with_state(self.initial_internal(&flywheel));
         if let Some(f) = &c.friction_compensation {
             let f = joint_vector::<N>(f, "controller.friction_compensation")?;
             let mut comp = FrictionCompensation::new(f)?;
@@ -451,6 +445,20 @@ impl Scenario {
             ctl = ctl.with_nominal_speed(NominalSpeed::new(n.c, n.r)?);
         }
         Ok(ctl)
+    }
+
+    /// The controller's internal states at the start, from `[initial]`: `τ`, `τ̇`, and the
+    /// flywheel's speed (by default the one that gives `β = 1` at rest), no laps.
+    pub fn initial_internal(&self, flywheel: &Flywheel<f64>) -> InternalState<f64> {
+        InternalState {
+            tau: self.initial.tau,
+            tau_dot: self.initial.tau_dot,
+            flywheel_speed: self
+                .initial
+                .flywheel_speed
+                .unwrap_or_else(|| flywheel.speed_for_unit_beta()),
+            laps: 0,
+        }
     }
 
     /// The arm's parameters.
