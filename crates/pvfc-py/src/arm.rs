@@ -12,28 +12,21 @@ use pvfc_sim::model::arm::{ArmController as SimArm, ArmSettings, JointContourSpe
 use pvfc_sim::model::MAX_WAYPOINTS;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
 fn build(robot: &Robot, settings: ArmSettings) -> PyResult<Controller> {
     let ctl = SimArm::new(&robot.robot, &settings).map_err(sim_err)?;
     Ok(Controller::of(Law::Arm(Box::new(ctl))))
 }
 
-/// The controller of `Controller.arm`: a closed joint-space contour through `waypoints`.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn through_waypoints(
+/// The controller of `Controller.arm`: a closed joint-space contour through `waypoints`,
+/// `spacing` apart in τ, with navigation weights `h` (default 1) and `settings`.
+fn through_waypoints(
     robot: &Robot,
     waypoints: &Bound<'_, PyAny>,
     spacing: f64,
     h: Option<&Bound<'_, PyAny>>,
-    self_pacing: f64,
-    energy: f64,
-    flywheel_inertia: f64,
-    gamma: f64,
-    gravity_compensation: bool,
-    friction_compensation: Option<&Bound<'_, PyAny>>,
-    friction_band: f64,
-    nominal_speed: Option<(f64, f64)>,
-    tau0: f64,
+    settings: &ControllerSettings,
 ) -> PyResult<Controller> {
     let n = robot.robot.dof();
     let k = waypoints.len().unwrap_or(0);
@@ -51,25 +44,12 @@ pub(crate) fn through_waypoints(
         Some(h) => dyn_vector(h, "h", n)?,
         None => vec![1.0; n],
     };
-    let settings = ControllerSettings {
-        self_pacing,
-        energy,
-        flywheel_inertia,
-        gamma,
-        gravity_compensation,
-        friction_compensation: friction_compensation
-            .map(|f| dyn_vector(f, "friction_compensation", n))
-            .transpose()?,
-        friction_band,
-        nominal_speed,
-        tau0,
-    };
     build(robot, settings.arm_settings(contour, h))
 }
 
 /// The controller of `Controller.compose`: a robot, a joint-space contour or a task-space
 /// field, a navigation function and settings.
-pub(crate) fn composed(
+fn composed(
     robot: &Robot,
     contour: &Bound<'_, PyAny>,
     navigation: Option<&JointNavigation>,
@@ -138,42 +118,26 @@ impl Controller {
     /// PVFC for a robot along a closed joint-space contour through waypoints (a periodic C²
     /// spline, `spacing` apart in τ), with the navigation function (`1 − cos` on revolute
     /// joints, quadratic on prismatic ones, weights `h`), self-pacing, the flywheel and the
-    /// add-ons (gravity and friction compensation, nominal speed).
+    /// add-ons (gravity and friction compensation, nominal speed). The keyword arguments
+    /// after `h` are `pvfc.ControllerSettings`'s (`self_pacing`, `energy`,
+    /// `flywheel_inertia`, `gamma`, `gravity_compensation`, `friction_compensation`,
+    /// `friction_band`, `nominal_speed`, `tau0`).
     #[staticmethod]
-    #[pyo3(signature = (robot, waypoints, spacing, *, h=None, self_pacing=0.0, energy=10.0,
-        flywheel_inertia=1.0, gamma=1.0, gravity_compensation=true, friction_compensation=None,
-        friction_band=0.0, nominal_speed=None, tau0=0.0))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (robot, waypoints, spacing, *, h=None, **settings))]
     fn arm(
+        py: Python<'_>,
         robot: &Robot,
         waypoints: &Bound<'_, PyAny>,
         spacing: f64,
         h: Option<&Bound<'_, PyAny>>,
-        self_pacing: f64,
-        energy: f64,
-        flywheel_inertia: f64,
-        gamma: f64,
-        gravity_compensation: bool,
-        friction_compensation: Option<&Bound<'_, PyAny>>,
-        friction_band: f64,
-        nominal_speed: Option<(f64, f64)>,
-        tau0: f64,
+        settings: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Controller> {
-        through_waypoints(
-            robot,
-            waypoints,
-            spacing,
-            h,
-            self_pacing,
-            energy,
-            flywheel_inertia,
-            gamma,
-            gravity_compensation,
-            friction_compensation,
-            friction_band,
-            nominal_speed,
-            tau0,
-        )
+        let settings = py
+            .get_type::<ControllerSettings>()
+            .call((), settings)?
+            .cast_into::<ControllerSettings>()?;
+        let settings = settings.borrow();
+        through_waypoints(robot, waypoints, spacing, h, &settings)
     }
 
     /// A controller composed of a robot, a joint-space contour (`WaypointCurve`, `Lissajous`

@@ -14,7 +14,7 @@ use pyo3::prelude::*;
 
 /// The controller of `Controller.attitude`.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn of_body(
+fn of_body(
     inertia: &Bound<'_, PyAny>,
     contour: &So3ConstantRate,
     navigation: &So3Navigation,

@@ -4,28 +4,34 @@
 //! `pvfc.AttitudeController` (now `Controller.attitude`). A scenario's controller was and is
 //! `pvfc.Controller(scenario)`.
 
-use crate::arm::{composed, through_waypoints};
-use crate::attitude::of_body;
-use crate::contours::So3ConstantRate;
 use crate::controller::{evaluation_dict, Controller};
 use crate::convert::out1;
-use crate::navigation::JointNavigation;
-use crate::navigation::So3Navigation;
-use crate::robots::Robot;
-use crate::settings::ControllerSettings;
 use numpy::PyArray1;
 use pyo3::exceptions::PyDeprecationWarning;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 use std::ffi::CString;
 
-/// Warns that `pvfc.{old}` is deprecated in favour of `pvfc.{new}`, at the caller's line.
-fn deprecated(py: Python<'_>, old: &str, new: &str) -> PyResult<()> {
+/// Warns that `pvfc.{old}` is deprecated in favour of `pvfc.Controller.{new}` (at the caller's
+/// line), and builds the controller as `Controller.{new}(*args, **kwargs)`.
+fn forward(
+    py: Python<'_>,
+    (old, new): (&str, &str),
+    args: &Bound<'_, PyTuple>,
+    kwargs: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Controller> {
     let message = format!(
-        "pvfc.{old} is deprecated: use pvfc.{new} (pvfc.Controller is the controller of any robot)"
+        "pvfc.{old} is deprecated: use pvfc.Controller.{new} (pvfc.Controller is the controller of any robot)"
     );
     let message = CString::new(message).unwrap_or_default();
-    PyErr::warn(py, &py.get_type::<PyDeprecationWarning>(), &message, 1)
+    PyErr::warn(py, &py.get_type::<PyDeprecationWarning>(), &message, 1)?;
+    let built = py
+        .get_type::<Controller>()
+        .getattr(new)?
+        .call(args, kwargs)?
+        .cast_into::<Controller>()?;
+    let law = built.borrow().law.clone();
+    Ok(Controller::of(law))
 }
 
 /// Deprecated: `pvfc.Controller.arm` and `pvfc.Controller.compose` build the same controller.
@@ -35,58 +41,27 @@ pub(crate) struct ArmController;
 
 #[pymethods]
 impl ArmController {
+    /// `Controller.arm(robot, waypoints, spacing, ...)`, with a `DeprecationWarning`.
     #[new]
-    #[pyo3(signature = (robot, waypoints, spacing, *, h=None, self_pacing=0.0, energy=10.0,
-        flywheel_inertia=1.0, gamma=1.0, gravity_compensation=true, friction_compensation=None,
-        friction_band=0.0, nominal_speed=None, tau0=0.0))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (*args, **kwargs))]
     fn new(
         py: Python<'_>,
-        robot: &Robot,
-        waypoints: &Bound<'_, PyAny>,
-        spacing: f64,
-        h: Option<&Bound<'_, PyAny>>,
-        self_pacing: f64,
-        energy: f64,
-        flywheel_inertia: f64,
-        gamma: f64,
-        gravity_compensation: bool,
-        friction_compensation: Option<&Bound<'_, PyAny>>,
-        friction_band: f64,
-        nominal_speed: Option<(f64, f64)>,
-        tau0: f64,
+        args: &Bound<'_, PyTuple>,
+        kwargs: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<PyClassInitializer<Self>> {
-        deprecated(py, "ArmController", "Controller.arm")?;
-        let c = through_waypoints(
-            robot,
-            waypoints,
-            spacing,
-            h,
-            self_pacing,
-            energy,
-            flywheel_inertia,
-            gamma,
-            gravity_compensation,
-            friction_compensation,
-            friction_band,
-            nominal_speed,
-            tau0,
-        )?;
+        let c = forward(py, ("ArmController", "arm"), args, kwargs)?;
         Ok(PyClassInitializer::from(c).add_subclass(ArmController))
     }
 
     /// Deprecated: `pvfc.Controller.compose`.
     #[staticmethod]
-    #[pyo3(signature = (robot, contour, navigation=None, settings=None))]
+    #[pyo3(signature = (*args, **kwargs))]
     fn compose(
         py: Python<'_>,
-        robot: &Robot,
-        contour: &Bound<'_, PyAny>,
-        navigation: Option<&JointNavigation>,
-        settings: Option<&ControllerSettings>,
+        args: &Bound<'_, PyTuple>,
+        kwargs: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Py<ArmController>> {
-        deprecated(py, "ArmController.compose", "Controller.compose")?;
-        let c = composed(robot, contour, navigation, settings)?;
+        let c = forward(py, ("ArmController.compose", "compose"), args, kwargs)?;
         Py::new(py, PyClassInitializer::from(c).add_subclass(ArmController))
     }
 
@@ -116,31 +91,15 @@ pub(crate) struct AttitudeController;
 
 #[pymethods]
 impl AttitudeController {
+    /// `Controller.attitude(inertia, contour, navigation, ...)`, with a `DeprecationWarning`.
     #[new]
-    #[pyo3(signature = (inertia, contour, navigation, self_pacing = 20.0, energy = 20.0, flywheel_inertia = 1.0, gamma = 0.1, tau0 = 0.0))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (*args, **kwargs))]
     fn new(
         py: Python<'_>,
-        inertia: &Bound<'_, PyAny>,
-        contour: &So3ConstantRate,
-        navigation: &So3Navigation,
-        self_pacing: f64,
-        energy: f64,
-        flywheel_inertia: f64,
-        gamma: f64,
-        tau0: f64,
+        args: &Bound<'_, PyTuple>,
+        kwargs: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<PyClassInitializer<Self>> {
-        deprecated(py, "AttitudeController", "Controller.attitude")?;
-        let c = of_body(
-            inertia,
-            contour,
-            navigation,
-            self_pacing,
-            energy,
-            flywheel_inertia,
-            gamma,
-            tau0,
-        )?;
+        let c = forward(py, ("AttitudeController", "attitude"), args, kwargs)?;
         Ok(PyClassInitializer::from(c).add_subclass(AttitudeController))
     }
 

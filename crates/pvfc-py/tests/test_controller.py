@@ -153,6 +153,11 @@ def test_bad_input_names_the_argument() -> None:
         assert ctl.state == before
     with pytest.raises(TypeError):
         pvfc.Controller(3.0)  # type: ignore[arg-type]
+    robot = pvfc.Robot.from_urdf(UR5, tip="tool0")
+    with pytest.raises(TypeError, match="energi"):
+        pvfc.Controller.arm(robot, UR5_WAYPOINTS, 1.0, energi=3.0)  # type: ignore[call-arg]
+    with pytest.raises(pvfc.PvfcError, match="friction_compensation: 5 entries"):
+        pvfc.Controller.arm(robot, UR5_WAYPOINTS, 1.0, friction_compensation=[1.0] * 5)
 
 
 def test_the_old_names_warn_and_are_the_new_controllers() -> None:
