@@ -11,18 +11,32 @@ cd "$(dirname "$0")/.."
 stage() { echo "=== $* (${SECONDS} s so far)"; }
 
 stage "cargo test"
+# One build of the tests, whose artifacts the C stage links: cargo compiles pvfc-c's library
+# once with all its crate types (rlib, staticlib, cdylib) and the features the tests resolve;
+# a separate `cargo build -p pvfc-c` would resolve other features and compile it and its
+# dependencies again (3 minutes on 2 cores).
+mkdir -p target/c
+cargo test --locked --no-run --message-format=json-render-diagnostics >target/c/test-build.json
 cargo test --locked
 
 stage "C and C++: the C ABI (crates/pvfc-c) from C and from C++ (GoogleTest), with sanitizers and under valgrind"
-# The static library of the test profile that `cargo test` built (no second profile).
-cargo build --locked -p pvfc-c --profile test
-mkdir -p target/c
+# The static library that `cargo test` built.
+clib=$(python3 -c '
+import json, sys
+for line in open(sys.argv[1]):
+    m = json.loads(line)
+    a = [f for f in m.get("filenames") or [] if f.endswith(".a")]
+    if m.get("reason") == "compiler-artifact" and m["target"]["name"] == "pvfc_c" and a:
+        print(a[0])
+        break
+' target/c/test-build.json)
+test -s "$clib" || { echo "cargo test did not build pvfc-c's static library" >&2; exit 1; }
 cc -std=c99 -Wall -Wextra -Werror -pedantic crates/pvfc-c/tests/c/test_pvfc.c \
-  -Icrates/pvfc-c/include target/debug/libpvfc_c.a -lm -lpthread -ldl -o target/c/test_pvfc
+  -Icrates/pvfc-c/include "$clib" -lm -lpthread -ldl -o target/c/test_pvfc
 # The real-time calls make no system call (seccomp's strict mode kills the process if one
 # does; natively, as valgrind makes system calls of its own).
 cc -std=gnu99 -Wall -Wextra -Werror crates/pvfc-c/tests/c/test_no_syscall.c \
-  -Icrates/pvfc-c/include target/debug/libpvfc_c.a -lm -lpthread -ldl -o target/c/test_no_syscall
+  -Icrates/pvfc-c/include "$clib" -lm -lpthread -ldl -o target/c/test_no_syscall
 target/c/test_no_syscall models/ur5/ur5_robot.urdf
 # The header also compiles as C++ (cbindgen's cpp_compat).
 c++ -std=c++17 -Wall -Wextra -Werror -fsyntax-only -x c++ crates/pvfc-c/include/pvfc.h
@@ -34,7 +48,7 @@ eigen=()
 
 if [ -f /usr/include/gtest/gtest.h ]; then
   c++ -std=c++17 -Wall -Wextra -Werror "${eigen[@]}" -Icrates/pvfc-c/include crates/pvfc-c/tests/cpp/test_pvfc.cpp \
-    target/debug/libpvfc_c.a -lgtest -lgtest_main -lpthread -ldl -lm -o target/c/test_pvfc_cpp
+    "$clib" -lgtest -lgtest_main -lpthread -ldl -lm -o target/c/test_pvfc_cpp
   c_tests+=(target/c/test_pvfc_cpp)
 elif [ -n "${PVFC_REQUIRE_VALGRIND:-}" ]; then
   echo "GoogleTest (libgtest-dev) is needed in CI" >&2
@@ -46,12 +60,12 @@ export PVFC_UR5_URDF=models/ur5/ur5_robot.urdf
 # The same tests with AddressSanitizer and UndefinedBehaviorSanitizer (leaks included).
 asan=(-g -fsanitize=address,undefined -fno-omit-frame-pointer)
 cc -std=c99 "${asan[@]}" crates/pvfc-c/tests/c/test_pvfc.c -Icrates/pvfc-c/include \
-  target/debug/libpvfc_c.a -lm -lpthread -ldl -o target/c/test_pvfc_asan
+  "$clib" -lm -lpthread -ldl -o target/c/test_pvfc_asan
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1 \
   target/c/test_pvfc_asan models/ur5/ur5_robot.urdf
 if [ -f target/c/test_pvfc_cpp ]; then
   c++ -std=c++17 "${asan[@]}" "${eigen[@]}" -Icrates/pvfc-c/include crates/pvfc-c/tests/cpp/test_pvfc.cpp \
-    target/debug/libpvfc_c.a -lgtest -lgtest_main -lpthread -ldl -lm -o target/c/test_pvfc_cpp_asan
+    "$clib" -lgtest -lgtest_main -lpthread -ldl -lm -o target/c/test_pvfc_cpp_asan
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1 target/c/test_pvfc_cpp_asan >/dev/null
 fi
 # Runs a program under valgrind (no error, no leak) when it is installed.
