@@ -10,7 +10,8 @@ use nalgebra::Vector2;
 use numpy::PyArray1;
 use pvfc_core::passive::{EnergyAccount, PassiveController as CorePassive};
 use pvfc_core::prelude::*;
-use pvfc_sim::model::arm::{PassiveArm, PassiveOptions};
+use pvfc_sim::model::arm::{ArmController as SimArm, PassiveArm, PassiveOptions};
+use pvfc_sim::scenario::ArmSystem;
 use pvfc_sim::scenario::PaperPassiveController;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
@@ -26,9 +27,10 @@ enum Inner {
 
 /// A controller, passive for any sampling period: it accounts the energy it gives the robot
 /// at the samples from the positions and the applied torque, and pays it from its flywheel
-/// and τ̇. From a SCARA scenario (settings default to its `[controller.passive]`) or from a
+/// and τ̇. From an arm's scenario, the SCARA's or a URDF arm's (settings default to its
+/// `[controller.passive]`, the encoder's counts on the revolute joints), or from a
 /// `pvfc.Controller` of the SCARA or of an arm (its internal states as they are; settings
-/// default to none).
+/// default to none). The arguments override the settings.
 #[pyclass(module = "pvfc")]
 pub(crate) struct PassiveController {
     ctl: Inner,
@@ -51,48 +53,46 @@ impl PassiveController {
         velocity_filter: Option<f64>,
         reserve: Option<f64>,
     ) -> PyResult<Self> {
+        let overrides = Overrides {
+            torque_limit,
+            encoder_resolution,
+            velocity_filter,
+            reserve,
+        };
         let ctl = if let Ok(scenario) = controller.cast::<Scenario>() {
             let mut s = scenario.borrow().s.clone();
-            s.controller.passive.get_or_insert_with(Default::default);
-            let base = s
-                .passive_controller()
-                .map_err(sim_err)?
-                .ok_or_else(|| PyTypeError::new_err("no passive controller"))?;
-            Inner::Scara(Box::new(scara(
-                base,
-                torque_limit,
-                encoder_resolution,
-                velocity_filter,
-                reserve,
-            )?))
+            let spec = s
+                .controller
+                .passive
+                .get_or_insert_with(Default::default)
+                .clone();
+            if s.is_body() {
+                return Err(no_body());
+            } else if s.is_chain() {
+                let system = ArmSystem::build(&s).map_err(sim_err)?;
+                let circular: Vec<bool> = system
+                    .robot
+                    .joint_kinds()
+                    .iter()
+                    .map(|k| *k == JointKind::Circular)
+                    .collect();
+                let base = spec.options(&circular).map_err(sim_err)?;
+                Inner::Arm(Box::new(arm(&system.controller, base, &overrides)?))
+            } else {
+                let base = s
+                    .passive_controller()
+                    .map_err(sim_err)?
+                    .ok_or_else(|| PyTypeError::new_err("no passive controller"))?;
+                Inner::Scara(Box::new(scara(base, &overrides)?))
+            }
         } else if let Ok(c) = controller.cast::<Controller>() {
             let c = c.borrow();
             match &c.law {
-                Law::Scara(ctl) => Inner::Scara(Box::new(scara(
-                    CorePassive::new(**ctl),
-                    torque_limit,
-                    encoder_resolution,
-                    velocity_filter,
-                    reserve,
-                )?)),
-                Law::Arm(arm) => {
-                    let n = arm.dof();
-                    let per_joint = |x: Option<&Bound<'_, PyAny>>, name: &str| {
-                        x.map(|x| dyn_vector(x, name, n)).transpose()
-                    };
-                    let options = PassiveOptions {
-                        torque_limit: per_joint(torque_limit, "torque_limit")?,
-                        encoder_resolution: per_joint(encoder_resolution, "encoder_resolution")?,
-                        velocity_filter: velocity_filter.unwrap_or(0.0),
-                        reserve: reserve.unwrap_or(0.0),
-                    };
-                    Inner::Arm(Box::new(arm.passive(&options).map_err(sim_err)?))
+                Law::Scara(ctl) => {
+                    Inner::Scara(Box::new(scara(CorePassive::new(**ctl), &overrides)?))
                 }
-                Law::Attitude(_) => {
-                    return Err(PyTypeError::new_err(
-                        "PassiveController: a rigid body's attitude controller has no passive mode here; give a SCARA or an arm controller",
-                    ))
-                }
+                Law::Arm(a) => Inner::Arm(Box::new(arm(a, PassiveOptions::default(), &overrides)?)),
+                Law::Attitude(_) => return Err(no_body()),
             }
         } else {
             return Err(PyTypeError::new_err(
@@ -194,28 +194,57 @@ impl PassiveController {
     }
 }
 
+/// The settings given as arguments, overriding the scenario's or the defaults.
+struct Overrides<'a, 'py> {
+    torque_limit: Option<&'a Bound<'py, PyAny>>,
+    encoder_resolution: Option<&'a Bound<'py, PyAny>>,
+    velocity_filter: Option<f64>,
+    reserve: Option<f64>,
+}
+
+fn no_body() -> PyErr {
+    PyTypeError::new_err(
+        "PassiveController: a rigid body's attitude controller has no passive mode here; give a SCARA or an arm",
+    )
+}
+
+/// An arm's passive controller: `base` with the arguments overriding it.
+fn arm(ctl: &SimArm, mut base: PassiveOptions, o: &Overrides<'_, '_>) -> PyResult<PassiveArm> {
+    let n = ctl.dof();
+    if let Some(l) = o.torque_limit {
+        base.torque_limit = Some(dyn_vector(l, "torque_limit", n)?);
+    }
+    if let Some(d) = o.encoder_resolution {
+        base.encoder_resolution = Some(dyn_vector(d, "encoder_resolution", n)?);
+    }
+    if let Some(f) = o.velocity_filter {
+        base.velocity_filter = f;
+    }
+    if let Some(r) = o.reserve {
+        base.reserve = r;
+    }
+    ctl.passive(&base).map_err(sim_err)
+}
+
 /// The SCARA's passive controller `ctl` with the arguments overriding its settings.
 fn scara(
     mut ctl: PaperPassiveController,
-    torque_limit: Option<&Bound<'_, PyAny>>,
-    encoder_resolution: Option<&Bound<'_, PyAny>>,
-    velocity_filter: Option<f64>,
-    reserve: Option<f64>,
+    o: &Overrides<'_, '_>,
 ) -> PyResult<PaperPassiveController> {
-    if let Some(l) = torque_limit {
+    if let Some(l) = o.torque_limit {
         ctl = ctl
             .with_torque_limits(pair(l, "torque_limit")?)
             .map_err(core_err)?;
     }
-    if let Some(d) = encoder_resolution {
+    if let Some(d) = o.encoder_resolution {
         ctl = ctl
             .with_encoder_resolution(pair(d, "encoder_resolution")?)
             .map_err(core_err)?;
     }
-    if let Some(f) = velocity_filter {
+    if let Some(f) = o.velocity_filter {
         ctl = ctl.with_velocity_filter(f).map_err(core_err)?;
     }
-    if let Some(r) = reserve {
+    if let Some(r) = o.reserve {
         ctl = ctl.with_reserve(r).map_err(core_err)?;
     }
     Ok(ctl)

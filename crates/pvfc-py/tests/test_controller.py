@@ -4,6 +4,7 @@ applies; its evaluation is the paper's coupling (eq. 7) for every kind; and the 
 earlier releases (ArmController, AttitudeController) are subclasses that warn."""
 
 import pathlib
+from typing import Optional
 import warnings
 
 import numpy as np
@@ -208,3 +209,35 @@ def test_the_passive_mode_of_a_scara_controller_is_the_scenarios() -> None:
         q = np.array([0.1 + 0.01 * k, 0.2])
         np.testing.assert_array_equal(a.step(q, None, 1e-3), b.step(q, None, 1e-3))
     assert a.storage == b.storage
+
+
+def replayed(s: pvfc.Scenario, counts: Optional[float]) -> float:
+    """The largest difference between the torques of a sampled run with `[controller.passive]`
+    and those of `pvfc.PassiveController(scenario)` stepped at the run's samples (positions
+    rounded to the encoder's counts as the run's drive rounds them)."""
+    r = pvfc.simulate(s)
+    p = pvfc.PassiveController(s)
+    step = 2.0 * np.pi / counts if counts else None
+    worst = 0.0
+    for k in range(len(r) - 1):
+        q = np.round(r.q[k] / step) * step if step else r.q[k]
+        worst = max(worst, float(np.abs(p.step(q, r.qdot[k], 1e-3) - r.torque[k]).max()))
+    return worst
+
+
+def test_a_scenarios_passive_controller_is_its_sampled_runs() -> None:
+    """`pvfc.PassiveController(scenario)` takes `[controller.passive]` of a URDF arm's scenario
+    (torque limits, encoder counts, velocity filter) as of the SCARA's: stepped at the samples
+    of the scenario's own run it gives the run's torques exactly, the limits active."""
+    d = pvfc.Scenario.from_file(ROOT / "scenarios" / "ur5_push.toml").to_dict()
+    d.pop("contact_3d")
+    d["duration"] = 0.5
+    d["controller"]["passive"] = {"torque_limit": [150.0] * 3 + [28.0] * 3, "encoder_counts": 2.0**17, "velocity_filter": 0.002}
+    ur5 = pvfc.Scenario.from_dict(d, base_dir=ROOT / "scenarios")
+    assert np.abs(pvfc.simulate(ur5).torque).max() == 150.0  # a limit is reached
+    assert replayed(ur5, 2.0**17) == 0.0
+    d = pvfc.Scenario.from_file(ROOT / "scenarios" / "digital_free_1000hz_passive.toml").to_dict()
+    d["duration"] = 0.5
+    assert replayed(pvfc.Scenario.from_dict(d), None) == 0.0
+    with pytest.raises(TypeError, match="rigid body"):
+        pvfc.PassiveController(pvfc.Scenario.from_dict(SATELLITE))

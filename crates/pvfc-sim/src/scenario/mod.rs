@@ -3,6 +3,7 @@
 
 use crate::contact::ContactSpec;
 use crate::error::{Result, SimError};
+use crate::model::arm::PassiveOptions;
 use crate::model::disturbance::Disturbance;
 use crate::model::friction::JointFriction;
 use pvfc_core::prelude::*;
@@ -355,6 +356,20 @@ pub struct PassiveSpec {
 }
 
 impl PassiveSpec {
+    /// These settings as the passive options of an arm whose joints `circular` marks: the
+    /// encoder's resolution `2π/counts` on those joints, exact positions on the others.
+    pub fn options(&self, circular: &[bool]) -> Result<PassiveOptions> {
+        self.validate_for(circular.len())?;
+        let step = self.encoder_counts.map(|c| std::f64::consts::TAU / c);
+        Ok(PassiveOptions {
+            torque_limit: (!self.torque_limit.is_empty()).then(|| self.torque_limit.clone()),
+            encoder_resolution: step
+                .map(|d| circular.iter().map(|&c| if c { d } else { 0.0 }).collect()),
+            velocity_filter: self.velocity_filter,
+            reserve: self.reserve,
+        })
+    }
+
     /// Checks the numbers (the limits' length against `dof`).
     pub fn validate_for(&self, dof: usize) -> Result<()> {
         let bad = |what: &str| Err(SimError::Setting(what.to_string()));
