@@ -12,40 +12,6 @@ use pvfc_core::prelude::{ExponentialPacing, Flywheel, PvfcLaw, RigidBody, Suspen
 use pvfc_sim::scenario::AttitudeController;
 use pyo3::prelude::*;
 
-/// The controller of `Controller.attitude`.
-#[allow(clippy::too_many_arguments)]
-fn of_body(
-    inertia: &Bound<'_, PyAny>,
-    contour: &So3ConstantRate,
-    navigation: &So3Navigation,
-    self_pacing: f64,
-    energy: f64,
-    flywheel_inertia: f64,
-    gamma: f64,
-    tau0: f64,
-) -> PyResult<Controller> {
-    let body =
-        RigidBody::new(Matrix3::from(matrix::<3, 3>(inertia, "inertia")?)).map_err(core_err)?;
-    let field = SuspendedField::new(
-        contour.c,
-        navigation.n,
-        ExponentialPacing::new(self_pacing).map_err(core_err)?,
-    );
-    let law = PvfcLaw::new(
-        body,
-        field,
-        Flywheel::new(flywheel_inertia, energy).map_err(core_err)?,
-        gamma,
-    )
-    .map_err(core_err)?;
-    if !tau0.is_finite() {
-        return Err(pyo3::exceptions::PyValueError::new_err("tau0: not finite"));
-    }
-    let ctl: AttitudeController =
-        pvfc_core::controller::Controller::new(law).starting_at_rest(tau0);
-    Ok(Controller::of(Law::Attitude(Box::new(ctl))))
-}
-
 #[pymethods]
 impl Controller {
     /// PVFC of a rigid body's attitude (`J ω̇ + ω × Jω = T`, `ω` in the body frame) along a
@@ -65,15 +31,25 @@ impl Controller {
         gamma: f64,
         tau0: f64,
     ) -> PyResult<Controller> {
-        of_body(
-            inertia,
-            contour,
-            navigation,
-            self_pacing,
-            energy,
-            flywheel_inertia,
+        let body =
+            RigidBody::new(Matrix3::from(matrix::<3, 3>(inertia, "inertia")?)).map_err(core_err)?;
+        let field = SuspendedField::new(
+            contour.c,
+            navigation.n,
+            ExponentialPacing::new(self_pacing).map_err(core_err)?,
+        );
+        let law = PvfcLaw::new(
+            body,
+            field,
+            Flywheel::new(flywheel_inertia, energy).map_err(core_err)?,
             gamma,
-            tau0,
         )
+        .map_err(core_err)?;
+        if !tau0.is_finite() {
+            return Err(pyo3::exceptions::PyValueError::new_err("tau0: not finite"));
+        }
+        let ctl: AttitudeController =
+            pvfc_core::controller::Controller::new(law).starting_at_rest(tau0);
+        Ok(Controller::of(Law::Attitude(Box::new(ctl))))
     }
 }

@@ -83,7 +83,7 @@ impl Evaluation {
 
     /// The number of the robot's coordinates (`dof`).
     pub fn dof(&self) -> usize {
-        self.torque.len() - 2
+        self.torque.len().saturating_sub(2)
     }
 
     /// The robot's part of the full torque: what the motors apply.
