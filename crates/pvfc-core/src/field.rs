@@ -3,6 +3,7 @@
 use crate::contour::{Contour, ContourSample};
 use crate::lie::{LieGroup, Tangent};
 use crate::navigation::NavigationFunction;
+use crate::obstacle::{NoObstacles, Obstacles, Potential};
 use crate::pacing::SelfPacing;
 use crate::Real;
 use core::marker::PhantomData;
@@ -38,7 +39,7 @@ pub struct FieldSample<T: Real, G, const D: usize> {
     pub contour: ContourSample<T, G, D>,
     /// The group error `E(q, τ)`.
     pub error: G,
-    /// `U(E)`.
+    /// `U(E)`; around obstacles, its composition `φ` with their barrier.
     pub potential: T,
     /// `grad U(E)` in body coordinates at `E`.
     pub gradient: Tangent<T, D>,
@@ -83,12 +84,21 @@ pub struct FieldSample<T: Real, G, const D: usize> {
 /// let s = field.evaluate(&q, &Vector2::zeros(), 0.0, 0.0);
 /// assert!(s.potential.abs() < 1e-15 && (s.lambda1 - 1.0).abs() < 1e-15);
 /// ```
+///
+/// **Obstacles** (Remark 3, [`crate::obstacle`]): [`with_obstacles`](Self::with_obstacles)
+/// replaces `U` by its composition `φ` with the obstacles' barrier `β` (Rimon–Koditschek),
+/// the gradient term by `grad_q φ` (speed-limited if asked), and scales the feed-forward and
+/// `V_I` by `β`: `V_G = λ₁(φ) β ξ_d − λ₂(φ) grad_q φ`, `V_I = λ₁(φ) β`. Along this field
+/// `φ̇ = λ₁ β ∂φ/∂β (dβ·ξ_d) − λ₂ ‖grad_q φ‖²`, negative near the surfaces (where `β → 0`),
+/// so the obstacles' surfaces, `φ`'s highest level set, are never reached. Without obstacles
+/// ([`NoObstacles`], the default) the field is eq. (30) exactly.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SuspendedField<T, G, X, N, S, const D: usize> {
+pub struct SuspendedField<T, G, X, N, S, const D: usize, O = NoObstacles> {
     contour: X,
     navigation: N,
     pacing: S,
     convention: ErrorConvention,
+    obstacles: O,
     _g: PhantomData<(T, G)>,
 }
 
@@ -107,8 +117,39 @@ where
             navigation,
             pacing,
             convention: ErrorConvention::Right,
+            obstacles: NoObstacles,
             _g: PhantomData,
         }
+    }
+}
+
+impl<T, G, X, N, S, const D: usize, O> SuspendedField<T, G, X, N, S, D, O>
+where
+    T: Real,
+    G: LieGroup<T, D>,
+    X: Contour<T, G, D>,
+    N: NavigationFunction<T, G, D>,
+    S: SelfPacing<T>,
+    O: Obstacles<T, G, D>,
+{
+    /// The same field around the obstacles `obstacles` (Remark 3).
+    pub fn with_obstacles<P: Obstacles<T, G, D>>(
+        self,
+        obstacles: P,
+    ) -> SuspendedField<T, G, X, N, S, D, P> {
+        SuspendedField {
+            contour: self.contour,
+            navigation: self.navigation,
+            pacing: self.pacing,
+            convention: self.convention,
+            obstacles,
+            _g: PhantomData,
+        }
+    }
+
+    /// The obstacles.
+    pub fn obstacles(&self) -> &O {
+        &self.obstacles
     }
 
     /// The same field on the other error convention.
@@ -175,9 +216,6 @@ where
             }
         };
         let nav = self.navigation.evaluate(&e, &eps);
-        let g = self.pacing.gains(nav.value);
-        let l1_dot = g.dlambda1 * nav.value_rate;
-        let l2_dot = g.dlambda2 * nav.value_rate;
         // The rate of the feed-forward term, and the gradient term (R_{x_d})_* grad U (right)
         // or grad U itself (left), with its rate.
         let (ff_dot, a, a_dot) = match self.convention {
@@ -193,14 +231,48 @@ where
                 (ff_dot, nav.gradient, nav.gradient_rate)
             }
         };
+        let Some((barrier, composition)) = self.obstacles.barrier(q, v) else {
+            let g = self.pacing.gains(nav.value);
+            let l1_dot = g.dlambda1 * nav.value_rate;
+            let l2_dot = g.dlambda2 * nav.value_rate;
+            return FieldSample {
+                velocity: ff * g.lambda1 - a * g.lambda2,
+                rate: ff * l1_dot + ff_dot * g.lambda1 - a * l2_dot - a_dot * g.lambda2,
+                velocity_tau: g.lambda1,
+                rate_tau: l1_dot,
+                contour: c,
+                error: e,
+                potential: nav.value,
+                gradient: nav.gradient,
+                lambda1: g.lambda1,
+                lambda2: g.lambda2,
+                error_velocity: eps,
+            };
+        };
+        // Around obstacles: U composed with the barrier (RK), `a = grad_q U` (the adjoint is
+        // orthogonal, or the identity on the vector groups obstacles live on).
+        let potential = Potential {
+            value: nav.value,
+            value_rate: nav.value_rate,
+            gradient: a,
+            gradient_rate: a_dot,
+        };
+        let phi = composition.compose(&potential, &barrier, self.navigation.metric_weight());
+        let g = self.pacing.gains(phi.value);
+        let l1_dot = g.dlambda1 * phi.value_rate;
+        let l2_dot = g.dlambda2 * phi.value_rate;
+        let feed = g.lambda1 * phi.feed;
+        let feed_dot = l1_dot * phi.feed + g.lambda1 * phi.feed_rate;
         FieldSample {
-            velocity: ff * g.lambda1 - a * g.lambda2,
-            rate: ff * l1_dot + ff_dot * g.lambda1 - a * l2_dot - a_dot * g.lambda2,
-            velocity_tau: g.lambda1,
-            rate_tau: l1_dot,
+            velocity: ff * feed - phi.gradient * g.lambda2,
+            rate: ff * feed_dot + ff_dot * feed
+                - phi.gradient * l2_dot
+                - phi.gradient_rate * g.lambda2,
+            velocity_tau: feed,
+            rate_tau: feed_dot,
             contour: c,
             error: e,
-            potential: nav.value,
+            potential: phi.value,
             gradient: nav.gradient,
             lambda1: g.lambda1,
             lambda2: g.lambda2,
@@ -224,13 +296,15 @@ pub trait VelocityField<T: Real, G: LieGroup<T, D>, const D: usize> {
     }
 }
 
-impl<T, G, X, N, S, const D: usize> VelocityField<T, G, D> for SuspendedField<T, G, X, N, S, D>
+impl<T, G, X, N, S, const D: usize, O> VelocityField<T, G, D>
+    for SuspendedField<T, G, X, N, S, D, O>
 where
     T: Real,
     G: LieGroup<T, D>,
     X: Contour<T, G, D>,
     N: NavigationFunction<T, G, D>,
     S: SelfPacing<T>,
+    O: Obstacles<T, G, D>,
 {
     #[inline]
     fn sample(&self, q: &G, v: &Tangent<T, D>, tau: T, tau_dot: T) -> FieldSample<T, G, D> {

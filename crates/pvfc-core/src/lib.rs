@@ -59,6 +59,7 @@ pub mod field;
 pub mod lie;
 pub mod mechanics;
 pub mod navigation;
+pub mod obstacle;
 pub mod pacing;
 pub mod passive;
 pub mod scalar;

@@ -3,6 +3,7 @@
 
 mod chain_products;
 mod inverse_kinematics;
+mod point_motion;
 mod rigid_body;
 mod scara;
 mod serial_chain;
@@ -10,6 +11,7 @@ mod spatial;
 mod stage;
 
 pub use inverse_kinematics::{IkSettings, IkTarget};
+pub use point_motion::{ChainMotion, PointMotion};
 pub use rigid_body::RigidBody;
 pub use scara::{Scara, ScaraParameters};
 pub use serial_chain::{ChainJoint, ChainKinematics, SerialChain, STANDARD_GRAVITY};

@@ -3,6 +3,9 @@
 
 use super::vec;
 use nalgebra::{Matrix3, Vector2, Vector3};
+use pvfc_core::obstacle::{
+    BodySphere, Composition, JointRegion, ObstacleSet, WorldObstacle, WorldShape,
+};
 use pvfc_core::prelude::*;
 use pvfc_core::scalar::cast;
 
@@ -276,4 +279,147 @@ pub fn rail_arm_ellipse<T: Real>(p: Params) -> RailArm<T> {
         cast(p.gamma),
     )
     .unwrap()
+}
+
+/// The Pelican's kinematics as a chain (planar, both axes along z), to place spheres on its
+/// links.
+pub fn pelican_chain<T: Real>() -> SerialChain<T, 2> {
+    use pvfc_core::mechanics::{ChainJoint, Pose, RigidInertia};
+    let joint = |xyz: [f64; 3]| ChainJoint {
+        kind: JointKind::Circular,
+        origin: Pose::from_xyz_rpy(xyz.map(cast), [T::zero(); 3]),
+        axis: vec([0.0, 0.0, 1.0]),
+    };
+    let link = RigidInertia {
+        mass: T::one(),
+        com: vec([0.1, 0.0, 0.0]),
+        inertia: Matrix3::from_diagonal(&vec([0.01, 0.01, 0.01])),
+    };
+    SerialChain::new([joint([0.0; 3]), joint([0.26, 0.0, 0.0])], [link; 2]).unwrap()
+}
+
+/// Obstacles of both kinds for the Pelican: a rounded box of joint space, and a post and a
+/// ball in its plane kept from two spheres on the forearm.
+pub fn scara_obstacle_set<T: Real>() -> ObstacleSet<T, 2> {
+    let mut set =
+        ObstacleSet::new(Composition::new(cast(4.0), cast(4.0), Some(cast(3.0))).unwrap());
+    set.add_region(JointRegion::new(vec([-1.6, 0.0]), vec([0.3, 0.4]), 2, cast(0.5)).unwrap())
+        .unwrap();
+    set.set_chain(pelican_chain());
+    set.add_body_sphere(BodySphere::new(1, vec([0.26, 0.0, 0.0]), cast(0.02)).unwrap())
+        .unwrap();
+    set.add_body_sphere(BodySphere::new(1, vec([0.13, 0.0, 0.0]), cast(0.03)).unwrap())
+        .unwrap();
+    let post = WorldShape::Cylinder {
+        point: vec([-0.1, 0.33, 0.0]),
+        axis: vec([0.0, 0.0, 1.0]),
+        radius: cast(0.05),
+    };
+    let ball = WorldShape::Sphere {
+        center: vec([-0.1, -0.33, 0.0]),
+        radius: cast(0.04),
+    };
+    set.add_world_obstacle(WorldObstacle::new(post, cast(0.01), cast(0.1)).unwrap())
+        .unwrap();
+    set.add_world_obstacle(WorldObstacle::new(ball, cast(0.01), cast(0.08)).unwrap())
+        .unwrap();
+    set
+}
+
+pub type ScaraObstacles<T> = PvfcLaw<
+    T,
+    Torus<T, 2>,
+    Scara<T>,
+    SuspendedField<
+        T,
+        Torus<T, 2>,
+        Lissajous<T, 2>,
+        TorusNavigation<T, 2>,
+        ExponentialPacing<T>,
+        2,
+        ObstacleSet<T, 2>,
+    >,
+    2,
+>;
+
+/// The paper's setting around [`scara_obstacle_set`].
+pub fn scara_obstacles<T: Real>(p: Params) -> ScaraObstacles<T> {
+    let law = scara_lissajous::<T>(p);
+    let field = (*law.field()).with_obstacles(scara_obstacle_set());
+    PvfcLaw::new(
+        Scara::pelican(),
+        field,
+        Flywheel::new(T::one(), cast(50.0)).unwrap(),
+        cast(p.gamma),
+    )
+    .unwrap()
+}
+
+/// Obstacles for the rail arm: a ball of its joint space and a ball in the world kept from
+/// two spheres on its last two links.
+pub fn rail_arm_obstacle_set<T: Real>() -> ObstacleSet<T, 4> {
+    let mut set =
+        ObstacleSet::new(Composition::new(cast(3.0), cast(2.0), Some(cast(4.0))).unwrap());
+    set.add_region(JointRegion::ball(vec([0.5, 0.5, 0.5, 0.5]), cast(0.4), cast(0.4)).unwrap())
+        .unwrap();
+    set.set_chain(rail_arm());
+    set.add_body_sphere(BodySphere::new(3, vec([0.3, 0.0, 0.0]), cast(0.05)).unwrap())
+        .unwrap();
+    set.add_body_sphere(BodySphere::new(2, vec([0.2, 0.0, 0.0]), cast(0.05)).unwrap())
+        .unwrap();
+    let ball = WorldShape::Sphere {
+        center: vec([0.4, 0.3, 0.5]),
+        radius: cast(0.1),
+    };
+    set.add_world_obstacle(WorldObstacle::new(ball, cast(0.02), cast(0.2)).unwrap())
+        .unwrap();
+    set
+}
+
+pub type RailArmObstacles<T> = PvfcLaw<
+    T,
+    JointSpace<T, 4>,
+    SerialChain<T, 4>,
+    SuspendedField<
+        T,
+        JointSpace<T, 4>,
+        Ellipse<T, 4>,
+        JointNavigation<T, 4>,
+        ExponentialPacing<T>,
+        4,
+        ObstacleSet<T, 4>,
+    >,
+    4,
+>;
+
+/// The rail arm's ellipse around [`rail_arm_obstacle_set`].
+pub fn rail_arm_obstacles<T: Real>(p: Params) -> RailArmObstacles<T> {
+    let law = rail_arm_ellipse::<T>(p);
+    let field = (*law.field()).with_obstacles(rail_arm_obstacle_set());
+    PvfcLaw::new(
+        rail_arm(),
+        field,
+        Flywheel::new(T::one(), cast(3000.0)).unwrap(),
+        cast(p.gamma),
+    )
+    .unwrap()
+}
+
+/// A sphere world in the Pelican's joint space (Rimon–Koditschek's setting): five balls
+/// clear of the paper's contour, two inside its loops (the contour passes within their
+/// influence), one on the far side of the torus.
+pub fn scara_ball_world<T: Real>(kappa: f64) -> ObstacleSet<T, 2> {
+    let mut set =
+        ObstacleSet::new(Composition::new(cast(kappa), cast(4.0), Some(cast(3.0))).unwrap());
+    for (c, r, w) in [
+        ([0.55, 0.0], 0.18, 0.2),
+        ([-0.55, 0.0], 0.18, 0.2),
+        ([-1.8, 0.5], 0.4, 0.4),
+        ([1.9, -0.6], 0.5, 0.4),
+        ([0.0, -2.6], 0.3, 0.4),
+    ] {
+        set.add_region(JointRegion::ball(vec(c), cast(r), cast(w)).unwrap())
+            .unwrap();
+    }
+    set
 }
