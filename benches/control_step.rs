@@ -13,7 +13,6 @@
 use criterion::{criterion_group, Criterion, Throughput};
 use nalgebra::{Matrix3, Vector2, Vector3};
 use pvfc::prelude::*;
-use pvfc::sim::scenario::presets::pelican_example;
 use pvfc::sim::ClosedLoop;
 use std::hint::black_box;
 use std::time::Instant;
@@ -49,12 +48,11 @@ where
         .collect()
 }
 
-/// The paper's SCARA controller (the `pelican_example` scenario), and the states recorded
-/// along its closed-loop run from `q = (0, 0)`.
+/// The paper's SCARA controller (the `pelican_example` scenario's, as the core builds it:
+/// `tests/closed_loop.rs` checks they are equal), and the states recorded along its
+/// closed-loop run from `q = (0, 0)`.
 fn scara_f64() -> (ScaraLissajousController<f64>, Samples<f64>) {
-    let scara = pelican_example()
-        .controller()
-        .expect("the example is valid");
+    let scara = ScaraLissajousController::<f64>::pelican_example().expect("the example is valid");
     let sys = ClosedLoop::matched(scara);
     let i = *scara.state();
     let start = AugmentedState {

@@ -46,6 +46,7 @@ fn settings(waypoints: Vec<Vec<f64>>, n: usize) -> ArmSettings {
         friction_band: 0.0,
         nominal_speed: None,
         tau0: 0.0,
+        obstacles: None,
     }
 }
 

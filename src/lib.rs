@@ -26,4 +26,6 @@ mod manual {
     struct DigitalController;
     #[doc = include_str!("../docs/src/guide/studies.md")]
     struct Studies;
+    #[doc = include_str!("../docs/src/guide/obstacles.md")]
+    struct Obstacles;
 }

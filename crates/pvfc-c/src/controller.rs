@@ -138,6 +138,7 @@ pub unsafe extern "C" fn pvfc_controller_new(
             nominal_speed: (s.nominal_speed_c != 0.0)
                 .then_some((s.nominal_speed_c, s.nominal_speed_r)),
             tau0: s.tau0,
+            obstacles: None,
         };
         let ctl = ArmController::new(robot, &settings)?;
         unsafe {

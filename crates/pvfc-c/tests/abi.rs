@@ -242,6 +242,7 @@ fn agree(urdf: &str, tip: &str, waypoints: &[f64], mut q: Vec<f64>, v: Vec<f64>)
         friction_band: 0.0,
         nominal_speed: None,
         tau0: 0.0,
+        obstacles: None,
     };
     let mut rust = pvfc_sim::model::arm::ArmController::new(&r, &settings).unwrap();
     let mut torque = vec![0.0; n];

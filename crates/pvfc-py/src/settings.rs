@@ -49,6 +49,7 @@ impl ControllerSettings {
             friction_band: self.friction_band,
             nominal_speed: self.nominal_speed,
             tau0: self.tau0,
+            obstacles: None,
         }
     }
 }

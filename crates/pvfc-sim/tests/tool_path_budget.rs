@@ -178,6 +178,7 @@ fn the_adaptive_sampling_puts_the_ur5_contour_within_its_tolerance() {
         friction_band: 0.0,
         nominal_speed: None,
         tau0: 0.0,
+        obstacles: None,
     };
     let ctl = ArmController::new(&ur5, &settings).unwrap();
     let path = spec.path(base).unwrap();

@@ -9,7 +9,9 @@ use crate::model::arm_field::{ArmField, FieldSpec};
 use crate::model::evaluation::Evaluation;
 pub use crate::model::joint_contour::{DynJointContour, JointContour, JointContourSpec};
 use crate::model::robot::{ChainModel, Robot};
+use nalgebra::SVector;
 use pvfc_core::augmented::AugmentedState;
+use pvfc_core::obstacle::{Composition, ObstacleSet};
 use pvfc_core::passive::{EnergyAccount, PassiveController};
 use pvfc_core::prelude::*;
 
@@ -45,6 +47,8 @@ pub struct ArmSettings {
     pub nominal_speed: Option<(f64, f64)>,
     /// The contour parameter to start at.
     pub tau0: f64,
+    /// Obstacles the joint-space field keeps the arm away from (Remark 3).
+    pub obstacles: Option<crate::scenario::obstacles::ObstacleSpec>,
 }
 
 /// What one control step gives, with the numbers a log wants.
@@ -100,11 +104,22 @@ pub fn arm_controller<const N: usize>(
     let contour = s.contour.build(kinds)?;
     let pacing = ExponentialPacing::new(s.self_pacing)?;
     let field = match &s.field {
-        FieldSpec::Joint => ArmField::Joint(SuspendedField::new(
-            contour,
-            JointNavigation::new(fixed::<N>(&s.h, "h")?, kinds)?,
-            pacing,
-        )),
+        FieldSpec::Joint => {
+            let navigation = JointNavigation::new(fixed::<N>(&s.h, "h")?, kinds)?;
+            let set = match &s.obstacles {
+                None => ObstacleSet::new(Composition::new(1.0, 1.0, None)?),
+                Some(o) => {
+                    let far = JointSpace::new(SVector::repeat(std::f64::consts::PI), kinds);
+                    o.build(Some(chain), navigation.value(&far))?
+                }
+            };
+            ArmField::Joint(SuspendedField::new(contour, navigation, pacing).with_obstacles(set))
+        }
+        FieldSpec::Task(_) if s.obstacles.is_some() => {
+            return Err(setting(
+                "obstacles: the task-space field (contour.cartesian.field = \"task\") does not take obstacles yet; use the joint-space field".into(),
+            ))
+        }
         FieldSpec::Task(t) => {
             let period = s.contour.period().ok_or_else(|| {
                 setting("contour: the task-space field needs a closed contour (a period)".into())

@@ -23,6 +23,7 @@ pub type JointField<const N: usize> = SuspendedField<
     JointNavigation<f64, N>,
     ExponentialPacing<f64>,
     N,
+    pvfc_core::obstacle::ObstacleSet<f64, N>,
 >;
 
 /// The task-space field of an `N`-joint arm on the exact tool path, with the tool's
@@ -31,6 +32,9 @@ pub type TaskField<const N: usize> =
     TaskSpaceField<f64, PathContour, ExponentialPacing<f64>, N, PathOrientation>;
 
 /// The field of an `N`-joint arm.
+// One field per controller, read at every step: the joint field (with its obstacle set's
+// fixed-capacity storage) stays inline rather than behind a pointer.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq)]
 pub enum ArmField<const N: usize> {
     /// The joint-space contour's field.

@@ -13,6 +13,7 @@ use crate::model::arm::{ArmController, ArmSettings, JointContourSpec};
 use crate::model::arm_field::FieldSpec;
 use crate::model::robot::Robot;
 use nalgebra::{Matrix3, Vector2, Vector3};
+use pvfc_core::obstacle::{Composition, ObstacleSet};
 use pvfc_core::prelude::*;
 
 /// A URDF arm's scenario built once, as the data flows (file → system → run): the robot (its
@@ -273,6 +274,7 @@ impl Scenario {
             friction_band: c.friction_band.unwrap_or(0.0),
             nominal_speed: c.nominal_speed.map(|n| (n.c, n.r)),
             tau0: self.initial.tau,
+            obstacles: self.obstacles.clone(),
         })
     }
 
@@ -483,13 +485,27 @@ impl Scenario {
         .with_period(c.period)?)
     }
 
-    /// The field.
+    /// The field, around the scenario's obstacles if it has any (`[obstacles]`).
     pub fn field(&self) -> Result<PaperField> {
-        Ok(SuspendedField::new(
+        let navigation =
+            TorusNavigation::paper(joint_vector::<2>(&self.controller.h, "controller.h")?)?;
+        let field = SuspendedField::new(
             self.contour()?,
-            TorusNavigation::paper(joint_vector::<2>(&self.controller.h, "controller.h")?)?,
+            navigation,
             ExponentialPacing::new(self.controller.self_pacing)?,
-        ))
+        );
+        let set = match &self.obstacles {
+            None => ObstacleSet::new(Composition::new(1.0, 1.0, None)?),
+            Some(o) => {
+                let chain = match o.world.is_empty() {
+                    true => None,
+                    false => Some(super::obstacles::scara_chain(&self.arm()?)?),
+                };
+                let largest = navigation.value(&Torus::new(Vector2::repeat(std::f64::consts::PI)));
+                o.build(chain, largest)?
+            }
+        };
+        Ok(field.with_obstacles(set))
     }
 
     /// The controller, with its add-ons and initial internal states. The controller's model

@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 pub mod build;
+pub mod obstacles;
 pub mod preset_id;
 pub mod presets;
 
@@ -41,6 +42,7 @@ pub type PaperField = SuspendedField<
     TorusNavigation<f64, 2>,
     ExponentialPacing<f64>,
     2,
+    pvfc_core::obstacle::ObstacleSet<f64, 2>,
 >;
 
 /// The controller of the planar arm's scenarios ([`Scenario::controller`]).
@@ -615,6 +617,9 @@ pub struct Scenario {
     /// Contact in 3-D of a URDF arm: its collision capsules, the obstacles, the law.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact_3d: Option<crate::contact::spatial::SpatialContactSpec>,
+    /// Obstacles the field keeps the robot away from (`[obstacles]`, Remark 3).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub obstacles: Option<obstacles::ObstacleSpec>,
     /// Directory that relative paths in the scenario are resolved against (not in the file).
     #[serde(skip)]
     pub base_dir: PathBuf,

@@ -57,6 +57,7 @@ pub fn pelican_example() -> Scenario {
         baseline: None,
         contact: None,
         contact_3d: None,
+        obstacles: None,
         base_dir: Default::default(),
     }
 }
@@ -102,6 +103,7 @@ fn forced(id: PresetId, description: &str, r_pacing: f64, compensation: bool, r:
         baseline: None,
         contact: None,
         contact_3d: None,
+        obstacles: None,
         base_dir: Default::default(),
     }
 }
