@@ -49,6 +49,35 @@ fn the_pelican_reaches_its_contour_around_the_post() {
         t.t[at]
     );
     assert!(clearance > 0.01, "the margin: {clearance}");
+    // The contour passes the post within its influence (a fixture beside the path), and over
+    // the last lap the arm follows it with the clearance kept.
+    let contour = s.contour().unwrap();
+    let contour_clearance = (0..6000)
+        .map(|k| {
+            let x: pvfc_core::lie::Torus<f64, 2> =
+                pvfc_core::contour::Contour::point(&contour, k as f64 * 1e-3);
+            set.clearance(x.angles()).unwrap()
+        })
+        .fold(f64::INFINITY, f64::min);
+    let last = t.t.iter().position(|x| *x >= 20.0).unwrap();
+    let lap_clearance =
+        t.q.rows(last..n)
+            .map(|q| {
+                set.clearance(&nalgebra::Vector2::from_column_slice(q))
+                    .unwrap()
+            })
+            .fold(f64::INFINITY, f64::min);
+    let lap_u = t.potential[last..].iter().fold(0.0_f64, |m, u| m.max(*u));
+    println!(
+        "the contour's own clearance {:.1} mm; over the last 10 s: clearance {:.1} mm, largest φ {lap_u:.1e}",
+        contour_clearance * 1e3,
+        lap_clearance * 1e3
+    );
+    assert!(
+        contour_clearance < 0.01 + 0.1,
+        "the contour passes within the post's influence"
+    );
+    assert!(lap_clearance > 0.01 && (lap_clearance - contour_clearance).abs() < 2e-3);
     let c = t.contact.as_ref().unwrap();
     let peak = c.normal_force.iter().fold(0.0_f64, |m, f| m.max(*f));
     println!("the contact world's largest normal force: {peak} N");
@@ -157,4 +186,59 @@ fn a_start_behind_a_spurious_minimum_is_held_clear() {
         peak(&without)
     );
     assert!(peak(&without) > 1.0);
+}
+
+/// The UR5 (`scenarios/example_ur5_obstacles.toml`: the joint-space contour of
+/// `ur5_waypoints.toml`, friction, the sampled controller) starts with a ball between its tool
+/// and the contour: with `[obstacles]` the tool keeps its margin and Rapier's contact layer,
+/// holding the same ball, records no force, and the contour is followed as closely as without
+/// obstacles; without them the tool strikes the ball.
+#[test]
+fn the_ur5_reaches_its_contour_around_a_ball() {
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/example_ur5_obstacles.toml");
+    let s = Scenario::from_file(&path).unwrap();
+    let robot = pvfc_sim::model::robot::Robot::from_urdf(
+        &path.parent().unwrap().join("../models/ur5/ur5_robot.urdf"),
+        None,
+        Some("tool0"),
+    )
+    .unwrap();
+    let set = s
+        .obstacles
+        .as_ref()
+        .unwrap()
+        .build::<6>(Some(robot.description().chain::<6>().unwrap()), 1.0)
+        .unwrap();
+    let peak = |t: &pvfc_sim::trace::Trace| {
+        let c = t.contact.as_ref().unwrap();
+        c.normal_force.iter().fold(0.0_f64, |m, f| m.max(*f))
+    };
+    let last_pass_u = |t: &pvfc_sim::trace::Trace| {
+        let from = t.t.iter().position(|x| *x >= 12.0).unwrap();
+        t.potential[from..].iter().sum::<f64>() / (t.len() - from) as f64
+    };
+    let t = simulate(&s, &mut |_| {}).unwrap();
+    let clearance =
+        t.q.iter()
+            .map(|q| {
+                set.clearance(&nalgebra::SVector::<f64, 6>::from_column_slice(q))
+                    .unwrap()
+            })
+            .fold(f64::INFINITY, f64::min);
+    let mut without = s.clone();
+    without.obstacles = None;
+    let w = simulate(&without, &mut |_| {}).unwrap();
+    println!(
+        "UR5: smallest tool clearance {:.1} mm (margin 10 mm), contact force {} N, mean U over the last 8 s {:.3e} (without obstacles {:.3e}, contact force {:.1} N)",
+        clearance * 1e3,
+        peak(&t),
+        last_pass_u(&t),
+        last_pass_u(&w),
+        peak(&w)
+    );
+    assert!(clearance > 0.01, "{clearance}");
+    assert_eq!(peak(&t), 0.0);
+    assert!(peak(&w) > 1.0);
+    assert!(last_pass_u(&t) < 1.5 * last_pass_u(&w));
 }
