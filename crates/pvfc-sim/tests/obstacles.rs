@@ -5,6 +5,7 @@
 
 use pvfc_core::obstacle::ObstacleSet;
 use pvfc_sim::run::simulate;
+use pvfc_sim::scenario::obstacles::ShapeKind;
 use pvfc_sim::scenario::{Mode, Scenario};
 use pvfc_sim::trace::metrics::energy_drift;
 use pvfc_sim::trace::series::JointSeries;
@@ -241,4 +242,66 @@ fn the_ur5_reaches_its_contour_around_a_ball() {
     assert_eq!(peak(&t), 0.0);
     assert!(peak(&w) > 1.0);
     assert!(last_pass_u(&t) < 1.5 * last_pass_u(&w));
+}
+
+/// The other world shapes from a scenario: the UR5's ball replaced by a box (30 mm, edges
+/// rounded by 10 mm) and the Pelican's post by a vertical capsule, in the field and in the
+/// contact worlds: no contact force, margins kept.
+#[test]
+fn boxes_and_capsules_are_kept_clear() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let mut ur5 = Scenario::from_file(&dir.join("example_ur5_obstacles.toml")).unwrap();
+    let w = &mut ur5.obstacles.as_mut().unwrap().world[0];
+    w.shape = ShapeKind::Box;
+    w.half_extents = Some([0.03, 0.03, 0.03]);
+    w.rpy = [0.2, 0.1, 0.4];
+    w.radius = 0.01;
+    let c = ur5.contact_3d.as_mut().unwrap();
+    c.obstacles[0].shape = pvfc_sim::contact::spatial::SpatialShape::Box {
+        half_extents: [0.035; 3],
+    };
+    c.obstacles[0].rpy = [0.2, 0.1, 0.4];
+    let t = simulate(&ur5, &mut |_| {}).unwrap();
+    let peak = t
+        .contact
+        .as_ref()
+        .unwrap()
+        .normal_force
+        .iter()
+        .fold(0.0_f64, |m, f| m.max(*f));
+    println!(
+        "UR5 around a box: contact force {peak} N, U at the end {:.2e}",
+        t.potential[t.len() - 1]
+    );
+    assert_eq!(peak, 0.0);
+    ur5.obstacles = None;
+    let t = simulate(&ur5, &mut |_| {}).unwrap();
+    let struck = t
+        .contact
+        .as_ref()
+        .unwrap()
+        .normal_force
+        .iter()
+        .fold(0.0_f64, |m, f| m.max(*f));
+    println!("without the obstacles: {struck:.1} N");
+    assert!(struck > 1.0, "the box is on the way");
+
+    let mut scara = example();
+    let w = &mut scara.obstacles.as_mut().unwrap().world[0];
+    w.shape = ShapeKind::Capsule;
+    w.center = [-0.1, 0.33, -0.5];
+    w.end = Some([-0.1, 0.33, 0.5]);
+    let set = *scara.field().unwrap().obstacles();
+    let t = simulate(&scara, &mut |_| {}).unwrap();
+    let (clearance, _) = smallest_clearance(&set, &t.q);
+    let peak = t
+        .contact
+        .as_ref()
+        .unwrap()
+        .normal_force
+        .iter()
+        .fold(0.0_f64, |m, f| m.max(*f));
+    println!("the Pelican around a capsule: clearance {clearance:.4} m, contact force {peak} N, φ at the end {:.1e}", t.potential[t.len() - 1]);
+    assert!(clearance > 0.01 && peak == 0.0);
+    assert!(t.potential[t.len() - 1] < 1e-4);
 }

@@ -60,6 +60,28 @@ pub enum WorldShape<T: Real> {
         /// Its radius.
         radius: T,
     },
+    /// A capsule: the points within `radius` of the segment from `a` to `b` (a bar, a
+    /// pipe, another robot's link).
+    Capsule {
+        /// One end of its axis.
+        a: Vector3<T>,
+        /// The other end.
+        b: Vector3<T>,
+        /// Its radius (≥ 0).
+        radius: T,
+    },
+    /// A box with rounded edges: the points within `radius` of the box of half extents
+    /// `half_extents` about `center`, turned by `rotation` (a fixture, a table, a wall).
+    Box {
+        /// Its centre.
+        center: Vector3<T>,
+        /// Its axes in the world frame (a rotation matrix's columns).
+        rotation: Matrix3<T>,
+        /// Half its sizes along its axes (> 0).
+        half_extents: Vector3<T>,
+        /// The rounding of its edges and faces (≥ 0).
+        radius: T,
+    },
 }
 
 /// A shape with the margin the robot keeps from it and the width over which the field
@@ -71,6 +93,17 @@ pub struct WorldObstacle<T: Real> {
     influence: T,
 }
 
+/// A capsule's or a box's radius: `≥ 0`, and then taken as positive for the common check.
+fn rounding<T: Real>(radius: T) -> Result<T> {
+    if radius < T::zero() {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            "WorldObstacle: a capsule's or a box's radius must be ≥ 0",
+        ));
+    }
+    Ok(radius.max(T::default_epsilon()))
+}
+
 /// The distance `d` from a point to a shape's surface, its gradient `n` and Hessian `H` in
 /// the point.
 struct Surface<T: Real> {
@@ -80,13 +113,47 @@ struct Surface<T: Real> {
 }
 
 impl<T: Real> WorldObstacle<T> {
-    /// The shape (radius > 0), the margin `m ≥ 0` kept between it and the robot's spheres
-    /// (the barrier is 0 there) and the influence width `w > 0` beyond the margin.
+    /// The shape (radius > 0; ≥ 0 for a capsule and a box), the margin `m ≥ 0` kept between
+    /// it and the robot's spheres (the barrier is 0 there) and the influence width `w > 0`
+    /// beyond the margin.
+    ///
+    /// The distance to a sphere or a cylinder is smooth outside it; to a capsule or a box it
+    /// is `C¹` with a Lipschitz gradient: the field is continuous and its rate bounded, with a
+    /// jump across the planes where the closest feature changes (a capsule's end caps, a
+    /// box's faces, edges and corners).
     pub fn new(shape: WorldShape<T>, margin: T, influence: T) -> Result<Self> {
         let (radius, shape) = match shape {
             WorldShape::Sphere { center, radius } => {
                 ensure_finite(center.iter(), "WorldObstacle: sphere centre")?;
                 (radius, shape)
+            }
+            WorldShape::Capsule { a, b, radius } => {
+                ensure_finite(a.iter().chain(b.iter()), "WorldObstacle: capsule ends")?;
+                // A capsule of radius 0 is a segment: allowed (the margin keeps the robot off).
+                (rounding(radius)?, shape)
+            }
+            WorldShape::Box {
+                center,
+                rotation,
+                half_extents,
+                radius,
+            } => {
+                ensure_finite(
+                    center
+                        .iter()
+                        .chain(rotation.iter())
+                        .chain(half_extents.iter()),
+                    "WorldObstacle: box centre, rotation, half extents",
+                )?;
+                let orthonormal = (rotation.transpose() * rotation - Matrix3::identity()).norm()
+                    < crate::scalar::cast(1e-6);
+                if !orthonormal || half_extents.iter().any(|h| *h <= T::zero()) {
+                    return Err(Error::new(
+                        ErrorKind::InvalidParameter,
+                        "WorldObstacle: a box needs a rotation matrix and half extents > 0",
+                    ));
+                }
+                (radius.max(T::default_epsilon()), shape)
             }
             WorldShape::Cylinder {
                 point,
@@ -148,6 +215,9 @@ impl<T: Real> WorldObstacle<T> {
 
     fn surface(&self, p: &Vector3<T>) -> Surface<T> {
         let tiny: T = crate::scalar::cast(1e-12);
+        // `offset = p − c(p)` from the closest point `c` of the shape's core (its centre, axis,
+        // segment or box), and the projector `P = ∂offset/∂p` onto the directions in which
+        // `c` stays put: the Hessian of `|offset|` is `(P − n nᵀ)/|offset|`.
         let (offset, radius, projector) = match self.shape {
             WorldShape::Sphere { center, radius } => (p - center, radius, Matrix3::identity()),
             WorldShape::Cylinder {
@@ -157,6 +227,60 @@ impl<T: Real> WorldObstacle<T> {
             } => {
                 let projector = Matrix3::identity() - axis * axis.transpose();
                 (projector * (p - point), radius, projector)
+            }
+            WorldShape::Capsule { a, b, radius } => {
+                let ab = b - a;
+                let length2 = ab.norm_squared();
+                let t = if length2 > T::zero() {
+                    (p - a).dot(&ab) / length2
+                } else {
+                    T::zero()
+                };
+                if t > T::zero() && t < T::one() {
+                    let u = ab / length2.sqrt();
+                    let projector = Matrix3::identity() - u * u.transpose();
+                    (projector * (p - a), radius, projector)
+                } else {
+                    let end = if t <= T::zero() { a } else { b };
+                    (p - end, radius, Matrix3::identity())
+                }
+            }
+            WorldShape::Box {
+                center,
+                rotation,
+                half_extents,
+                radius,
+            } => {
+                let local = rotation.transpose() * (p - center);
+                let mut outside = Vector3::zeros();
+                let mut closest = local;
+                for i in 0..3 {
+                    if local[i] > half_extents[i] {
+                        closest[i] = half_extents[i];
+                        outside[i] = T::one();
+                    } else if local[i] < -half_extents[i] {
+                        closest[i] = -half_extents[i];
+                        outside[i] = T::one();
+                    }
+                }
+                if outside == Vector3::zeros() {
+                    // Inside: the distance to the nearest face, negative.
+                    let slack = half_extents - local.abs();
+                    let i = slack.imin();
+                    let mut n = Vector3::zeros();
+                    n[i] = if local[i] >= T::zero() {
+                        T::one()
+                    } else {
+                        -T::one()
+                    };
+                    return Surface {
+                        distance: -slack[i] - radius,
+                        normal: rotation * n,
+                        hessian: Matrix3::zeros(),
+                    };
+                }
+                let projector = rotation * Matrix3::from_diagonal(&outside) * rotation.transpose();
+                (rotation * (local - closest), radius, projector)
             }
         };
         let length = offset.norm().max(tiny);
@@ -198,5 +322,78 @@ impl<T: Real> WorldObstacle<T> {
             value_rate: b1 * inv_w * rate,
             differential_rate: jt_n * (b2 * inv_w * inv_w * rate) + jt_n_dot * (b1 * inv_w),
         }
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+    use crate::mechanics::Pose;
+
+    /// The distance's gradient and Hessian against central differences, for every shape, at
+    /// points inside each region of its closest feature (faces, edges, corners, end caps).
+    #[test]
+    fn the_distance_has_its_gradient_and_hessian() {
+        let rotation = Pose::<f64>::from_xyz_rpy([0.0; 3], [0.3, -0.2, 0.5]).rotation;
+        let shapes = [
+            WorldShape::Sphere {
+                center: Vector3::new(0.1, 0.2, 0.3),
+                radius: 0.1,
+            },
+            WorldShape::Cylinder {
+                point: Vector3::new(0.0, 0.1, 0.0),
+                axis: Vector3::new(0.2, 0.1, 1.0),
+                radius: 0.05,
+            },
+            WorldShape::Capsule {
+                a: Vector3::new(-0.2, 0.0, 0.0),
+                b: Vector3::new(0.3, 0.1, 0.1),
+                radius: 0.04,
+            },
+            WorldShape::Box {
+                center: Vector3::new(0.05, -0.05, 0.1),
+                rotation,
+                half_extents: Vector3::new(0.1, 0.2, 0.05),
+                radius: 0.01,
+            },
+        ];
+        let points = [
+            Vector3::new(0.4, 0.35, 0.2),
+            Vector3::new(-0.45, 0.05, -0.1),
+            Vector3::new(0.05, -0.05, 0.4),
+            Vector3::new(0.05, 0.4, 0.1),
+            Vector3::new(0.35, 0.4, 0.45),
+            Vector3::new(0.1, -0.3, -0.2),
+        ];
+        let h = 1e-6;
+        for shape in shapes {
+            let o = WorldObstacle::new(shape, 0.01, 0.1).unwrap();
+            for p in points {
+                let s = o.surface(&p);
+                for i in 0..3 {
+                    let mut dp = Vector3::zeros();
+                    dp[i] = h;
+                    let plus = o.surface(&(p + dp));
+                    let minus = o.surface(&(p - dp));
+                    let fd = (plus.distance - minus.distance) / (2.0 * h);
+                    assert!(
+                        (fd - s.normal[i]).abs() < 1e-8,
+                        "{shape:?} at {p:?}: ∂d/∂p_{i}"
+                    );
+                    let fd = (plus.normal - minus.normal) / (2.0 * h);
+                    assert!(
+                        (fd - s.hessian.column(i)).norm() < 1e-6,
+                        "{shape:?} at {p:?}: Hessian column {i}"
+                    );
+                }
+            }
+        }
+        let bad = WorldShape::Capsule {
+            a: Vector3::zeros(),
+            b: Vector3::x(),
+            radius: -0.1,
+        };
+        assert!(WorldObstacle::new(bad, 0.0, 0.1).is_err());
     }
 }

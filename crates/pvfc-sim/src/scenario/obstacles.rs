@@ -18,8 +18,8 @@
 //! radius = 0.02
 //!
 //! [[obstacles.world]]  # a shape in the world (m)
-//! shape = "cylinder"   # or "sphere"
-//! center = [-0.1, 0.33, 0.0]
+//! shape = "cylinder"   # "sphere", "capsule" (with end = [x, y, z]),
+//! center = [-0.1, 0.33, 0.0]   # or "box" (with half_extents = [..], rpy = [..])
 //! axis = [0.0, 0.0, 1.0]
 //! radius = 0.05
 //! margin = 0.01
@@ -112,20 +112,33 @@ pub enum ShapeKind {
     Sphere,
     /// An infinite cylinder through `center` along `axis`.
     Cylinder,
+    /// A capsule from `center` to `end`.
+    Capsule,
+    /// A box of `half_extents` about `center`, turned by `rpy`, edges rounded by `radius`.
+    Box,
 }
 
 /// `[[obstacles.world]]`: a shape in the world frame.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WorldObstacleSpec {
-    /// `"sphere"` or `"cylinder"`.
+    /// `"sphere"`, `"cylinder"`, `"capsule"` or `"box"`.
     pub shape: ShapeKind,
-    /// A sphere's centre, or a point on a cylinder's axis (m).
+    /// A sphere's or a box's centre, a point on a cylinder's axis, a capsule's first end (m).
     pub center: [f64; 3],
     /// A cylinder's axis (default `z`).
     #[serde(default = "default_axis")]
     pub axis: [f64; 3],
-    /// The radius (m).
+    /// A capsule's second end (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub end: Option<[f64; 3]>,
+    /// A box's half extents along its axes (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub half_extents: Option<[f64; 3]>,
+    /// A box's roll, pitch, yaw (rad, URDF's convention).
+    #[serde(default)]
+    pub rpy: [f64; 3],
+    /// The radius (m; a box's rounding, ≥ 0).
     pub radius: f64,
     /// The margin kept between it and the robot's spheres (m).
     #[serde(default)]
@@ -218,6 +231,21 @@ impl ObstacleSpec {
                 ShapeKind::Cylinder => WorldShape::Cylinder {
                     point: Vector3::from(w.center),
                     axis: Vector3::from(w.axis),
+                    radius: w.radius,
+                },
+                ShapeKind::Capsule => WorldShape::Capsule {
+                    a: Vector3::from(w.center),
+                    b: Vector3::from(w.end.ok_or_else(|| {
+                        setting(format!("{key}.end: a capsule needs its second end"))
+                    })?),
+                    radius: w.radius,
+                },
+                ShapeKind::Box => WorldShape::Box {
+                    center: Vector3::from(w.center),
+                    rotation: Pose::from_xyz_rpy([0.0; 3], w.rpy).rotation,
+                    half_extents: Vector3::from(w.half_extents.ok_or_else(|| {
+                        setting(format!("{key}.half_extents: a box needs its half extents"))
+                    })?),
                     radius: w.radius,
                 },
             };
