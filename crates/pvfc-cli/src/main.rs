@@ -249,10 +249,18 @@ fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
                 .map(|u| format!("{u:.3e}"))
                 .unwrap_or_else(|| "(no complete pass)".into())
         );
-        let budget = match runs.arm_system(s)? {
+        let system = runs.arm_system(s)?;
+        let budget = match &system {
             Some(sys) => pvfc_sim::trace::path_budget::path_budget(s, &sys.robot, t)?,
             None => None,
         };
+        let robot = system.as_ref().map(|sys| &sys.robot);
+        if let Some(c) = pvfc_sim::trace::clearance::clearance(s, robot, t)? {
+            println!(
+                "{name}: obstacles: smallest clearance {:.4} at t = {:.2} s (m between the robot's spheres and the world's shapes; joint units to joint-space regions)",
+                c.smallest, c.time
+            );
+        }
         if let Some(b) = budget {
             println!("{name}: tool path: {b}");
         }

@@ -6,6 +6,7 @@
 //! ([`crate::log`]) writes from, and the Python bindings' getters (`pvfc-py` expands the same
 //! list). A column added to the list appears in all of them.
 
+pub mod clearance;
 pub mod metrics;
 pub mod path_budget;
 pub mod series;
