@@ -305,3 +305,32 @@ fn boxes_and_capsules_are_kept_clear() {
     assert!(clearance > 0.01 && peak == 0.0);
     assert!(t.potential[t.len() - 1] < 1e-4);
 }
+
+/// Passivity and the audits unchanged around obstacles: the continuous law's energy balance to
+/// 1e-8 of κ_a(0), and the passive digital controller's exact at the samples, for the Pelican
+/// and the UR5 examples (with joint friction on the UR5).
+#[test]
+fn the_audits_hold_around_obstacles() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    for file in ["example_obstacles.toml", "example_ur5_obstacles.toml"] {
+        for mode in [Mode::Continuous, Mode::Sampled] {
+            let mut s = Scenario::from_file(&dir.join(file)).unwrap();
+            s.simulation.mode = mode;
+            s.duration = 8.0;
+            match mode {
+                Mode::Continuous => s.simulation.plant_substeps = 32,
+                Mode::Sampled => s.controller.passive = Some(Default::default()),
+            }
+            let t = simulate(&s, &mut |_| {}).unwrap();
+            let audit = t
+                .contact
+                .as_ref()
+                .unwrap()
+                .audit_residual(&t.energy)
+                .iter()
+                .fold(0.0_f64, |m, r| m.max(r.abs()));
+            println!("{file} {mode:?}: audit {audit:.1e} of {:.1} J", t.energy[0]);
+            assert!(audit < 1e-8 * t.energy[0], "{file} {mode:?}: {audit:e} J");
+        }
+    }
+}
