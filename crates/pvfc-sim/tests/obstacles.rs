@@ -9,6 +9,7 @@ use pvfc_sim::scenario::obstacles::ShapeKind;
 use pvfc_sim::scenario::{Mode, Scenario};
 use pvfc_sim::trace::metrics::energy_drift;
 use pvfc_sim::trace::series::JointSeries;
+use pvfc_sim::trace::Trace;
 use std::path::Path;
 
 fn example() -> Scenario {
@@ -29,6 +30,12 @@ fn smallest_clearance(set: &ObstacleSet<f64, 2>, q: &JointSeries) -> (f64, usize
             )
         })
         .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a })
+}
+
+/// The largest normal force of a run's contact world.
+fn peak_force(t: &Trace) -> f64 {
+    let c = t.contact.as_ref().expect("the run has a contact world");
+    c.normal_force.iter().fold(0.0_f64, |m, f| m.max(*f))
 }
 
 #[test]
@@ -79,8 +86,7 @@ fn the_pelican_reaches_its_contour_around_the_post() {
         "the contour passes within the post's influence"
     );
     assert!(lap_clearance > 0.01 && (lap_clearance - contour_clearance).abs() < 2e-3);
-    let c = t.contact.as_ref().unwrap();
-    let peak = c.normal_force.iter().fold(0.0_f64, |m, f| m.max(*f));
+    let peak = peak_force(&t);
     println!("the contact world's largest normal force: {peak} N");
     assert_eq!(peak, 0.0, "the contact world records a force");
     assert!(end < 1e-4, "on the contour at the end: φ = {end}");
@@ -164,10 +170,6 @@ fn a_start_behind_a_spurious_minimum_is_held_clear() {
     let set = *s.field().unwrap().obstacles();
     let t = simulate(&s, &mut |_| {}).unwrap();
     let (clearance, _) = smallest_clearance(&set, &t.q);
-    let peak = |t: &pvfc_sim::trace::Trace| {
-        let c = t.contact.as_ref().unwrap();
-        c.normal_force.iter().fold(0.0_f64, |m, f| m.max(*f))
-    };
     let end = t.potential[t.len() - 1];
     let q1 = t.q.column(0);
     let (lo, hi) = q1
@@ -177,16 +179,16 @@ fn a_start_behind_a_spurious_minimum_is_held_clear() {
         });
     println!(
         "held: smallest clearance {clearance:.4} m, φ at the end {end:.3}, q₁ in [{lo:.3}, {hi:.3}], contact force {}",
-        peak(&t)
+        peak_force(&t)
     );
-    assert!(clearance > 0.01 && peak(&t) == 0.0);
+    assert!(clearance > 0.01 && peak_force(&t) == 0.0);
     s.obstacles = None;
     let without = simulate(&s, &mut |_| {}).unwrap();
     println!(
         "without the obstacles: contact force {:.1} N",
-        peak(&without)
+        peak_force(&without)
     );
-    assert!(peak(&without) > 1.0);
+    assert!(peak_force(&without) > 1.0);
 }
 
 /// The UR5 (`scenarios/example_ur5_obstacles.toml`: the joint-space contour of
@@ -211,11 +213,7 @@ fn the_ur5_reaches_its_contour_around_a_ball() {
         .unwrap()
         .build::<6>(Some(robot.description().chain::<6>().unwrap()), 1.0)
         .unwrap();
-    let peak = |t: &pvfc_sim::trace::Trace| {
-        let c = t.contact.as_ref().unwrap();
-        c.normal_force.iter().fold(0.0_f64, |m, f| m.max(*f))
-    };
-    let last_pass_u = |t: &pvfc_sim::trace::Trace| {
+    let last_pass_u = |t: &Trace| {
         let from = t.t.iter().position(|x| *x >= 12.0).unwrap();
         t.potential[from..].iter().sum::<f64>() / (t.len() - from) as f64
     };
@@ -233,14 +231,14 @@ fn the_ur5_reaches_its_contour_around_a_ball() {
     println!(
         "UR5: smallest tool clearance {:.1} mm (margin 10 mm), contact force {} N, mean U over the last 8 s {:.3e} (without obstacles {:.3e}, contact force {:.1} N)",
         clearance * 1e3,
-        peak(&t),
+        peak_force(&t),
         last_pass_u(&t),
         last_pass_u(&w),
-        peak(&w)
+        peak_force(&w)
     );
     assert!(clearance > 0.01, "{clearance}");
-    assert_eq!(peak(&t), 0.0);
-    assert!(peak(&w) > 1.0);
+    assert_eq!(peak_force(&t), 0.0);
+    assert!(peak_force(&w) > 1.0);
     assert!(last_pass_u(&t) < 1.5 * last_pass_u(&w));
 }
 
@@ -262,13 +260,7 @@ fn boxes_and_capsules_are_kept_clear() {
     };
     c.obstacles[0].rpy = [0.2, 0.1, 0.4];
     let t = simulate(&ur5, &mut |_| {}).unwrap();
-    let peak = t
-        .contact
-        .as_ref()
-        .unwrap()
-        .normal_force
-        .iter()
-        .fold(0.0_f64, |m, f| m.max(*f));
+    let peak = peak_force(&t);
     println!(
         "UR5 around a box: contact force {peak} N, U at the end {:.2e}",
         t.potential[t.len() - 1]
@@ -276,13 +268,7 @@ fn boxes_and_capsules_are_kept_clear() {
     assert_eq!(peak, 0.0);
     ur5.obstacles = None;
     let t = simulate(&ur5, &mut |_| {}).unwrap();
-    let struck = t
-        .contact
-        .as_ref()
-        .unwrap()
-        .normal_force
-        .iter()
-        .fold(0.0_f64, |m, f| m.max(*f));
+    let struck = peak_force(&t);
     println!("without the obstacles: {struck:.1} N");
     assert!(struck > 1.0, "the box is on the way");
 
@@ -294,13 +280,7 @@ fn boxes_and_capsules_are_kept_clear() {
     let set = *scara.field().unwrap().obstacles();
     let t = simulate(&scara, &mut |_| {}).unwrap();
     let (clearance, _) = smallest_clearance(&set, &t.q);
-    let peak = t
-        .contact
-        .as_ref()
-        .unwrap()
-        .normal_force
-        .iter()
-        .fold(0.0_f64, |m, f| m.max(*f));
+    let peak = peak_force(&t);
     println!("the Pelican around a capsule: clearance {clearance:.4} m, contact force {peak} N, φ at the end {:.1e}", t.potential[t.len() - 1]);
     assert!(clearance > 0.01 && peak == 0.0);
     assert!(t.potential[t.len() - 1] < 1e-4);

@@ -1,6 +1,6 @@
 //! Obstacles in the joint space: balls, ellipsoids and rounded boxes of joint coordinates.
 
-use super::{smooth_step, Barrier};
+use super::{step_barrier, Barrier};
 use crate::error::{ensure_finite, Error, ErrorKind, Result};
 use crate::lie::Tangent;
 use crate::Real;
@@ -79,8 +79,7 @@ impl<T: Real, const N: usize> JointRegion<T, N> {
     pub fn barrier(&self, q: &SVector<T, N>, v: &Tangent<T, N>) -> Barrier<T, N> {
         let (r, u, dr) = self.radius(q);
         let scale = self.smallest_axis / self.influence;
-        let (s, s1, s2) = smooth_step((r - T::one()) * scale);
-        if s1 == T::zero() && s2 == T::zero() {
+        if (r - T::one()) * scale >= T::one() {
             return Barrier::free();
         }
         let pw = self.exponent;
@@ -95,12 +94,12 @@ impl<T: Real, const N: usize> JointRegion<T, N> {
             + u.zip_map(&u_dot, |ui, udi| ui.powi(pw - 2) * udi)
                 .component_mul(&self.inverse_axes)
                 * (p_minus_1 * r_safe.powi(1 - pw));
-        Barrier {
-            value: s,
-            differential: dr * (s1 * scale),
-            value_rate: s1 * scale * r_dot,
-            differential_rate: dr * (s2 * scale * scale * r_dot) + dr_dot * (s1 * scale),
-        }
+        step_barrier(
+            (r - T::one()) * scale,
+            &(dr * scale),
+            r_dot * scale,
+            &(dr_dot * scale),
+        )
     }
 }
 

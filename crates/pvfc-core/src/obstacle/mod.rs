@@ -86,6 +86,28 @@ pub(crate) fn smooth_step<T: Real>(t: T) -> (T, T, T) {
     (one - u * u * u, three * u * u, -(three + three) * u)
 }
 
+/// The barrier `β = σ(t)` of a scaled clearance `t = ℓ/w`, from `t`'s differential `dt`, its
+/// rate `ṫ` and the rate of `dt`: `dβ = σ' dt`, `β̇ = σ' ṫ`, `d/dt dβ = σ'' ṫ dt + σ' d/dt dt`.
+/// `β ≡ 1` beyond the influence (`t ≥ 1`).
+#[inline]
+pub(crate) fn step_barrier<T: Real, const D: usize>(
+    t: T,
+    dt: &Tangent<T, D>,
+    t_rate: T,
+    dt_rate: &Tangent<T, D>,
+) -> Barrier<T, D> {
+    let (s, s1, s2) = smooth_step(t);
+    if s1 == T::zero() && s2 == T::zero() {
+        return Barrier::free();
+    }
+    Barrier {
+        value: s,
+        differential: dt * s1,
+        value_rate: s1 * t_rate,
+        differential_rate: dt * (s2 * t_rate) + dt_rate * s1,
+    }
+}
+
 /// What a velocity field asks of its obstacles at one state.
 pub trait Obstacles<T: Real, G: LieGroup<T, D>, const D: usize> {
     /// The barrier at `q` and its rates along `v`, with the composition's parameters;

@@ -1,7 +1,7 @@
 //! Obstacles in the task space: spheres fixed on a chain's links (the tool, the links as
 //! chains of spheres) kept a clearance away from shapes placed in the world.
 
-use super::{smooth_step, Barrier};
+use super::{step_barrier, Barrier};
 use crate::error::{ensure_finite, Error, ErrorKind, Result};
 use crate::mechanics::PointMotion;
 use crate::Real;
@@ -308,20 +308,18 @@ impl<T: Real> WorldObstacle<T> {
         let s = self.surface(&m.position);
         let inv_w = T::one() / self.influence;
         let clearance = s.distance - sphere.radius - self.margin;
-        let (b, b1, b2) = smooth_step(clearance * inv_w);
-        if b1 == T::zero() && b2 == T::zero() {
+        if clearance * inv_w >= T::one() {
             return Barrier::free();
         }
         let jt_n: SVector<T, N> = m.jacobian.transpose() * s.normal;
-        let rate = s.normal.dot(&m.velocity);
         let jt_n_dot: SVector<T, N> = m.jacobian_rate.transpose() * s.normal
             + m.jacobian.transpose() * (s.hessian * m.velocity);
-        Barrier {
-            value: b,
-            differential: jt_n * (b1 * inv_w),
-            value_rate: b1 * inv_w * rate,
-            differential_rate: jt_n * (b2 * inv_w * inv_w * rate) + jt_n_dot * (b1 * inv_w),
-        }
+        step_barrier(
+            clearance * inv_w,
+            &(jt_n * inv_w),
+            s.normal.dot(&m.velocity) * inv_w,
+            &(jt_n_dot * inv_w),
+        )
     }
 }
 
