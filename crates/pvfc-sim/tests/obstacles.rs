@@ -131,6 +131,17 @@ fn bad_obstacles_are_named() {
         &|s| s.obstacles.as_mut().unwrap().world.clear(),
         "world shapes need spheres on the robot",
     );
+    // A rigid body's scenario refuses obstacles rather than ignoring them.
+    let mut body = Scenario::from_file(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/example_satellite.toml"),
+    )
+    .unwrap();
+    body.obstacles = example().obstacles;
+    let e = body.validate().unwrap_err().to_string();
+    assert!(
+        e.contains("a rigid body's attitude field takes none"),
+        "{e}"
+    );
     let region = r#"
         [[obstacles.joint]]
         center = [0.0, 0.0, 1.0]

@@ -338,6 +338,11 @@ impl Scenario {
         if self.contact.is_some() || self.contact_3d.is_some() {
             return bad("contact, contact_3d: a rigid body's scenario is in free space");
         }
+        if self.obstacles.is_some() {
+            return bad(
+                "obstacles: for arms (the SCARA, URDF arms); a rigid body's attitude field takes none",
+            );
+        }
         if self.baseline.is_some() {
             return bad("baseline: the timed tracker is for arms; a rigid body runs PVFC alone");
         }
