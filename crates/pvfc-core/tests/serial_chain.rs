@@ -284,22 +284,7 @@ proptest! {
 #[test]
 fn scara_chain_matches_the_closed_form() {
     let p = ScaraParameters::<f64>::pelican();
-    let joint = |x: f64| ChainJoint {
-        kind: JointKind::Circular,
-        origin: Pose::from_xyz_rpy([x, 0.0, 0.0], [0.0; 3]),
-        axis: Vector3::z(),
-    };
-    // Any rotational inertia about x and y: the arm turns about z only.
-    let link = |m: f64, lc: f64, i: f64| RigidInertia {
-        mass: m,
-        com: Vector3::new(lc, 0.0, 0.0),
-        inertia: Matrix3::from_diagonal(&Vector3::new(0.3, 0.2, i)),
-    };
-    let chain = SerialChain::new(
-        [joint(0.0), joint(p.l1)],
-        [link(p.m1, p.lc1, p.i1), link(p.m2, p.lc2, p.i2)],
-    )
-    .unwrap();
+    let chain = p.chain().unwrap();
     let scara = Scara::new(p).unwrap();
     for k in 0..200 {
         let t = k as f64 * 0.37;

@@ -46,6 +46,33 @@ impl<T: Real> ScaraParameters<T> {
     }
 }
 
+impl<T: Real> ScaraParameters<T> {
+    /// The arm as a serial chain: both axes along `z`, the forearm's joint at `(l₁, 0, 0)`,
+    /// each link's centre of mass at `(lc_i, 0, 0)` with `I_i` about every axis (the arm
+    /// turns about `z` only, so its dynamics equal the closed form's). It places points on the
+    /// links ([`crate::obstacle`]) and checks the closed form against the chain's algorithms.
+    pub fn chain(&self) -> Result<super::SerialChain<T, 2>> {
+        use super::{ChainJoint, Pose, RigidInertia};
+        let joint = |x: T| ChainJoint {
+            kind: crate::lie::JointKind::Circular,
+            origin: Pose::from_xyz_rpy([x, T::zero(), T::zero()], [T::zero(); 3]),
+            axis: nalgebra::Vector3::z(),
+        };
+        let link = |m: T, c: T, i: T| RigidInertia {
+            mass: m,
+            com: nalgebra::Vector3::new(c, T::zero(), T::zero()),
+            inertia: nalgebra::Matrix3::identity() * i,
+        };
+        super::SerialChain::new(
+            [joint(T::zero()), joint(self.l1)],
+            [
+                link(self.m1, self.lc1, self.i1),
+                link(self.m2, self.lc2, self.i2),
+            ],
+        )
+    }
+}
+
 /// The two-link SCARA: `M = [[a₁ + 2a₃ cos q₂, a₂ + a₃ cos q₂], [a₂ + a₃ cos q₂, a₂]]`,
 /// `C = a₃ sin q₂ [[−q̇₂, −(q̇₁ + q̇₂)], [q̇₁, 0]]` with
 /// `a₁ = I₁ + I₂ + m₁lc₁² + m₂(l₁² + lc₂²)`, `a₂ = I₂ + m₂lc₂²`, `a₃ = m₂ l₁ lc₂`.

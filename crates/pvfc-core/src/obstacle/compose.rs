@@ -29,9 +29,9 @@ use crate::Real;
 /// The composition's parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Composition<T: Real> {
-    kappa: T,
-    scale: T,
-    speed: Option<T>,
+    pub(super) kappa: T,
+    pub(super) scale: T,
+    pub(super) speed: Option<T>,
 }
 
 /// The contour's potential at one state, as the composition needs it: `γ = U(E(q, τ))`,

@@ -63,6 +63,15 @@ impl<T: Real, const N: usize> ObstacleSet<T, N> {
         }
     }
 
+    /// The empty set: the field is the contour's, exactly (its composition is never used).
+    pub fn empty() -> Self {
+        Self::new(Composition {
+            kappa: T::one(),
+            scale: T::one(),
+            speed: None,
+        })
+    }
+
     /// Adds a region of the joint space.
     pub fn add_region(&mut self, region: JointRegion<T, N>) -> Result<()> {
         push(

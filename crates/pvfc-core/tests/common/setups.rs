@@ -281,21 +281,9 @@ pub fn rail_arm_ellipse<T: Real>(p: Params) -> RailArm<T> {
     .unwrap()
 }
 
-/// The Pelican's kinematics as a chain (planar, both axes along z), to place spheres on its
-/// links.
+/// The Pelican's kinematics as a chain, to place spheres on its links.
 pub fn pelican_chain<T: Real>() -> SerialChain<T, 2> {
-    use pvfc_core::mechanics::{ChainJoint, Pose, RigidInertia};
-    let joint = |xyz: [f64; 3]| ChainJoint {
-        kind: JointKind::Circular,
-        origin: Pose::from_xyz_rpy(xyz.map(cast), [T::zero(); 3]),
-        axis: vec([0.0, 0.0, 1.0]),
-    };
-    let link = RigidInertia {
-        mass: T::one(),
-        com: vec([0.1, 0.0, 0.0]),
-        inertia: Matrix3::from_diagonal(&vec([0.01, 0.01, 0.01])),
-    };
-    SerialChain::new([joint([0.0; 3]), joint([0.26, 0.0, 0.0])], [link; 2]).unwrap()
+    ScaraParameters::pelican().chain().unwrap()
 }
 
 /// Obstacles of both kinds for the Pelican: a rounded box of joint space, and a post and a

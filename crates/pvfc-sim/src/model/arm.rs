@@ -11,7 +11,7 @@ pub use crate::model::joint_contour::{DynJointContour, JointContour, JointContou
 use crate::model::robot::{ChainModel, Robot};
 use nalgebra::SVector;
 use pvfc_core::augmented::AugmentedState;
-use pvfc_core::obstacle::{Composition, ObstacleSet};
+use pvfc_core::obstacle::ObstacleSet;
 use pvfc_core::passive::{EnergyAccount, PassiveController};
 use pvfc_core::prelude::*;
 
@@ -107,7 +107,7 @@ pub fn arm_controller<const N: usize>(
         FieldSpec::Joint => {
             let navigation = JointNavigation::new(fixed::<N>(&s.h, "h")?, kinds)?;
             let set = match &s.obstacles {
-                None => ObstacleSet::new(Composition::new(1.0, 1.0, None)?),
+                None => ObstacleSet::empty(),
                 Some(o) => {
                     let far = JointSpace::new(SVector::repeat(std::f64::consts::PI), kinds);
                     o.build(Some(chain), navigation.value(&far))?

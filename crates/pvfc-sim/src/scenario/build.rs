@@ -13,7 +13,7 @@ use crate::model::arm::{ArmController, ArmSettings, JointContourSpec};
 use crate::model::arm_field::FieldSpec;
 use crate::model::robot::Robot;
 use nalgebra::{Matrix3, Vector2, Vector3};
-use pvfc_core::obstacle::{Composition, ObstacleSet};
+use pvfc_core::obstacle::ObstacleSet;
 use pvfc_core::prelude::*;
 
 /// A URDF arm's scenario built once, as the data flows (file → system → run): the robot (its
@@ -492,6 +492,12 @@ impl Scenario {
 
     /// The field, around the scenario's obstacles if it has any (`[obstacles]`).
     pub fn field(&self) -> Result<PaperField> {
+        self.field_for(&self.arm()?)
+    }
+
+    /// [`field`](Self::field) with the arm's parameters already read (they place the
+    /// robot's spheres among world obstacles; nothing else of the field depends on them).
+    fn field_for(&self, arm: &ScaraParameters<f64>) -> Result<PaperField> {
         let navigation =
             TorusNavigation::paper(joint_vector::<2>(&self.controller.h, "controller.h")?)?;
         let field = SuspendedField::new(
@@ -500,11 +506,11 @@ impl Scenario {
             ExponentialPacing::new(self.controller.self_pacing)?,
         );
         let set = match &self.obstacles {
-            None => ObstacleSet::new(Composition::new(1.0, 1.0, None)?),
+            None => ObstacleSet::empty(),
             Some(o) => {
                 let chain = match o.world.is_empty() {
                     true => None,
-                    false => Some(super::obstacles::scara_chain(&self.arm()?)?),
+                    false => Some(arm.chain()?),
                 };
                 let largest = navigation.value(&Torus::new(Vector2::repeat(std::f64::consts::PI)));
                 o.build(chain, largest)?
@@ -522,7 +528,8 @@ impl Scenario {
     /// [`controller`](Self::controller) with the arm's model already built (a run reads the
     /// arm once).
     pub fn controller_with(&self, arm: Scara<f64>) -> Result<PaperController> {
-        self.with_add_ons(arm, self.field()?)
+        let field = self.field_for(arm.parameters())?;
+        self.with_add_ons(arm, field)
     }
 
     /// The passive digital controller of `[controller.passive]` around

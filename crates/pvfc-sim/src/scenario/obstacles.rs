@@ -28,7 +28,7 @@
 
 use crate::error::{Result, SimError};
 use nalgebra::{SVector, Vector3};
-use pvfc_core::mechanics::{ChainJoint, Pose, RigidInertia};
+use pvfc_core::mechanics::Pose;
 use pvfc_core::obstacle::{
     BodySphere, Composition, JointRegion, ObstacleSet, WorldObstacle, WorldShape,
 };
@@ -256,24 +256,4 @@ impl ObstacleSpec {
         }
         Ok(set)
     }
-}
-
-/// The planar SCARA as a chain (both axes along `z`, the forearm's joint at `(l₁, 0, 0)`), to
-/// place spheres on its links. Only its kinematics is used; its inertias are the links'
-/// (`I_i` about every axis).
-pub fn scara_chain(p: &ScaraParameters<f64>) -> Result<SerialChain<f64, 2>> {
-    let joint = |x: f64| ChainJoint {
-        kind: JointKind::Circular,
-        origin: Pose::from_xyz_rpy([x, 0.0, 0.0], [0.0; 3]),
-        axis: Vector3::z(),
-    };
-    let link = |m: f64, c: f64, i: f64| RigidInertia {
-        mass: m,
-        com: Vector3::new(c, 0.0, 0.0),
-        inertia: nalgebra::Matrix3::identity() * i,
-    };
-    Ok(SerialChain::new(
-        [joint(0.0), joint(p.l1)],
-        [link(p.m1, p.lc1, p.i1), link(p.m2, p.lc2, p.i2)],
-    )?)
 }
