@@ -29,7 +29,18 @@ fi
 grep -q "pvfc: done, 10000 steps, no fault" "$out/trace.txt"
 
 echo "--- the trace against the host twin"
-PVFC_FIRMWARE_TRACE="$out/trace.txt" cargo test --locked --test firmware_twin -- --ignored --nocapture \
+# The twin as `cargo test` builds it (the README's test command): `cargo test --test
+# firmware_twin` alone would resolve the dev-dependencies' features for one package only and
+# compile the whole dependency tree a second time (three minutes on two cores).
+twin=$(cargo test --locked --no-run --message-format=json | python3 -c '
+import json, sys
+for line in sys.stdin:
+    m = json.loads(line)
+    if m.get("reason") == "compiler-artifact" and m["target"]["name"] == "firmware_twin" and m.get("executable"):
+        print(m["executable"])
+')
+test -x "$twin" || { echo "cargo test did not build tests/firmware_twin.rs" >&2; exit 1; }
+PVFC_FIRMWARE_TRACE="$out/trace.txt" "$twin" --ignored --nocapture \
   2>&1 | grep -E "firmware vs|host f32 vs|test result|panicked|assert" | tee "$out/twin.txt"
 grep -q "test result: ok. 1 passed" "$out/twin.txt"
 
