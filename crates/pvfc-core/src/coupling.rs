@@ -180,6 +180,9 @@ pub struct PvfcLaw<T: Real, G, Sys, F, const D: usize> {
     field: F,
     flywheel: Flywheel<T>,
     gamma: T,
+    /// The field and the model are on chains with the same kinematics: computed once per
+    /// step for both.
+    share_kinematics: bool,
     _g: PhantomData<G>,
 }
 
@@ -201,11 +204,17 @@ where
                 "PvfcLaw: γ must be ≥ 0 (Theorem 1 needs γβ > 0)",
             ));
         }
+        let share_kinematics = F::USES_CHAIN_KINEMATICS
+            && matches!(
+                (system.serial_chain(), field.serial_chain()),
+                (Some(model), Some(of_field)) if model.same_kinematics(of_field)
+            );
         Ok(PvfcLaw {
             system,
             field,
             flywheel,
             gamma,
+            share_kinematics,
             _g: PhantomData,
         })
     }
@@ -228,6 +237,13 @@ where
     /// The feedback gain `γ`.
     pub fn gamma(&self) -> T {
         self.gamma
+    }
+
+    /// Whether the law computes a serial chain's forward kinematics once per step for the
+    /// field and the model (a task-space field on the model's chain; see
+    /// [`VelocityField::USES_CHAIN_KINEMATICS`]).
+    pub fn shares_kinematics(&self) -> bool {
+        self.share_kinematics
     }
 
     /// The augmented kinetic energy `κ_a` of a state (eq. 5).
@@ -270,10 +286,36 @@ where
             ));
         }
         let half = cast::<T>(0.5);
-        let fs = self.field.sample(&s.q, &s.v, s.tau, s.tau_dot);
-        let products =
-            self.system
-                .law_products(&s.q, &s.v, &fs.velocity, &fs.rate, gravity.is_some());
+        // A serial chain's forward kinematics, once for the field and the model when both
+        // use them (a compile-time `None` for every other field).
+        let kinematics = if F::USES_CHAIN_KINEMATICS && self.share_kinematics {
+            self.system.chain_kinematics(&s.q)
+        } else {
+            None
+        };
+        let (fs, products) = match &kinematics {
+            Some(k) => {
+                let fs = self
+                    .field
+                    .sample_with_kinematics(k, &s.q, &s.v, s.tau, s.tau_dot);
+                let products = self.system.law_products_with_kinematics(
+                    k,
+                    &s.q,
+                    &s.v,
+                    &fs.velocity,
+                    &fs.rate,
+                    gravity.is_some(),
+                );
+                (fs, products)
+            }
+            None => {
+                let fs = self.field.sample(&s.q, &s.v, s.tau, s.tau_dot);
+                let products =
+                    self.system
+                        .law_products(&s.q, &s.v, &fs.velocity, &fs.rate, gravity.is_some());
+                (fs, products)
+            }
+        };
         if let Some(g) = gravity {
             *g = products.gravity;
         }

@@ -2,6 +2,7 @@
 
 use crate::contour::{Contour, ContourSample};
 use crate::lie::{LieGroup, Tangent};
+use crate::mechanics::{ChainKinematics, SerialChain};
 use crate::navigation::NavigationFunction;
 use crate::obstacle::{NoObstacles, Obstacles, Potential};
 use crate::pacing::SelfPacing;
@@ -287,6 +288,35 @@ where
 pub trait VelocityField<T: Real, G: LieGroup<T, D>, const D: usize> {
     /// `V̄(q, τ)` and `V̄̇` along `q̄̇ = (v, τ̇)`.
     fn sample(&self, q: &G, v: &Tangent<T, D>, tau: T, tau_dot: T) -> FieldSample<T, G, D>;
+
+    /// `true` for a field computed from a serial chain's forward kinematics (the task-space
+    /// field), which it can take from the caller
+    /// ([`sample_with_kinematics`](Self::sample_with_kinematics)) when the plant model is the
+    /// same chain: [`PvfcLaw`](crate::coupling::PvfcLaw) then computes them once per step for
+    /// both. `false` (the default) leaves that path out of the law entirely.
+    const USES_CHAIN_KINEMATICS: bool = false;
+
+    /// The serial chain whose forward kinematics the field uses, if any (`None` by default).
+    #[inline]
+    fn serial_chain(&self) -> Option<&SerialChain<T, D>> {
+        None
+    }
+
+    /// [`sample`](Self::sample) given the forward kinematics of
+    /// [`serial_chain`](Self::serial_chain) (or of a chain with the
+    /// [`same kinematics`](SerialChain::same_kinematics)) at `q`. The default ignores them.
+    #[inline]
+    fn sample_with_kinematics(
+        &self,
+        kinematics: &ChainKinematics<T, D>,
+        q: &G,
+        v: &Tangent<T, D>,
+        tau: T,
+        tau_dot: T,
+    ) -> FieldSample<T, G, D> {
+        let _ = kinematics;
+        self.sample(q, v, tau, tau_dot)
+    }
 
     /// The period of the field in `τ`, if it has one (a closed contour). The
     /// [`Controller`](crate::controller::Controller) wraps its `τ` into `[0, period)` so that

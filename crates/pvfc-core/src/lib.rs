@@ -57,6 +57,7 @@ pub mod coupling;
 pub mod error;
 pub mod field;
 pub mod lie;
+pub mod linalg;
 pub mod mechanics;
 pub mod navigation;
 pub mod obstacle;

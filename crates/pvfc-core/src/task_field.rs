@@ -45,7 +45,8 @@ use crate::contour::{Contour, ContourSample};
 use crate::error::{Error, ErrorKind, Result};
 use crate::field::{FieldSample, VelocityField};
 use crate::lie::{JointSpace, LieGroup, Rn, So3};
-use crate::mechanics::SerialChain;
+use crate::linalg::{damped_gram, spd_inverse};
+use crate::mechanics::{ChainKinematics, SerialChain};
 use crate::pacing::SelfPacing;
 use crate::scalar::cast;
 use crate::Real;
@@ -233,9 +234,9 @@ where
         &self.path
     }
 
-    /// The tool pose, its velocity, and the Jacobian with its rate.
-    fn kinematics(&self, q: &SVector<T, N>, v: &SVector<T, N>) -> TaskKinematics<T, N> {
-        let k = self.chain.kinematics(q);
+    /// The tool pose, its velocity, and the Jacobian with its rate, from the chain's forward
+    /// kinematics `k` at `q`.
+    fn kinematics(&self, k: &ChainKinematics<T, N>, v: &SVector<T, N>) -> TaskKinematics<T, N> {
         let tool = k.link_poses[N - 1].compose(self.chain.tool());
         let x = tool.translation;
         let split = |s: &SVector<T, 6>| {
@@ -294,13 +295,16 @@ where
         // to vectors only: J⁺y = Jᵀ(A⁻¹y), and d(J⁺)/dt y = J̇ᵀz − J⁺(J̇(Jᵀz) + J(J̇ᵀz)) with
         // z = A⁻¹y (Ȧ = J̇Jᵀ + JJ̇ᵀ), so no N×N or N×M product is formed; then refined once.
         let mu2 = self.damping * self.damping;
-        let a = jac * jac.transpose() + SMatrix::<T, M, M>::identity() * mu2;
-        let a_inv = a.try_inverse().unwrap_or_else(SMatrix::<T, M, M>::zeros);
-        let damped = |y: &SVector<T, M>| jac.tr_mul(&(a_inv * y));
+        let a = damped_gram(jac, mu2);
+        let a_inv = spd_inverse(&a).unwrap_or_else(SMatrix::<T, M, M>::zeros);
+        // `J⁺ = Jᵀ A⁻¹` formed once (N·M² multiply-adds): each of the twenty-odd products
+        // with it below is then one N×M product instead of an M×M and an N×M one.
+        let pinv: SMatrix<T, N, M> = jac.transpose() * a_inv;
+        let damped = |y: &SVector<T, M>| pinv * y;
         // `J⁺y` and `d(J⁺)/dt y` together, sharing `z = A⁻¹y`.
         let damped_both = |y: &SVector<T, M>| {
             let z = a_inv * y;
-            let (jt_z, jdt_z) = (jac.tr_mul(&z), jac_dot.tr_mul(&z));
+            let (jt_z, jdt_z) = (pinv * y, jac_dot.tr_mul(&z));
             (jt_z, jdt_z - damped(&(jac_dot * jt_z + jac * jdt_z)))
         };
         // One step of iterative refinement, `K = J⁺(2I − JJ⁺)`: `Ky = x + J⁺r` with `x = J⁺y`
@@ -316,20 +320,25 @@ where
             let (kr, dkr) = damped_both(&r);
             (x + kr, x_dot + dkr + damped(&r_dot))
         };
-        let (mut velocity, mut rate) = refined(w, w_dot);
-        if let Some((rest, gain)) = &self.rest {
-            let to_rest = q
-                .inverse()
-                .compose(&JointSpace::new(*rest, q.kinds()))
-                .log()
-                * *gain;
-            // The projection `(I − KJ) t` of `t = g_r log(q⁻¹q_r)` and its rate, with
-            // `ṫ = −g_r q̇`: `ṫ − d(K Jt)/dt`, `d(Jt)/dt = J̇t + Jṫ`.
-            let pulled = v * *gain;
-            let (k_jt, k_jt_rate) = refined(&(jac * to_rest), &(jac_dot * to_rest - jac * pulled));
-            velocity += to_rest - k_jt;
-            rate += -pulled - k_jt_rate;
-        }
+        // With the pull `t = g_r log(q⁻¹q_r)` towards the rest posture, the field is
+        // `Kw + (I − KJ)t = K(w − Jt) + t` and its rate `d(K(w − Jt))/dt + ṫ`, `ṫ = −g_r q̇`,
+        // `d(Jt)/dt = J̇t + Jṫ`: one refined product, as `refined` is linear in `(y, ẏ)`.
+        let (velocity, rate) = match &self.rest {
+            None => refined(w, w_dot),
+            Some((rest, gain)) => {
+                let to_rest = q
+                    .inverse()
+                    .compose(&JointSpace::new(*rest, q.kinds()))
+                    .log()
+                    * *gain;
+                let pulled = v * *gain;
+                let (k, k_rate) = refined(
+                    &(w - jac * to_rest),
+                    &(w_dot - (jac_dot * to_rest - jac * pulled)),
+                );
+                (k + to_rest, k_rate - pulled)
+            }
+        };
         // The path's direction needs no rate: `Ky` alone.
         let x = damped(along);
         let along = x + damped(&(along - jac * x));
@@ -348,7 +357,20 @@ where
         tau: T,
         tau_dot: T,
     ) -> FieldSample<T, JointSpace<T, N>, N> {
-        let kin = self.kinematics(q.coords(), v);
+        self.evaluate_with_kinematics(&self.chain.kinematics(q.coords()), q, v, tau, tau_dot)
+    }
+
+    /// [`evaluate`](Self::evaluate) given the chain's forward kinematics at `q` (computed once
+    /// per step by the law, which its model's products share).
+    pub fn evaluate_with_kinematics(
+        &self,
+        kinematics: &ChainKinematics<T, N>,
+        q: &JointSpace<T, N>,
+        v: &SVector<T, N>,
+        tau: T,
+        tau_dot: T,
+    ) -> FieldSample<T, JointSpace<T, N>, N> {
+        let kin = self.kinematics(kinematics, v);
         let c = self.path.sample(tau);
         let k = self.stiffness;
         let e = kin.x - c.point.coords();
@@ -479,6 +501,25 @@ where
         tau_dot: T,
     ) -> FieldSample<T, JointSpace<T, N>, N> {
         self.evaluate(q, v, tau, tau_dot)
+    }
+
+    const USES_CHAIN_KINEMATICS: bool = true;
+
+    #[inline]
+    fn serial_chain(&self) -> Option<&SerialChain<T, N>> {
+        Some(&self.chain)
+    }
+
+    #[inline]
+    fn sample_with_kinematics(
+        &self,
+        kinematics: &ChainKinematics<T, N>,
+        q: &JointSpace<T, N>,
+        v: &SVector<T, N>,
+        tau: T,
+        tau_dot: T,
+    ) -> FieldSample<T, JointSpace<T, N>, N> {
+        self.evaluate_with_kinematics(kinematics, q, v, tau, tau_dot)
     }
 
     #[inline]

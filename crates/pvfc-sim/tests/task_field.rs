@@ -5,6 +5,7 @@
 
 use nalgebra::SVector;
 use pvfc_core::contour::PeriodicBSpline;
+use pvfc_core::mechanics::Pose;
 use pvfc_core::prelude::*;
 use pvfc_core::task_field::TaskSpaceField;
 use pvfc_sim::model::cartesian::CartesianSpec;
@@ -316,6 +317,108 @@ fn the_coupling_stays_workless_with_the_task_space_field() {
             "{power:e} of {scale:e}"
         );
     }
+}
+
+/// The field without its hook for shared kinematics: the law computes the chain's forward
+/// kinematics twice, once in the field and once in the model's products.
+struct Unshared<F>(F);
+
+impl<const N: usize, F: VelocityField<f64, JointSpace<f64, N>, N>>
+    VelocityField<f64, JointSpace<f64, N>, N> for Unshared<F>
+{
+    fn sample(
+        &self,
+        q: &JointSpace<f64, N>,
+        v: &SVector<f64, N>,
+        tau: f64,
+        tau_dot: f64,
+    ) -> pvfc_core::field::FieldSample<f64, JointSpace<f64, N>, N> {
+        self.0.sample(q, v, tau, tau_dot)
+    }
+}
+
+/// The law computes the chain's forward kinematics once for the task-space field and the
+/// model's products when their chains agree (the tool frame aside), and the torque is the
+/// same to the bit as when each computes its own; with another chain in the field (a moved
+/// base) it does not share them.
+#[test]
+fn the_law_shares_the_forward_kinematics_without_changing_a_bit() {
+    fn compare<const N: usize>(
+        chain: SerialChain<f64, N>,
+        q0: SVector<f64, N>,
+        rest: Option<SVector<f64, N>>,
+    ) {
+        let mut field = field_of(chain.with_tool(Pose::identity()).unwrap());
+        if let Some(r) = rest {
+            field = field.with_rest(r, 2.0).unwrap();
+        }
+        let held = field.with_orientation(down(), 3.0).unwrap();
+        let flywheel = Flywheel::new(1.0, 1e4).unwrap();
+        let shared = PvfcLaw::new(chain, held, flywheel, 10.0).unwrap();
+        let unshared = PvfcLaw::new(chain, Unshared(held), flywheel, 10.0).unwrap();
+        assert!(shared.shares_kinematics() && !unshared.shares_kinematics());
+        let mut seed = 11;
+        for _ in 0..100 {
+            let s = AugmentedState {
+                q: chain.configuration(q0 + SVector::from_fn(|_, _| 0.4 * (lcg(&mut seed) - 0.5))),
+                v: SVector::from_fn(|_, _| 2.0 * (lcg(&mut seed) - 0.5)),
+                tau: 12.8 * lcg(&mut seed),
+                tau_dot: lcg(&mut seed),
+                flywheel_speed: 5.0 + lcg(&mut seed),
+            };
+            let mut g = [SVector::zeros(); 2];
+            let a = shared.evaluate_with_gravity(&s, &mut g[0]).unwrap();
+            let b = unshared.evaluate_with_gravity(&s, &mut g[1]).unwrap();
+            assert_eq!(a.torque, b.torque);
+            assert_eq!(a.field.velocity, b.field.velocity);
+            assert_eq!(a.field.rate, b.field.rate);
+            assert_eq!(g[0], g[1]);
+            let kin = chain.kinematics(s.q.coords());
+            assert_eq!(
+                chain.law_products_with_kinematics(
+                    &kin,
+                    &s.v,
+                    &a.field.velocity,
+                    &a.field.rate,
+                    true
+                ),
+                chain.law_products(s.q.coords(), &s.v, &a.field.velocity, &a.field.rate, true)
+            );
+        }
+        // The law shares only what is the same: the model's chain with the field's
+        // kinematics (the tool frame is the field's own), not another chain.
+        assert!(chain.same_kinematics(held.chain()));
+        let moved = chain
+            .with_base(Pose {
+                rotation: nalgebra::Matrix3::identity(),
+                translation: nalgebra::Vector3::new(0.0, 0.0, 0.1),
+            })
+            .unwrap();
+        assert!(!moved.same_kinematics(held.chain()));
+        let other = PvfcLaw::new(moved, held, flywheel, 10.0).unwrap();
+        assert!(!other.shares_kinematics());
+        let s = AugmentedState {
+            q: chain.configuration(q0),
+            v: SVector::repeat(0.3),
+            tau: 1.0,
+            tau_dot: 0.5,
+            flywheel_speed: 5.0,
+        };
+        let mut g = SVector::zeros();
+        let a = other.evaluate_with_gravity(&s, &mut g).unwrap();
+        let b = PvfcLaw::new(moved, Unshared(held), flywheel, 10.0)
+            .unwrap()
+            .evaluate_with_gravity(&s, &mut g)
+            .unwrap();
+        assert_eq!(a.torque, b.torque);
+    }
+    compare(
+        ur5_chain(),
+        SVector::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0]),
+        None,
+    );
+    let rest = SVector::from(PANDA_REST);
+    compare(panda_chain(), rest, Some(rest));
 }
 
 /// At a singular posture (the UR5 stretched out, wrist aligned) the damped inverse keeps the

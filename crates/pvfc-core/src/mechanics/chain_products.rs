@@ -3,7 +3,7 @@
 //! algorithm, with the Christoffel-consistent bias of Echeandia & Wensing (2021), so that
 //! `M a + C(q, v) x` is the product with the very `C` that [`SerialChain::dynamics`] forms.
 
-use super::{LawProducts, RigidInertia, SerialChain, Spatial};
+use super::{ChainKinematics, LawProducts, Pose, RigidInertia, SerialChain, Spatial};
 use crate::scalar::cast;
 use crate::Real;
 use core::ops::{Add, Mul, Sub};
@@ -155,6 +155,48 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         a: &SVector<T, N>,
         with_gravity: bool,
     ) -> LawProducts<T, N> {
+        // The kinematics on the fly (no arrays of poses).
+        self.products_along(
+            |i, parent| self.joint_step(i, parent, q[i]),
+            v,
+            x,
+            a,
+            with_gravity,
+        )
+    }
+
+    /// [`law_products`](Self::law_products) from the chain's forward kinematics at `q`,
+    /// already computed ([`kinematics`](Self::kinematics)) for a velocity field that needs
+    /// them too (the task-space field): the same operations on the same poses and axes, so
+    /// the same result to the bit.
+    pub fn law_products_with_kinematics(
+        &self,
+        kinematics: &ChainKinematics<T, N>,
+        v: &SVector<T, N>,
+        x: &SVector<T, N>,
+        a: &SVector<T, N>,
+        with_gravity: bool,
+    ) -> LawProducts<T, N> {
+        self.products_along(
+            |i, _| (kinematics.link_poses[i], kinematics.axes[i]),
+            v,
+            x,
+            a,
+            with_gravity,
+        )
+    }
+
+    /// The two passes of [`law_products`](Self::law_products), with link `i`'s pose and joint
+    /// `i`'s axis from `joint(i, parent's pose)`.
+    #[inline(always)]
+    fn products_along(
+        &self,
+        joint: impl Fn(usize, &Pose<T>) -> (Pose<T>, Spatial<T>),
+        v: &SVector<T, N>,
+        x: &SVector<T, N>,
+        a: &SVector<T, N>,
+        with_gravity: bool,
+    ) -> LawProducts<T, N> {
         let half: T = cast(0.5);
         let gravity = *self.gravity_vector();
         let mut parent = *self.base();
@@ -164,8 +206,7 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         // Per link: its axis, and I v, I x, I α + B(v) x, I [0; −g].
         let mut links = [(Halves::zero(), [Halves::zero(); 4]); N];
         for (i, link) in links.iter_mut().enumerate() {
-            // The kinematics on the fly (no arrays of poses).
-            let (pose, axis) = self.joint_step(i, &parent, q[i]);
+            let (pose, axis) = joint(i, &parent);
             parent = pose;
             let s = Halves::of(&axis);
             vel = vel + s * v[i];

@@ -68,6 +68,41 @@ pub trait MechanicalSystem<T: Real, G: LieGroup<T, D>, const D: usize> {
         Tangent::zeros()
     }
 
+    /// The model as a serial chain, when it is one (`None` by default). A velocity field on
+    /// the same chain's forward kinematics (the task-space field) then shares them with the
+    /// model's products: [`PvfcLaw`](crate::coupling::PvfcLaw) computes them once per step
+    /// ([`chain_kinematics`](Self::chain_kinematics)) and hands them to both, as Pinocchio
+    /// keeps a model's quantities at one state in one `Data`.
+    #[inline]
+    fn serial_chain(&self) -> Option<&SerialChain<T, D>> {
+        None
+    }
+
+    /// The forward kinematics at `q` when the model is a serial chain (see
+    /// [`serial_chain`](Self::serial_chain)), else `None` (the default).
+    #[inline]
+    fn chain_kinematics(&self, q: &G) -> Option<ChainKinematics<T, D>> {
+        let _ = q;
+        None
+    }
+
+    /// [`law_products`](Self::law_products) given the forward kinematics that
+    /// [`chain_kinematics`](Self::chain_kinematics) computed at the same `q`. The default
+    /// ignores them.
+    #[inline]
+    fn law_products_with_kinematics(
+        &self,
+        kinematics: &ChainKinematics<T, D>,
+        q: &G,
+        v: &Tangent<T, D>,
+        x: &Tangent<T, D>,
+        a: &Tangent<T, D>,
+        with_gravity: bool,
+    ) -> LawProducts<T, D> {
+        let _ = kinematics;
+        self.law_products(q, v, x, a, with_gravity)
+    }
+
     /// `M(q)`, `C(q, v)` and `g(q)` together (a serial chain computes them in one pass).
     #[inline]
     fn inertia_coriolis_gravity(

@@ -248,6 +248,13 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         }
     }
 
+    /// Whether `other` has the same forward kinematics (joints and base; the tool frame and
+    /// the inertias may differ): then either one's [`kinematics`](Self::kinematics) serve
+    /// both.
+    pub fn same_kinematics(&self, other: &Self) -> bool {
+        self.joints == other.joints && self.base == other.base
+    }
+
     /// The base frame's pose in the world frame.
     pub(super) fn base(&self) -> &Pose<T> {
         &self.base
@@ -464,6 +471,29 @@ impl<T: Real, G: VectorGroup<T, N>, const N: usize> MechanicalSystem<T, G, N>
         with_gravity: bool,
     ) -> LawProducts<T, N> {
         SerialChain::law_products(self, &q.coordinates(), v, x, a, with_gravity)
+    }
+
+    #[inline]
+    fn serial_chain(&self) -> Option<&SerialChain<T, N>> {
+        Some(self)
+    }
+
+    #[inline]
+    fn chain_kinematics(&self, q: &G) -> Option<ChainKinematics<T, N>> {
+        Some(self.kinematics(&q.coordinates()))
+    }
+
+    #[inline]
+    fn law_products_with_kinematics(
+        &self,
+        kinematics: &ChainKinematics<T, N>,
+        _q: &G,
+        v: &Tangent<T, N>,
+        x: &Tangent<T, N>,
+        a: &Tangent<T, N>,
+        with_gravity: bool,
+    ) -> LawProducts<T, N> {
+        SerialChain::law_products_with_kinematics(self, kinematics, v, x, a, with_gravity)
     }
 }
 

@@ -11,6 +11,7 @@ use crate::model::path_orientation::{CornerOrientations, PathOrientation};
 use crate::model::tool_path::{PathContour, ToolPath};
 use nalgebra::{Matrix3, SVector};
 use pvfc_core::field::FieldSample;
+use pvfc_core::mechanics::ChainKinematics;
 use pvfc_core::prelude::*;
 use pvfc_core::task_field::TaskSpaceField;
 
@@ -71,6 +72,34 @@ impl<const N: usize> VelocityField<f64, JointSpace<f64, N>, N> for ArmField<N> {
         match self {
             ArmField::Joint(f) => f.evaluate(q, v, tau, tau_dot),
             ArmField::Task { field, .. } => field.evaluate(q, v, tau, tau_dot),
+        }
+    }
+
+    // The task-space field takes the chain's forward kinematics from the law, which shares
+    // them with the model's products (one computation per step).
+    const USES_CHAIN_KINEMATICS: bool = true;
+
+    fn serial_chain(&self) -> Option<&SerialChain<f64, N>> {
+        match self {
+            ArmField::Joint(_) => None,
+            ArmField::Task { field, .. } => Some(field.chain()),
+        }
+    }
+
+    #[inline(always)]
+    fn sample_with_kinematics(
+        &self,
+        kinematics: &ChainKinematics<f64, N>,
+        q: &JointSpace<f64, N>,
+        v: &SVector<f64, N>,
+        tau: f64,
+        tau_dot: f64,
+    ) -> FieldSample<f64, JointSpace<f64, N>, N> {
+        match self {
+            ArmField::Joint(f) => f.evaluate(q, v, tau, tau_dot),
+            ArmField::Task { field, .. } => {
+                field.evaluate_with_kinematics(kinematics, q, v, tau, tau_dot)
+            }
         }
     }
 
