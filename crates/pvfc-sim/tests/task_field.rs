@@ -79,6 +79,22 @@ fn lcg(seed: &mut u64) -> f64 {
     (*seed >> 11) as f64 / (1u64 << 53) as f64
 }
 
+/// A random augmented state near `q0`: joints within ±0.2 rad, speeds within ±1 rad/s, `τ` on
+/// the path's period.
+fn random_state<const N: usize>(
+    chain: &SerialChain<f64, N>,
+    q0: &SVector<f64, N>,
+    seed: &mut u64,
+) -> AugmentedState<f64, JointSpace<f64, N>, N> {
+    AugmentedState {
+        q: chain.configuration(q0 + SVector::from_fn(|_, _| 0.4 * (lcg(seed) - 0.5))),
+        v: SVector::from_fn(|_, _| 2.0 * (lcg(seed) - 0.5)),
+        tau: 12.8 * lcg(seed),
+        tau_dot: lcg(seed),
+        flywheel_speed: 5.0 + lcg(seed),
+    }
+}
+
 /// Random states near `q0`: the rate against `(V(q + h q̇, τ + h τ̇) − V(q − h q̇, τ − h τ̇))/2h`.
 fn check_rate<const N: usize, F: VelocityField<f64, JointSpace<f64, N>, N>>(
     field: &F,
@@ -301,13 +317,7 @@ fn the_coupling_stays_workless_with_the_task_space_field() {
     let mut seed = 5;
     for k in 0..200 {
         let law = &laws[k % 2];
-        let s = AugmentedState {
-            q: chain.configuration(q0 + SVector::from_fn(|_, _| 0.4 * (lcg(&mut seed) - 0.5))),
-            v: SVector::from_fn(|_, _| 2.0 * (lcg(&mut seed) - 0.5)),
-            tau: 12.8 * lcg(&mut seed),
-            tau_dot: lcg(&mut seed),
-            flywheel_speed: 5.0 + lcg(&mut seed),
-        };
+        let s = random_state(&chain, &q0, &mut seed);
         let out = law.evaluate(&s).unwrap();
         let qa = AugmentedVector::new(s.v, s.tau_dot, s.flywheel_speed);
         let power = qa.dot(&out.torque);
@@ -359,13 +369,7 @@ fn the_law_shares_the_forward_kinematics_without_changing_a_bit() {
         assert!(shared.shares_kinematics() && !unshared.shares_kinematics());
         let mut seed = 11;
         for _ in 0..100 {
-            let s = AugmentedState {
-                q: chain.configuration(q0 + SVector::from_fn(|_, _| 0.4 * (lcg(&mut seed) - 0.5))),
-                v: SVector::from_fn(|_, _| 2.0 * (lcg(&mut seed) - 0.5)),
-                tau: 12.8 * lcg(&mut seed),
-                tau_dot: lcg(&mut seed),
-                flywheel_speed: 5.0 + lcg(&mut seed),
-            };
+            let s = random_state(&chain, &q0, &mut seed);
             let mut g = [SVector::zeros(); 2];
             let a = shared.evaluate_with_gravity(&s, &mut g[0]).unwrap();
             let b = unshared.evaluate_with_gravity(&s, &mut g[1]).unwrap();
