@@ -32,13 +32,7 @@ echo "--- the trace against the host twin"
 # The twin as `cargo test` builds it (the README's test command): `cargo test --test
 # firmware_twin` alone would resolve the dev-dependencies' features for one package only and
 # compile the whole dependency tree a second time (three minutes on two cores).
-twin=$(cargo test --locked --no-run --message-format=json | python3 -c '
-import json, sys
-for line in sys.stdin:
-    m = json.loads(line)
-    if m.get("reason") == "compiler-artifact" and m["target"]["name"] == "firmware_twin" and m.get("executable"):
-        print(m["executable"])
-')
+twin=$(cargo test --locked --no-run --message-format=json | python3 scripts/cargo_artifact.py firmware_twin exe)
 test -x "$twin" || { echo "cargo test did not build tests/firmware_twin.rs" >&2; exit 1; }
 PVFC_FIRMWARE_TRACE="$out/trace.txt" "$twin" --ignored --nocapture \
   2>&1 | grep -E "firmware vs|host f32 vs|test result|panicked|assert" | tee "$out/twin.txt"

@@ -21,15 +21,7 @@ cargo test --locked
 
 stage "C and C++: the C ABI (crates/pvfc-c) from C and from C++ (GoogleTest), with sanitizers and under valgrind"
 # The static library that `cargo test` built.
-clib=$(python3 -c '
-import json, sys
-for line in open(sys.argv[1]):
-    m = json.loads(line)
-    a = [f for f in m.get("filenames") or [] if f.endswith(".a")]
-    if m.get("reason") == "compiler-artifact" and m["target"]["name"] == "pvfc_c" and a:
-        print(a[0])
-        break
-' target/c/test-build.json)
+clib=$(python3 scripts/cargo_artifact.py pvfc_c .a < target/c/test-build.json)
 test -s "$clib" || { echo "cargo test did not build pvfc-c's static library" >&2; exit 1; }
 cc -std=c99 -Wall -Wextra -Werror -pedantic crates/pvfc-c/tests/c/test_pvfc.c \
   -Icrates/pvfc-c/include "$clib" -lm -lpthread -ldl -o target/c/test_pvfc

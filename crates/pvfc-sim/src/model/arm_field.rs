@@ -96,10 +96,10 @@ impl<const N: usize> VelocityField<f64, JointSpace<f64, N>, N> for ArmField<N> {
         tau_dot: f64,
     ) -> FieldSample<f64, JointSpace<f64, N>, N> {
         match self {
-            ArmField::Joint(f) => f.evaluate(q, v, tau, tau_dot),
             ArmField::Task { field, .. } => {
                 field.evaluate_with_kinematics(kinematics, q, v, tau, tau_dot)
             }
+            ArmField::Joint(_) => self.sample(q, v, tau, tau_dot),
         }
     }
 
