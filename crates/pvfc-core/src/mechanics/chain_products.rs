@@ -203,9 +203,12 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         let mut vel = Halves::zero();
         let mut vel_x = Halves::zero();
         let mut acc_x = Halves::zero();
-        // Per link: its axis, and I v, I x, I α + B(v) x, I [0; −g].
-        let mut links = [(Halves::zero(), [Halves::zero(); 4]); N];
-        for (i, link) in links.iter_mut().enumerate() {
+        // Per link: its axis, and I v, I x, I α + B(v) x, I [0; −g], in arrays of 6-vectors
+        // (one array of tuples of all five was zero-filled by N − 1 calls to `memcpy` of an
+        // entry, 5 % of a UR5 step, measured; `array::from_fn` was slower still).
+        let mut axes = [Halves::zero(); N];
+        let mut forces = [[Halves::zero(); N]; 4];
+        for i in 0..N {
             let (pose, axis) = joint(i, &parent);
             parent = pose;
             let s = Halves::of(&axis);
@@ -223,7 +226,10 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
             } else {
                 Halves::zero()
             };
-            *link = (s, [h, hx, f, fg]);
+            axes[i] = s;
+            for (k, fk) in [h, hx, f, fg].into_iter().enumerate() {
+                forces[k][i] = fk;
+            }
         }
         let mut out = LawProducts {
             momentum: SVector::zeros(),
@@ -233,9 +239,9 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         };
         let mut sums = [Halves::zero(); 4];
         for i in (0..N).rev() {
-            let (s, forces) = &links[i];
-            for (sum, f) in sums.iter_mut().zip(forces) {
-                *sum = *sum + *f;
+            let s = &axes[i];
+            for (sum, f) in sums.iter_mut().zip(&forces) {
+                *sum = *sum + f[i];
             }
             out.momentum[i] = s.dot(&sums[0]);
             out.field_momentum[i] = s.dot(&sums[1]);

@@ -210,16 +210,19 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
     /// Forward kinematics: every link's pose and every joint's spatial axis in the world
     /// frame.
     pub fn kinematics(&self, q: &SVector<T, N>) -> ChainKinematics<T, N> {
-        let mut link_poses = [Pose::identity(); N];
-        let mut axes = [Spatial::zeros(); N];
+        // Filled in the value returned (two local arrays cost two copies into it at the end).
+        let mut k = ChainKinematics {
+            link_poses: [Pose::identity(); N],
+            axes: [Spatial::zeros(); N],
+        };
         let mut parent = self.base;
         for i in 0..N {
             let (pose, s) = self.joint_step(i, &parent, q[i]);
-            link_poses[i] = pose;
-            axes[i] = s;
+            k.link_poses[i] = pose;
+            k.axes[i] = s;
             parent = pose;
         }
-        ChainKinematics { link_poses, axes }
+        k
     }
 
     /// One joint of the forward kinematics: link `i`'s pose in the base frame from its
