@@ -1,5 +1,6 @@
 // pvfc beside Pinocchio's C++, in one program, on the same states: the UR5 and the Panda
-// (fingers locked), 1,000 random states each, every function timed over all states in turn,
+// (fingers locked), 1,000 random states each (and, for the control step, 1,000 states of a
+// robot tracking the contour), every function timed over all states in turn,
 // pvfc and Pinocchio interleaved, 31 rounds; the medians of the per-call time per round, and
 // the ratio Pinocchio / pvfc (above 1: pvfc is faster). pvfc is called through its C ABI
 // (pvfc.h), with its argument checks; Pinocchio through its C++ API.
@@ -121,6 +122,30 @@ int run(const Arm &arm, std::size_t states, int rounds) {
     Q.push_back(q), V.push_back(v), A.push_back(a);
   }
 
+  // States of a robot tracking the contour: each q within ±0.02 rad of the contour's point at
+  // the controller's own τ (read from the step before), v in [−0.2, 0.2]. The control step's
+  // branches (the sine–cosine's quadrant, the spline's segment) then follow a trajectory, as
+  // in a control loop, where the uniform states above draw them at random. The timed loop
+  // resets the controller at its first state, so that its τ runs as it ran here.
+  pvfc_controller *tracking = nullptr;
+  ok(pvfc_controller_new_waypoints(robot, waypoints.data(), 3, n, 1.5, nullptr, 0, &settings,
+                                   &tracking));
+  std::uniform_real_distribution<double> near(-0.02, 0.02), slow(-0.2, 0.2);
+  std::vector<Eigen::VectorXd> Qt, Vt;
+  {
+    std::vector<double> point(n), out(n);
+    pvfc_diagnostics d{};
+    double tau = 0.0;
+    for (std::size_t k = 0; k < states; ++k) {
+      ok(pvfc_controller_contour_point(tracking, tau, point.data(), n));
+      Eigen::VectorXd q(n), v(n);
+      for (int i = 0; i < n; ++i) q[i] = point[i] + near(rng), v[i] = slow(rng);
+      ok(pvfc_controller_step(tracking, q.data(), v.data(), n, 1e-3, out.data(), n, &d));
+      tau = d.tau;
+      Qt.push_back(q), Vt.push_back(v);
+    }
+  }
+
   // The same quantities: M, C, g, RNEA on every state (Eigen is column-major, pvfc's
   // matrices row-major).
   std::vector<double> m(n * n), c(n * n), g(n), tau(n), torque(n);
@@ -209,6 +234,19 @@ int run(const Arm &arm, std::size_t states, int rounds) {
                                          n, nullptr);
                     g_sink = torque[0];
                   }});
+  rows.push_back({"a step, tracking", "crba + nonLinearEffects",
+                  "pvfc_controller_step, near the contour",
+                  [&](std::size_t k) {
+                    pinocchio::crba(model, data, Qt[k]);
+                    pinocchio::nonLinearEffects(model, data, Qt[k], Vt[k]);
+                    g_sink = data.M(0, 0) + data.nle[0];
+                  },
+                  [&](std::size_t k) {
+                    if (k == 0) pvfc_controller_reset(tracking);
+                    pvfc_controller_step(tracking, Qt[k].data(), Vt[k].data(), n, 1e-3,
+                                         torque.data(), n, nullptr);
+                    g_sink = torque[0];
+                  }});
 
   // Warm up once, then the rounds, each function's two sides back to back.
   for (auto &r : rows) {
@@ -236,6 +274,7 @@ int run(const Arm &arm, std::size_t states, int rounds) {
                 r.pin_name.c_str(), a, r.pvfc_name.c_str(), b, a / b);
   }
   pvfc_controller_destroy(ctl);
+  pvfc_controller_destroy(tracking);
   pvfc_robot_destroy(robot);
   return 0;
 }
