@@ -56,7 +56,7 @@ pub struct ArmSettings {
 pub struct ArmStep {
     /// Motor torques (N·m, N).
     pub torque: Vec<f64>,
-    /// `U(E)`.
+    /// `U(E)`; with obstacles, its composition `φ` with their barrier.
     pub potential: f64,
     /// `β`.
     pub beta: f64,
@@ -69,7 +69,7 @@ pub struct ArmStep {
 /// The numbers of one control step besides the torque ([`ArmController::step_into`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepDiagnostics {
-    /// `U`.
+    /// `U(E)`; with obstacles, its composition `φ` with their barrier.
     pub potential: f64,
     /// `β`.
     pub beta: f64,
@@ -289,7 +289,7 @@ pub struct PassiveArmStep {
     pub torque: Vec<f64>,
     /// The velocity the law used (measured, or estimated from the positions).
     pub velocity: Vec<f64>,
-    /// `U(E)`.
+    /// `U(E)`; with obstacles, its composition `φ` with their barrier.
     pub potential: f64,
     /// The period's energy account.
     pub energy: EnergyAccount<f64>,

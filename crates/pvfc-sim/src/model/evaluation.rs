@@ -30,7 +30,8 @@ pub struct Evaluation {
     pub beta: f64,
     /// The energy level `Ē`.
     pub energy_level: f64,
-    /// The navigation function `U` at the group error.
+    /// The navigation function `U` at the group error; with obstacles, its composition `φ`
+    /// with their barrier (Remark 3).
     pub potential: f64,
     /// `λ₁` of the self-pacing (eq. 21).
     pub lambda1: f64,

@@ -39,7 +39,8 @@ macro_rules! trace_columns {
                 beta as beta: Scalar Plot "β = √(κ_a/Ē): the speed along the field.";
                 w_beta as w_beta: Scalar Plot
                     "W_β = ½‖q̇_a − βV_a‖²_a (eq. 12, J): the energy of the velocity-field tracking error, the Lyapunov function of Remark 1 (0 for the timed baseline).";
-                potential as potential: Scalar Plot "The contour error U(E) of eq. (17).";
+                potential as potential: Scalar Plot
+                    "The contour error U(E) of eq. (17); with obstacles, its composition φ with their barrier (Remark 3).";
                 lambda1 as lambda1: Scalar Plot "Self-pacing gain λ₁ (eq. 21).";
                 lambda2 as lambda2: Scalar Plot "Self-pacing gain λ₂ (eq. 21).";
                 torque as torque: Joints Plot "Motor torques (N·m, N), one row per sample.";
