@@ -222,31 +222,29 @@ int run(const Arm &arm, std::size_t states, int rounds) {
                                         g.data());
                     g_sink = m[0] + c[0] + g[0];
                   }});
+  // Pinocchio's inputs to a computed-torque step, and pvfc's whole step (its controller reset
+  // at the first state when `reset`), on the states (qs, vs).
+  using States = std::vector<Eigen::VectorXd>;
+  auto pin_step = [&](const States &qs, const States &vs) {
+    return [&model, &data, &qs, &vs](std::size_t k) {
+      pinocchio::crba(model, data, qs[k]);
+      pinocchio::nonLinearEffects(model, data, qs[k], vs[k]);
+      g_sink = data.M(0, 0) + data.nle[0];
+    };
+  };
+  auto pvfc_step = [&](pvfc_controller *c, const States &qs, const States &vs, bool reset) {
+    return [c, &qs, &vs, reset, n, &torque](std::size_t k) {
+      if (reset && k == 0) pvfc_controller_reset(c);
+      pvfc_controller_step(c, qs[k].data(), vs[k].data(), n, 1e-3, torque.data(), n, nullptr);
+      g_sink = torque[0];
+    };
+  };
   rows.push_back({"a control step", "crba + nonLinearEffects (computed torque's inputs)",
-                  "pvfc_controller_step (the whole PVFC law)",
-                  [&](std::size_t k) {
-                    pinocchio::crba(model, data, Q[k]);
-                    pinocchio::nonLinearEffects(model, data, Q[k], V[k]);
-                    g_sink = data.M(0, 0) + data.nle[0];
-                  },
-                  [&](std::size_t k) {
-                    pvfc_controller_step(ctl, Q[k].data(), V[k].data(), n, 1e-3, torque.data(),
-                                         n, nullptr);
-                    g_sink = torque[0];
-                  }});
+                  "pvfc_controller_step (the whole PVFC law)", pin_step(Q, V),
+                  pvfc_step(ctl, Q, V, false)});
   rows.push_back({"a step, tracking", "crba + nonLinearEffects",
-                  "pvfc_controller_step, near the contour",
-                  [&](std::size_t k) {
-                    pinocchio::crba(model, data, Qt[k]);
-                    pinocchio::nonLinearEffects(model, data, Qt[k], Vt[k]);
-                    g_sink = data.M(0, 0) + data.nle[0];
-                  },
-                  [&](std::size_t k) {
-                    if (k == 0) pvfc_controller_reset(tracking);
-                    pvfc_controller_step(tracking, Qt[k].data(), Vt[k].data(), n, 1e-3,
-                                         torque.data(), n, nullptr);
-                    g_sink = torque[0];
-                  }});
+                  "pvfc_controller_step, near the contour", pin_step(Qt, Vt),
+                  pvfc_step(tracking, Qt, Vt, true)});
 
   // Warm up once, then the rounds, each function's two sides back to back.
   for (auto &r : rows) {
