@@ -123,9 +123,8 @@ int run(const Arm &arm, std::size_t states, int rounds) {
   }
 
   // States of a robot tracking the contour: each q within ±0.02 rad of the contour's point at
-  // the controller's own τ (read from the step before), v in [−0.2, 0.2]. The control step's
-  // branches (the sine–cosine's quadrant, the spline's segment) then follow a trajectory, as
-  // in a control loop, where the uniform states above draw them at random. The timed loop
+  // the controller's own τ (read from the step before), v in [−0.2, 0.2]: the regime of a
+  // control loop, where the uniform states above put the robot anywhere. The timed loop
   // resets the controller at its first state, so that its τ runs as it ran here.
   pvfc_controller *tracking = nullptr;
   ok(pvfc_controller_new_waypoints(robot, waypoints.data(), 3, n, 1.5, nullptr, 0, &settings,
