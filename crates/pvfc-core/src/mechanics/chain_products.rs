@@ -156,8 +156,9 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         with_gravity: bool,
     ) -> LawProducts<T, N> {
         // The kinematics on the fly (no arrays of poses).
+        let rotation = Self::joint_rotations(q);
         self.products_along(
-            |i, parent| self.joint_step(i, parent, q[i]),
+            |i, parent| self.joint_step(i, parent, q[i], |axis| rotation(i, axis)),
             v,
             x,
             a,

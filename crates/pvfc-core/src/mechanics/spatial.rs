@@ -91,8 +91,16 @@ impl<T: Real> Pose<T> {
 /// The rotation by `angle` about the unit `axis` (Rodrigues).
 #[inline]
 pub fn axis_angle<T: Real>(axis: &Vector3<T>, angle: T) -> Matrix3<T> {
+    axis_rotation(axis, angle.sin_cos_fast())
+}
+
+/// The rotation about the unit `axis` by the angle whose sine and cosine are `(s, c)`
+/// (Rodrigues): [`axis_angle`] with the trigonometry done by the caller, so that a chain can
+/// take every joint's sine and cosine first, side by side, before its pose recursion needs
+/// them.
+#[inline(always)]
+pub(crate) fn axis_rotation<T: Real>(axis: &Vector3<T>, (s, c): (T, T)) -> Matrix3<T> {
     // R = c 1 + s [a]× + (1 − c) a aᵀ for a unit axis (= 1 + s K + (1 − c) K², K = [a]×).
-    let (s, c) = angle.sin_cos_fast();
     let t = T::one() - c;
     let (x, y, z) = (axis[0], axis[1], axis[2]);
     let (tx, ty, tz) = (t * x, t * y, t * z);
