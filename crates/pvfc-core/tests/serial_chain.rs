@@ -416,3 +416,45 @@ proptest! {
         prop_assert!((fx - pvfc_core::mechanics::force_cross(&v) * f6).amax() <= 1e-15 * 4.0);
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(CASES))]
+
+    /// The forward kinematics, which takes every joint's sine and cosine first on a host (and
+    /// joint by joint on a microcontroller), is the plain pose recursion with Rodrigues'
+    /// `axis_angle` inside it, to the bit: the same operations on the same values.
+    #[test]
+    fn the_kinematics_is_the_pose_recursion_to_the_bit(mut d in draws(200)) {
+        let chain = random_chain::<5>(&mut d, true);
+        let (q, _) = state::<5>(&mut d);
+        let k = chain.kinematics(&q);
+        let mut parent = Pose::identity();
+        for (i, j) in chain.joints().iter().enumerate() {
+            let pre = parent.compose(&j.origin);
+            let a = pre.rotation * j.axis;
+            let p = pre.translation;
+            let (pose, axis) = match j.kind {
+                JointKind::Circular => (
+                    Pose {
+                        rotation: pre.rotation * pvfc_core::mechanics::axis_angle(&j.axis, q[i]),
+                        translation: p,
+                    },
+                    {
+                        let m = p.cross(&a);
+                        SVector::<f64, 6>::new(a[0], a[1], a[2], m[0], m[1], m[2])
+                    },
+                ),
+                JointKind::Linear => (
+                    Pose {
+                        rotation: pre.rotation,
+                        translation: p + a * q[i],
+                    },
+                    SVector::<f64, 6>::new(0.0, 0.0, 0.0, a[0], a[1], a[2]),
+                ),
+            };
+            prop_assert_eq!(k.link_poses[i], pose, "link {}", i);
+            prop_assert_eq!(k.axes[i], axis, "axis {}", i);
+            parent = pose;
+        }
+    }
+}
