@@ -232,23 +232,28 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
                 forces[k][i] = fk;
             }
         }
-        let mut out = LawProducts {
-            momentum: SVector::zeros(),
-            field_momentum: SVector::zeros(),
-            w: SVector::zeros(),
-            gravity: SVector::zeros(),
-        };
+        let (mut momentum, mut field_momentum, mut w, mut gravity) = (
+            SVector::zeros(),
+            SVector::zeros(),
+            SVector::zeros(),
+            SVector::zeros(),
+        );
         let mut sums = [Halves::zero(); 4];
         for i in (0..N).rev() {
             let s = &axes[i];
             for (sum, f) in sums.iter_mut().zip(&forces) {
                 *sum = *sum + f[i];
             }
-            out.momentum[i] = s.dot(&sums[0]);
-            out.field_momentum[i] = s.dot(&sums[1]);
-            out.w[i] = s.dot(&sums[2]);
-            out.gravity[i] = s.dot(&sums[3]);
+            momentum[i] = s.dot(&sums[0]);
+            field_momentum[i] = s.dot(&sums[1]);
+            w[i] = s.dot(&sums[2]);
+            gravity[i] = s.dot(&sums[3]);
         }
-        out
+        LawProducts {
+            momentum,
+            field_momentum,
+            w,
+            gravity,
+        }
     }
 }
