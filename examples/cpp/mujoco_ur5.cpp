@@ -13,7 +13,8 @@
 //     add-ons' work (the gravity compensation, as the controller reports it) stays within
 //     1e-6 of its start, relative to the energy in play at the start (the arm's kinetic energy
 //     and the controller's storage), over 30 s of free motion;
-//   * update() allocated nothing.
+//   * update() allocated nothing, and a NaN from a sensor afterwards fails update() with the
+//     library's message, allocating nothing either.
 //
 //   mujoco_ur5 path/to/ur5_robot.urdf [seconds]
 #include <pvfc.hpp>
@@ -97,11 +98,10 @@ class PvfcContourController {
       q_[i] = positions[i].get_value();
       v_[i] = velocities[i].get_value();
     }
-    try {
-      account_ = passive_->step(q_, period, torque_, v_);
-    } catch (const pvfc::Error &) {
-      // A real controller would report the error (without allocating) and hold a safe torque.
-      for (auto &c : efforts) c.set_value(0.0);
+    // try_step: no exception; a failure (a NaN from a sensor, an overflow) is a status, its
+    // message in pvfc_last_error(), and allocates nothing either.
+    if (passive_->try_step(q_, period, torque_, v_, {}, &account_) != PVFC_OK) {
+      for (auto &c : efforts) c.set_value(0.0);  // a safe command: no torque
       return false;
     }
     for (std::size_t i = 0; i < kDof; ++i) efforts[i].set_value(torque_[i]);
@@ -257,9 +257,21 @@ int main(int argc, char **argv) {
               " (without the add-ons' term: %.3e J)\n",
               worst, drift, scale, worst_plain);
   std::printf("allocations in update(): %ld\n", allocations_in_update);
+  // A sensor fault: the elbow's position reads NaN. update() fails with the library's
+  // message, commands no torque, and allocates nothing.
+  d->qpos[2] = std::nan("");
+  const long before_fault = g_allocations.load(std::memory_order_relaxed);
+  const bool fault_passed = ctl.update(duration, control_dt);
+  const long fault_allocations = g_allocations.load(std::memory_order_relaxed) - before_fault;
+  const bool fault_ok = !fault_passed && fault_allocations == 0 &&
+                        std::string(pvfc_last_error()).find("q[2]") != std::string::npos &&
+                        std::all_of(command.begin(), command.end(),
+                                    [](double c) { return c == 0.0; });
+  std::printf("a NaN position: update() %s (\"%s\"), %ld allocations\n",
+              fault_passed ? "passed" : "failed", pvfc_last_error(), fault_allocations);
   mj_deleteData(d);
   mj_deleteModel(m);
-  const bool ok = drift <= 1e-6 && allocations_in_update == 0 &&
+  const bool ok = drift <= 1e-6 && allocations_in_update == 0 && fault_ok &&
                   (duration < 20.0 || max_distance < 1e-3);
   std::printf("%s\n", ok ? "ok" : "FAILED");
   return ok ? 0 : 1;

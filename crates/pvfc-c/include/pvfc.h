@@ -534,7 +534,9 @@ enum pvfc_status pvfc_robot_tool_pose(const struct pvfc_robot *robot,
 void pvfc_robot_destroy(struct pvfc_robot *robot);
 
 // The message of the last error on this thread (empty if none). The pointer stays valid
-// until the next call of a pvfc function on this thread.
+// until the next call of a pvfc function on this thread. The message is kept in a fixed
+// buffer of the thread (a message longer than 4,095 bytes is cut): recording it allocates
+// nothing, so the real-time functions allocate nothing even when they fail.
 const char *pvfc_last_error(void);
 
 // The library's version, e.g. "0.1.0" (a static string).

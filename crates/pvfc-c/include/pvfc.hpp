@@ -8,7 +8,8 @@
 // * Arrays are passed as views (`pvfc::In`, `pvfc::Out`) built without copying from
 //   `std::array`, `std::vector`, Eigen vectors and maps, or a pointer and a length.
 // * The step functions and the dynamics allocate nothing (the C ABI does not; these wrappers
-//   add nothing).
+//   add nothing). An exception allocates: a real-time loop calls the steps' `try_step`
+//   forms, which return the status and allocate nothing, even when they fail.
 #ifndef PVFC_HPP
 #define PVFC_HPP
 
@@ -350,6 +351,16 @@ class Controller {
                                torque.size(), &d));
     return d;
   }
+  /// `step` for a real-time loop: no exception, nothing allocated even on failure. Returns
+  /// `PVFC_OK` or the error's kind, with its message in `pvfc_last_error()`; `q` and `qdot`
+  /// of different lengths are `PVFC_ERROR_WRONG_SIZE` without a message. `diagnostics`, if
+  /// not NULL, receives the step's numbers. On failure nothing changes.
+  pvfc_status try_step(In q, In qdot, double dt, Out torque,
+                       pvfc_diagnostics *diagnostics = nullptr) noexcept {
+    if (q.size() != qdot.size()) return PVFC_ERROR_WRONG_SIZE;
+    return pvfc_controller_step(h_.get(), q.data(), qdot.data(), q.size(), dt, torque.data(),
+                                torque.size(), diagnostics);
+  }
   /// The joint contour's point at `tau`.
   std::vector<double> contour_point(double tau) const {
     std::vector<double> x(dof());
@@ -388,6 +399,20 @@ class PassiveController {
                             applied.size() ? applied.data() : nullptr, q.size(), dt,
                             torque.data(), torque.size(), &a));
     return a;
+  }
+  /// `step` for a real-time loop: no exception, nothing allocated even on failure. Returns
+  /// `PVFC_OK` or the error's kind, with its message in `pvfc_last_error()`; arrays of
+  /// different lengths are `PVFC_ERROR_WRONG_SIZE` without a message. `account`, if not NULL,
+  /// receives the period's energy account. On failure nothing changes.
+  pvfc_status try_step(In q, double dt, Out torque, In qdot = In(), In applied = In(),
+                       pvfc_energy_account *account = nullptr) noexcept {
+    if ((qdot.size() && qdot.size() != q.size()) ||
+        (applied.size() && applied.size() != q.size())) {
+      return PVFC_ERROR_WRONG_SIZE;
+    }
+    return pvfc_passive_step(h_.get(), q.data(), qdot.size() ? qdot.data() : nullptr,
+                             applied.size() ? applied.data() : nullptr, q.size(), dt,
+                             torque.data(), torque.size(), account);
   }
   /// The storage as accounted (J).
   double storage() const noexcept { return pvfc_passive_storage(h_.get()); }

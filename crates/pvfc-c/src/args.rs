@@ -5,8 +5,8 @@ use crate::status::*;
 use std::ffi::{c_char, CStr};
 
 /// The error of a NULL pointer that must not be.
-pub(crate) fn null(name: &str) -> Failure {
-    Failure(PVFC_ERROR_NULL_POINTER, format!("{name}: NULL pointer"))
+pub(crate) fn null(name: &'static str) -> Failure {
+    Failure::argument(PVFC_ERROR_NULL_POINTER, name, Fault::Null)
 }
 
 /// The `n` doubles at `p`, checked: not NULL (unless `n` is 0) and finite.
@@ -16,7 +16,7 @@ pub(crate) fn null(name: &str) -> Failure {
 pub(crate) unsafe fn doubles<'a>(
     p: *const f64,
     n: usize,
-    name: &str,
+    name: &'static str,
 ) -> Result<&'a [f64], Failure> {
     if n == 0 {
         return Ok(&[]);
@@ -27,9 +27,13 @@ pub(crate) unsafe fn doubles<'a>(
     // SAFETY: the caller gives n readable doubles at p (the header documents it).
     let x = unsafe { std::slice::from_raw_parts(p, n) };
     if let Some(i) = x.iter().position(|v| !v.is_finite()) {
-        return Err(Failure(
+        return Err(Failure::argument(
             PVFC_ERROR_NON_FINITE,
-            format!("{name}[{i}] is {}", x[i]),
+            name,
+            Fault::NonFinite {
+                index: Some(i),
+                value: x[i],
+            },
         ));
     }
     Ok(x)
@@ -42,7 +46,7 @@ pub(crate) unsafe fn doubles<'a>(
 pub(crate) unsafe fn optional(
     p: *const f64,
     n: usize,
-    name: &str,
+    name: &'static str,
 ) -> Result<Option<Vec<f64>>, Failure> {
     if p.is_null() {
         return Ok(None);
@@ -55,7 +59,10 @@ pub(crate) unsafe fn optional(
 ///
 /// # Safety
 /// `p` is NULL or points to 3 readable doubles.
-pub(crate) unsafe fn triple(p: *const f64, name: &str) -> Result<Option<[f64; 3]>, Failure> {
+pub(crate) unsafe fn triple(
+    p: *const f64,
+    name: &'static str,
+) -> Result<Option<[f64; 3]>, Failure> {
     // SAFETY: forwarded from the caller.
     Ok(unsafe { optional(p, 3, name) }?.map(|x| [x[0], x[1], x[2]]))
 }
@@ -68,12 +75,13 @@ pub(crate) unsafe fn joints<'a>(
     p: *const f64,
     n: usize,
     dof: usize,
-    name: &str,
+    name: &'static str,
 ) -> Result<&'a [f64], Failure> {
     if n != dof {
-        return Err(Failure(
+        return Err(Failure::argument(
             PVFC_ERROR_WRONG_SIZE,
-            format!("{name}: {n} entries for the {dof}-joint robot"),
+            name,
+            Fault::Entries { n, dof },
         ));
     }
     // SAFETY: forwarded from the caller.
@@ -88,7 +96,7 @@ pub(crate) unsafe fn optional_joints<'a>(
     p: *const f64,
     n: usize,
     dof: usize,
-    name: &str,
+    name: &'static str,
 ) -> Result<Option<&'a [f64]>, Failure> {
     if p.is_null() {
         return Ok(None);
@@ -105,15 +113,16 @@ pub(crate) unsafe fn output<'a>(
     p: *mut f64,
     n: usize,
     dof: usize,
-    name: &str,
+    name: &'static str,
 ) -> Result<&'a mut [f64], Failure> {
     if p.is_null() {
         return Err(null(name));
     }
     if n != dof {
-        return Err(Failure(
+        return Err(Failure::argument(
             PVFC_ERROR_WRONG_SIZE,
-            format!("{name}: room for {n} entries, the robot has {dof} joints"),
+            name,
+            Fault::Room { n, dof },
         ));
     }
     // SAFETY: the caller gives n writable doubles at p.
@@ -124,22 +133,28 @@ pub(crate) unsafe fn output<'a>(
 ///
 /// # Safety
 /// `p` is NULL or a NUL-terminated string.
-pub(crate) unsafe fn text<'a>(p: *const c_char, name: &str) -> Result<Option<&'a str>, Failure> {
+pub(crate) unsafe fn text<'a>(
+    p: *const c_char,
+    name: &'static str,
+) -> Result<Option<&'a str>, Failure> {
     if p.is_null() {
         return Ok(None);
     }
     // SAFETY: the caller gives a NUL-terminated string.
     let s = unsafe { CStr::from_ptr(p) };
-    s.to_str()
-        .map(Some)
-        .map_err(|_| Failure(PVFC_ERROR_INVALID_ARGUMENT, format!("{name}: not UTF-8")))
+    s.to_str().map(Some).map_err(|_| {
+        Failure(
+            PVFC_ERROR_INVALID_ARGUMENT,
+            format!("{name}: not UTF-8").into(),
+        )
+    })
 }
 
 /// The object behind a handle.
 ///
 /// # Safety
 /// `p` is NULL or a live handle of this type.
-pub(crate) unsafe fn object<'a, T>(p: *const T, name: &str) -> Result<&'a T, Failure> {
+pub(crate) unsafe fn object<'a, T>(p: *const T, name: &'static str) -> Result<&'a T, Failure> {
     // SAFETY: a live handle made by this library.
     unsafe { p.as_ref() }.ok_or_else(|| null(name))
 }
@@ -148,7 +163,10 @@ pub(crate) unsafe fn object<'a, T>(p: *const T, name: &str) -> Result<&'a T, Fai
 ///
 /// # Safety
 /// `p` is NULL or a live handle of this type, not used elsewhere meanwhile.
-pub(crate) unsafe fn object_mut<'a, T>(p: *mut T, name: &str) -> Result<&'a mut T, Failure> {
+pub(crate) unsafe fn object_mut<'a, T>(
+    p: *mut T,
+    name: &'static str,
+) -> Result<&'a mut T, Failure> {
     // SAFETY: a live handle made by this library, used by one thread at a time.
     unsafe { p.as_mut() }.ok_or_else(|| null(name))
 }
@@ -180,7 +198,7 @@ pub(crate) trait SizedStruct {
 pub(crate) unsafe fn sized<T: SizedStruct + Copy>(
     p: *const T,
     default: T,
-    name: &str,
+    name: &'static str,
 ) -> Result<T, Failure> {
     // SAFETY: NULL or readable.
     let s = unsafe { p.as_ref() }.copied().unwrap_or(default);
@@ -192,7 +210,8 @@ pub(crate) unsafe fn sized<T: SizedStruct + Copy>(
                 "{name}: size {} but this library's {} is {expected} bytes (start from its _default function)",
                 s.size(),
                 std::any::type_name::<T>().rsplit("::").next().unwrap_or("struct"),
-            ),
+            )
+            .into(),
         ));
     }
     Ok(s)

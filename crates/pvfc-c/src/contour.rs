@@ -59,7 +59,7 @@ fn positive(x: f64, name: &str) -> Result<f64, Failure> {
     } else {
         Err(Failure(
             PVFC_ERROR_INVALID_ARGUMENT,
-            format!("{name}: finite and > 0, got {x}"),
+            format!("{name}: finite and > 0, got {x}").into(),
         ))
     }
 }
@@ -72,11 +72,11 @@ unsafe fn rows(
     p: *const f64,
     n: usize,
     columns: usize,
-    name: &str,
+    name: &'static str,
 ) -> Result<Vec<Vec<f64>>, Failure> {
     let total = n
         .checked_mul(columns)
-        .ok_or_else(|| Failure(PVFC_ERROR_WRONG_SIZE, format!("{name}: too many")))?;
+        .ok_or_else(|| Failure(PVFC_ERROR_WRONG_SIZE, format!("{name}: too many").into()))?;
     // SAFETY: forwarded from the caller.
     let flat = unsafe { doubles(p, total, name) }?;
     Ok(flat.chunks(columns.max(1)).map(<[f64]>::to_vec).collect())
@@ -138,10 +138,10 @@ pub unsafe extern "C" fn pvfc_contour_lissajous(
 ) -> pvfc_status {
     guard(|| {
         // SAFETY: as documented.
-        let required = |p: *const f64, name: &str| -> Result<Vec<f64>, Failure> {
+        let required = |p: *const f64, name: &'static str| -> Result<Vec<f64>, Failure> {
             unsafe { optional(p, n, name) }?.ok_or_else(|| null(name))
         };
-        let or_zeros = |p: *const f64, name: &str| -> Result<Vec<f64>, Failure> {
+        let or_zeros = |p: *const f64, name: &'static str| -> Result<Vec<f64>, Failure> {
             Ok(unsafe { optional(p, n, name) }?.unwrap_or_else(|| vec![0.0; n]))
         };
         let spec = JointContourSpec::Lissajous {
@@ -171,7 +171,7 @@ pub unsafe extern "C" fn pvfc_contour_ellipse(
 ) -> pvfc_status {
     guard(|| {
         // SAFETY: as documented.
-        let vector = |p: *const f64, name: &str| -> Result<Vec<f64>, Failure> {
+        let vector = |p: *const f64, name: &'static str| -> Result<Vec<f64>, Failure> {
             unsafe { optional(p, n, name) }?.ok_or_else(|| null(name))
         };
         let spec = JointContourSpec::Ellipse {
@@ -366,7 +366,7 @@ pub unsafe extern "C" fn pvfc_contour_cartesian_circle(
 ) -> pvfc_status {
     guard(|| {
         // SAFETY: as documented.
-        let three = |p: *const f64, name: &str| -> Result<[f64; 3], Failure> {
+        let three = |p: *const f64, name: &'static str| -> Result<[f64; 3], Failure> {
             unsafe { triple(p, name) }?.ok_or_else(|| null(name))
         };
         let circle = CircleSpec {
@@ -407,7 +407,7 @@ pub unsafe extern "C" fn pvfc_contour_cartesian_toml(
         let spec: CartesianSpec = ::toml::from_str(table).map_err(|e| {
             Failure(
                 PVFC_ERROR_INVALID_ARGUMENT,
-                format!("contour.cartesian: {e}"),
+                format!("contour.cartesian: {e}").into(),
             )
         })?;
         let spacing = (spacing != 0.0).then_some(spacing);

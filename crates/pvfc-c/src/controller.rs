@@ -179,7 +179,7 @@ pub unsafe extern "C" fn pvfc_controller_new_waypoints(
         return guard(|| {
             Err(Failure(
                 PVFC_ERROR_WRONG_SIZE,
-                format!("waypoints: {dof} columns for the {n}-joint robot"),
+                format!("waypoints: {dof} columns for the {n}-joint robot").into(),
             ))
         });
     }
@@ -267,7 +267,14 @@ pub unsafe extern "C" fn pvfc_controller_contour_point(
         // SAFETY: as documented.
         let c = &unsafe { object(ctl, "ctl") }?.ctl;
         if !tau.is_finite() {
-            return Err(Failure(PVFC_ERROR_NON_FINITE, format!("tau is {tau}")));
+            return Err(Failure::argument(
+                PVFC_ERROR_NON_FINITE,
+                "tau",
+                Fault::NonFinite {
+                    index: None,
+                    value: tau,
+                },
+            ));
         }
         let o = unsafe { output(out, out_len, c.dof(), "out") }?;
         o.copy_from_slice(&c.contour_point(tau));

@@ -81,7 +81,7 @@ pub unsafe extern "C" fn pvfc_passive_new(
         let c = &unsafe { object(ctl, "ctl") }?.ctl;
         let n = c.dof();
         let o = &unsafe { sized(options, pvfc_passive_options_default(), "options") }?;
-        let array = |p: *const f64, name: &str| -> Result<Option<Vec<f64>>, Failure> {
+        let array = |p: *const f64, name: &'static str| -> Result<Option<Vec<f64>>, Failure> {
             // SAFETY: NULL or o.n readable doubles at p, as documented.
             Ok(unsafe { optional_joints(p, o.n, n, name) }?.map(<[f64]>::to_vec))
         };

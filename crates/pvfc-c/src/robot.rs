@@ -110,7 +110,7 @@ pub unsafe extern "C" fn pvfc_robot_from_arrays(
         // SAFETY: n readable specs, as documented.
         let specs = unsafe { std::slice::from_raw_parts(joints, n) };
         // SAFETY: NULL or 3 readable doubles, as documented.
-        let three = |p: *const f64, name: &str| -> Result<[f64; 3], Failure> {
+        let three = |p: *const f64, name: &'static str| -> Result<[f64; 3], Failure> {
             Ok(unsafe { triple(p, name) }?.unwrap_or([0.0; 3]))
         };
         let urdf = urdf_of(
@@ -147,7 +147,7 @@ fn urdf_of(
         if let Some(x) = numbers.find(|x| !x.is_finite()) {
             return Err(Failure(
                 PVFC_ERROR_NON_FINITE,
-                format!("joints[{i}]: a number is {x}"),
+                format!("joints[{i}]: a number is {x}").into(),
             ));
         }
         let kind = match (j.prismatic, j.lower == 0.0 && j.upper == 0.0) {
@@ -218,7 +218,12 @@ pub unsafe extern "C" fn pvfc_robot_dof(robot: *const pvfc_robot) -> usize {
 ///
 /// # Safety
 /// `p` holds `n` readable doubles.
-unsafe fn state<'a>(r: &Robot, p: *const f64, n: usize, name: &str) -> Result<&'a [f64], Failure> {
+unsafe fn state<'a>(
+    r: &Robot,
+    p: *const f64,
+    n: usize,
+    name: &'static str,
+) -> Result<&'a [f64], Failure> {
     if p.is_null() {
         return Err(null(name));
     }
@@ -234,16 +239,14 @@ unsafe fn matrix<'a>(
     r: &Robot,
     p: *mut f64,
     len: usize,
-    name: &str,
+    name: &'static str,
 ) -> Result<&'a mut [f64], Failure> {
     let n = r.dof();
     if !p.is_null() && len != n * n {
-        return Err(Failure(
+        return Err(Failure::argument(
             PVFC_ERROR_WRONG_SIZE,
-            format!(
-                "{name}: room for {len} entries, the {n}-joint robot's matrix has {}",
-                n * n
-            ),
+            name,
+            Fault::MatrixRoom { n: len, dof: n },
         ));
     }
     // SAFETY: forwarded from the caller.

@@ -4,7 +4,8 @@
 use pvfc_core::ErrorKind;
 use pvfc_sim::SimError;
 use std::cell::RefCell;
-use std::ffi::{c_char, CString};
+use std::ffi::c_char;
+use std::fmt;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// What a function did: `PVFC_OK`, or the kind of error ([`pvfc_last_error`] has the message).
@@ -38,8 +39,84 @@ pub enum pvfc_status {
 
 pub(crate) use pvfc_status::*;
 
-/// An error on its way to the caller: its status and message.
-pub(crate) struct Failure(pub(crate) pvfc_status, pub(crate) String);
+/// An error on its way to the caller: its status and message. The message is kept as its
+/// parts and formatted only when [`guard`] records it, into the thread's fixed buffer: an error
+/// of a real-time function (a NaN in `q`, a wrong length, an overflow) allocates nothing.
+pub(crate) struct Failure(pub(crate) pvfc_status, pub(crate) Message);
+
+/// The message of a [`Failure`], formatted on demand ([`fmt::Display`]).
+pub(crate) enum Message {
+    /// Formatted already, by a function that may allocate (a constructor).
+    Text(String),
+    /// A fixed text.
+    Fixed(&'static str),
+    /// The library's error, as it displays itself.
+    Sim(SimError),
+    /// What is wrong with the argument `name`.
+    Argument(&'static str, Fault),
+}
+
+/// What is wrong with an argument ([`Message::Argument`]).
+pub(crate) enum Fault {
+    /// A NULL pointer that must not be.
+    Null,
+    /// The entry `index` is `value`, NaN or infinite (`index` `None`: a scalar).
+    NonFinite { index: Option<usize>, value: f64 },
+    /// A joint vector of `n` entries for a `dof`-joint robot.
+    Entries { n: usize, dof: usize },
+    /// An output joint vector with room for `n` entries, for a `dof`-joint robot.
+    Room { n: usize, dof: usize },
+    /// An output matrix with room for `n` entries, for a `dof`-joint robot (`dof²` needed).
+    MatrixRoom { n: usize, dof: usize },
+}
+
+impl From<String> for Message {
+    fn from(s: String) -> Self {
+        Message::Text(s)
+    }
+}
+
+impl From<&'static str> for Message {
+    fn from(s: &'static str) -> Self {
+        Message::Fixed(s)
+    }
+}
+
+impl fmt::Display for Message {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Message::Text(s) => f.write_str(s),
+            Message::Fixed(s) => f.write_str(s),
+            Message::Sim(e) => write!(f, "{e}"),
+            Message::Argument(name, Fault::Null) => write!(f, "{name}: NULL pointer"),
+            Message::Argument(name, Fault::NonFinite { index, value }) => match index {
+                Some(i) => write!(f, "{name}[{i}] is {value}"),
+                None => write!(f, "{name} is {value}"),
+            },
+            Message::Argument(name, Fault::Entries { n, dof }) => {
+                write!(f, "{name}: {n} entries for the {dof}-joint robot")
+            }
+            Message::Argument(name, Fault::Room { n, dof }) => {
+                write!(
+                    f,
+                    "{name}: room for {n} entries, the robot has {dof} joints"
+                )
+            }
+            Message::Argument(name, Fault::MatrixRoom { n, dof }) => write!(
+                f,
+                "{name}: room for {n} entries, the {dof}-joint robot's matrix has {}",
+                dof * dof
+            ),
+        }
+    }
+}
+
+impl Failure {
+    /// The failure of the argument `name`.
+    pub(crate) fn argument(status: pvfc_status, name: &'static str, fault: Fault) -> Self {
+        Failure(status, Message::Argument(name, fault))
+    }
+}
 
 impl From<SimError> for Failure {
     fn from(e: SimError) -> Self {
@@ -56,17 +133,57 @@ impl From<SimError> for Failure {
             SimError::Waypoint { .. } => PVFC_ERROR_WAYPOINT,
             _ => PVFC_ERROR_INVALID_ARGUMENT,
         };
-        Failure(status, e.to_string())
+        Failure(status, Message::Sim(e))
+    }
+}
+
+/// The thread's last error message, NUL-terminated, in a fixed buffer (a longer message is cut
+/// at a character boundary): recording one allocates nothing.
+struct LastError {
+    bytes: [u8; LAST_ERROR_CAPACITY],
+    len: usize,
+}
+
+/// The room for the last error's message, its terminating NUL included.
+const LAST_ERROR_CAPACITY: usize = 4096;
+
+impl fmt::Write for LastError {
+    fn write_str(&mut self, s: &str) -> fmt::Result {
+        let room = LAST_ERROR_CAPACITY - 1 - self.len;
+        let mut take = s.len().min(room);
+        while !s.is_char_boundary(take) {
+            take -= 1;
+        }
+        for (to, from) in self.bytes[self.len..self.len + take]
+            .iter_mut()
+            .zip(s.bytes())
+        {
+            // A NUL inside the message would end it early for C: a space instead.
+            *to = if from == 0 { b' ' } else { from };
+        }
+        self.len += take;
+        self.bytes[self.len] = 0;
+        Ok(())
     }
 }
 
 thread_local! {
-    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+    static LAST_ERROR: RefCell<LastError> = const {
+        RefCell::new(LastError {
+            bytes: [0; LAST_ERROR_CAPACITY],
+            len: 0,
+        })
+    };
 }
 
-fn set_last_error(message: &str) {
-    let c = CString::new(message.replace('\0', " ")).unwrap_or_default();
-    LAST_ERROR.with(|e| *e.borrow_mut() = c);
+fn set_last_error(message: &dyn fmt::Display) {
+    LAST_ERROR.with(|e| {
+        let mut e = e.borrow_mut();
+        e.len = 0;
+        e.bytes[0] = 0;
+        // Writing into the buffer cannot fail; a message too long is cut.
+        let _ = fmt::Write::write_fmt(&mut *e, format_args!("{message}"));
+    });
 }
 
 /// Runs `f`, turning its error, or a panic, into a status and the thread's last error.
@@ -83,17 +200,19 @@ pub(crate) fn guard(f: impl FnOnce() -> Result<(), Failure>) -> pvfc_status {
                 .map(|s| s.to_string())
                 .or_else(|| panic.downcast_ref::<String>().cloned())
                 .unwrap_or_default();
-            set_last_error(&format!("internal error (a bug in pvfc): {what}"));
+            set_last_error(&format_args!("internal error (a bug in pvfc): {what}"));
             PVFC_ERROR_INTERNAL
         }
     }
 }
 
 /// The message of the last error on this thread (empty if none). The pointer stays valid
-/// until the next call of a pvfc function on this thread.
+/// until the next call of a pvfc function on this thread. The message is kept in a fixed
+/// buffer of the thread (a message longer than 4,095 bytes is cut): recording it allocates
+/// nothing, so the real-time functions allocate nothing even when they fail.
 #[no_mangle]
 pub extern "C" fn pvfc_last_error() -> *const c_char {
-    LAST_ERROR.with(|e| e.borrow().as_ptr())
+    LAST_ERROR.with(|e| e.borrow().bytes.as_ptr().cast())
 }
 
 /// The library's version, e.g. "0.1.0" (a static string).

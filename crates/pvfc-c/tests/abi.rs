@@ -142,6 +142,197 @@ fn the_steps_and_the_dynamics_allocate_nothing() {
     }
 }
 
+/// The thread's last error, read without allocating (a borrowed `&str`).
+fn last_error_str<'a>() -> &'a str {
+    // SAFETY: a valid C string owned by the library, read before the next pvfc call.
+    unsafe { CStr::from_ptr(pvfc_last_error()) }
+        .to_str()
+        .unwrap_or("(not UTF-8)")
+}
+
+#[test]
+fn the_real_time_functions_fail_without_allocating() {
+    let robot = open_robot("ur5/ur5_robot.urdf", "tool0");
+    let ctl = controller(robot);
+    let mut options = pvfc_passive_options_default();
+    let mut passive = std::ptr::null_mut();
+    options.n = 0;
+    // SAFETY: valid handles and options.
+    assert_eq!(
+        unsafe { pvfc_passive_new(ctl, &options, &mut passive) },
+        pvfc_status::PVFC_OK
+    );
+    let q = [0.1, -1.1, 1.3, -1.7, -1.5, 0.1];
+    let nan = [0.1, -1.1, f64::NAN, -1.7, -1.5, 0.1];
+    let v = [2.0, -1.0, 0.5, 0.0, 1.0, -2.0];
+    let (mut torque, mut m, mut rot, mut pos) = ([0.0; 6], [0.0; 35], [0.0; 9], [0.0; 3]);
+    let (t, m, rot, pos) = (
+        torque.as_mut_ptr(),
+        m.as_mut_ptr(),
+        rot.as_mut_ptr(),
+        pos.as_mut_ptr(),
+    );
+    let null = std::ptr::null_mut::<f64>();
+    let mut account = pvfc_energy_account::default();
+    let account: *mut pvfc_energy_account = &mut account;
+    // Each case: the call, the status it must give, the message it must leave.
+    type Call<'a> = Box<dyn FnMut() -> pvfc_status + 'a>;
+    // SAFETY (every closure): the pointers are valid for the lengths given, or NULL where
+    // the case says so; the handles are live.
+    let cases: Vec<(&str, Call, pvfc_status, &str)> = vec![
+        (
+            "NaN in q",
+            Box::new(|| unsafe {
+                pvfc_controller_step(
+                    ctl,
+                    nan.as_ptr(),
+                    v.as_ptr(),
+                    6,
+                    1e-3,
+                    t,
+                    6,
+                    std::ptr::null_mut(),
+                )
+            }),
+            pvfc_status::PVFC_ERROR_NON_FINITE,
+            "q[2] is NaN",
+        ),
+        (
+            "a wrong length",
+            Box::new(|| unsafe {
+                pvfc_controller_step(
+                    ctl,
+                    q.as_ptr(),
+                    v.as_ptr(),
+                    5,
+                    1e-3,
+                    t,
+                    6,
+                    std::ptr::null_mut(),
+                )
+            }),
+            pvfc_status::PVFC_ERROR_WRONG_SIZE,
+            "q: 5 entries for the 6-joint robot",
+        ),
+        (
+            "no room for the torque",
+            Box::new(|| unsafe {
+                pvfc_controller_step(
+                    ctl,
+                    q.as_ptr(),
+                    v.as_ptr(),
+                    6,
+                    1e-3,
+                    null,
+                    6,
+                    std::ptr::null_mut(),
+                )
+            }),
+            pvfc_status::PVFC_ERROR_NULL_POINTER,
+            "torque_out: NULL pointer",
+        ),
+        (
+            "dt = 0",
+            Box::new(|| unsafe {
+                pvfc_controller_step(
+                    ctl,
+                    q.as_ptr(),
+                    v.as_ptr(),
+                    6,
+                    0.0,
+                    t,
+                    6,
+                    std::ptr::null_mut(),
+                )
+            }),
+            pvfc_status::PVFC_ERROR_INVALID_ARGUMENT,
+            "dt: finite and > 0",
+        ),
+        (
+            "a NULL controller",
+            Box::new(|| unsafe {
+                pvfc_controller_step(
+                    std::ptr::null_mut(),
+                    q.as_ptr(),
+                    v.as_ptr(),
+                    6,
+                    1e-3,
+                    t,
+                    6,
+                    std::ptr::null_mut(),
+                )
+            }),
+            pvfc_status::PVFC_ERROR_NULL_POINTER,
+            "ctl: NULL pointer",
+        ),
+        (
+            "the internal states overflow (the law's own error)",
+            Box::new(|| unsafe {
+                pvfc_controller_step(
+                    ctl,
+                    q.as_ptr(),
+                    v.as_ptr(),
+                    6,
+                    1e300,
+                    t,
+                    6,
+                    std::ptr::null_mut(),
+                )
+            }),
+            pvfc_status::PVFC_ERROR_NON_FINITE,
+            "internal states overflowed",
+        ),
+        (
+            "NaN in the passive step's q",
+            Box::new(|| unsafe {
+                pvfc_passive_step(
+                    passive,
+                    nan.as_ptr(),
+                    std::ptr::null(),
+                    std::ptr::null(),
+                    6,
+                    1e-3,
+                    t,
+                    6,
+                    account,
+                )
+            }),
+            pvfc_status::PVFC_ERROR_NON_FINITE,
+            "q[2] is NaN",
+        ),
+        (
+            "no room for M",
+            Box::new(|| unsafe { pvfc_robot_inertia(robot, q.as_ptr(), 6, m, 35) }),
+            pvfc_status::PVFC_ERROR_WRONG_SIZE,
+            "m_out: room for 35 entries, the 6-joint robot's matrix has 36",
+        ),
+        (
+            "NaN in the tool pose's q",
+            Box::new(|| unsafe { pvfc_robot_tool_pose(robot, nan.as_ptr(), 6, rot, pos) }),
+            pvfc_status::PVFC_ERROR_NON_FINITE,
+            "q[2] is NaN",
+        ),
+    ];
+    for (what, mut call, status, message) in cases {
+        let before = allocations();
+        let got = call();
+        let error = last_error_str();
+        let allocated = allocations() - before;
+        assert_eq!(got, status, "{what}: {error}");
+        assert!(error.contains(message), "{what}: the message is {error:?}");
+        assert_eq!(
+            allocated, 0,
+            "{what}: the error allocated {allocated} times"
+        );
+    }
+    // SAFETY: handles made above, freed once.
+    unsafe {
+        pvfc_passive_destroy(passive);
+        pvfc_controller_destroy(ctl);
+        pvfc_robot_destroy(robot);
+    }
+}
+
 #[test]
 fn bad_pointers_and_sizes_are_codes_with_messages() {
     let robot = open_robot("ur5/ur5_robot.urdf", "tool0");

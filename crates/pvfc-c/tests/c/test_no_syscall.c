@@ -1,7 +1,9 @@
 /* The real-time calls make no system call: after the set-up, the process enters seccomp's
  * strict mode (only read, write, _exit and sigreturn allowed; any other system call kills it
  * with SIGKILL), then runs 2,000 periods of the joint-space and the task-space controllers'
- * steps, the passive step, the dynamics, the tool pose and the distance to the path. An
+ * steps, the passive step, the dynamics, the tool pose and the distance to the path, then
+ * fails a step with a NaN and one with a wrong length (an error's message is recorded in a
+ * fixed buffer, so failing makes no system call either). An
  * allocation that reached the kernel (mmap, brk), a lock that waited (futex), a clock or a
  * file would end the process before it writes "ok". Linux only; not under valgrind (which
  * makes system calls of its own).
@@ -84,8 +86,20 @@ int main(int argc, char **argv) {
          pvfc_contour_distance(circle, p, &d, NULL) == PVFC_OK;
     for (int i = 0; i < DOF; i++) q[i] += 1e-3 * v[i];
   }
-  const char *msg = ok ? "test_no_syscall: 2000 periods, no system call\n"
-                       : "test_no_syscall: a step failed\n";
+  const int periods_ok = ok;
+  double nan_q[DOF];
+  memcpy(nan_q, q, sizeof q);
+  nan_q[2] = 0.0 / 0.0;
+  ok = ok &&
+       pvfc_controller_step(joint, nan_q, v, DOF, 1e-3, torque, DOF, &diag) ==
+           PVFC_ERROR_NON_FINITE &&
+       strstr(pvfc_last_error(), "q[2] is NaN") != NULL &&
+       pvfc_passive_step(passive, q, NULL, NULL, DOF - 1, 1e-3, held, DOF, &account) ==
+           PVFC_ERROR_WRONG_SIZE &&
+       strstr(pvfc_last_error(), "q: 5 entries") != NULL;
+  const char *msg = ok           ? "test_no_syscall: 2000 periods and two failures, no system call\n"
+                    : periods_ok ? "test_no_syscall: a failure was not reported as it should be\n"
+                                 : "test_no_syscall: a step failed\n";
   if (write(1, msg, strlen(msg)) < 0) ok = 0;
   /* Only exit (not exit_group) is allowed in strict mode. */
   syscall(SYS_exit, ok ? 0 : 1);

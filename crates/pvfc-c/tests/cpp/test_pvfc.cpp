@@ -128,6 +128,37 @@ TEST(Controller, BadInputThrowsTheErrorOfItsKindAndChangesNothing) {
   EXPECT_THROW(pvfc::Controller::waypoints(robot, ragged, 1.5), pvfc::WrongSizeError);
 }
 
+TEST(Controller, TryStepReturnsTheStatusInsteadOfThrowing) {
+  const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
+  pvfc::Controller ctl = pvfc::Controller::waypoints(robot, kWaypoints, 1.5, {}, settings());
+  const std::array<double, 6> q = {0.1, -1.1, 1.3, -1.7, -1.5, 0.1};
+  const std::array<double, 6> v{};
+  std::array<double, 6> thrown{}, tried{};
+  const pvfc_diagnostics d = ctl.step(q, v, 1e-3, thrown);
+  ctl.reset();
+  pvfc_diagnostics e{};
+  EXPECT_EQ(ctl.try_step(q, v, 1e-3, tried, &e), PVFC_OK);
+  EXPECT_EQ(thrown, tried);
+  EXPECT_EQ(d.potential, e.potential);
+  std::array<double, 6> bad = q;
+  bad[2] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(ctl.try_step(bad, v, 1e-3, tried), PVFC_ERROR_NON_FINITE);
+  EXPECT_NE(std::string(pvfc_last_error()).find("q[2] is NaN"), std::string::npos);
+  EXPECT_EQ(ctl.try_step(q, v, -1.0, tried), PVFC_ERROR_INVALID_ARGUMENT);
+  const std::array<double, 5> short_v{};
+  EXPECT_EQ(ctl.try_step(q, short_v, 1e-3, tried), PVFC_ERROR_WRONG_SIZE);
+  std::array<double, 3> small{};
+  EXPECT_EQ(ctl.try_step(q, v, 1e-3, small), PVFC_ERROR_WRONG_SIZE);
+  EXPECT_NE(std::string(pvfc_last_error()).find("torque_out: room for 3"), std::string::npos);
+
+  pvfc::PassiveController p(ctl);
+  pvfc_energy_account a{};
+  EXPECT_EQ(p.try_step(q, 1e-3, tried, v, {}, &a), PVFC_OK);
+  EXPECT_TRUE(std::isfinite(a.storage));
+  EXPECT_EQ(p.try_step(bad, 1e-3, tried), PVFC_ERROR_NON_FINITE);
+  EXPECT_EQ(p.try_step(q, 1e-3, tried, short_v), PVFC_ERROR_WRONG_SIZE);
+}
+
 TEST(Handles, MoveAndFreeOnce) {
   pvfc::Robot a = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
   pvfc::Robot b = std::move(a);
