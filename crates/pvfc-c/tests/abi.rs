@@ -175,6 +175,12 @@ fn the_real_time_functions_fail_without_allocating() {
     let null = std::ptr::null_mut::<f64>();
     let mut account = pvfc_energy_account::default();
     let account: *mut pvfc_energy_account = &mut account;
+    // The controller's step at the velocity v, with what each case varies.
+    let step = |ctl: *mut pvfc_controller, q: *const f64, n: usize, dt: f64, torque: *mut f64| {
+        // SAFETY: q holds n doubles (or is NULL), torque has room for 6 (or is NULL), the
+        // handle is live (or NULL), as each case says.
+        unsafe { pvfc_controller_step(ctl, q, v.as_ptr(), n, dt, torque, 6, std::ptr::null_mut()) }
+    };
     // Each case: the call, the status it must give, the message it must leave.
     type Call<'a> = Box<dyn FnMut() -> pvfc_status + 'a>;
     // SAFETY (every closure): the pointers are valid for the lengths given, or NULL where
@@ -182,103 +188,37 @@ fn the_real_time_functions_fail_without_allocating() {
     let cases: Vec<(&str, Call, pvfc_status, &str)> = vec![
         (
             "NaN in q",
-            Box::new(|| unsafe {
-                pvfc_controller_step(
-                    ctl,
-                    nan.as_ptr(),
-                    v.as_ptr(),
-                    6,
-                    1e-3,
-                    t,
-                    6,
-                    std::ptr::null_mut(),
-                )
-            }),
+            Box::new(|| step(ctl, nan.as_ptr(), 6, 1e-3, t)),
             pvfc_status::PVFC_ERROR_NON_FINITE,
             "q[2] is NaN",
         ),
         (
             "a wrong length",
-            Box::new(|| unsafe {
-                pvfc_controller_step(
-                    ctl,
-                    q.as_ptr(),
-                    v.as_ptr(),
-                    5,
-                    1e-3,
-                    t,
-                    6,
-                    std::ptr::null_mut(),
-                )
-            }),
+            Box::new(|| step(ctl, q.as_ptr(), 5, 1e-3, t)),
             pvfc_status::PVFC_ERROR_WRONG_SIZE,
             "q: 5 entries for the 6-joint robot",
         ),
         (
             "no room for the torque",
-            Box::new(|| unsafe {
-                pvfc_controller_step(
-                    ctl,
-                    q.as_ptr(),
-                    v.as_ptr(),
-                    6,
-                    1e-3,
-                    null,
-                    6,
-                    std::ptr::null_mut(),
-                )
-            }),
+            Box::new(|| step(ctl, q.as_ptr(), 6, 1e-3, null)),
             pvfc_status::PVFC_ERROR_NULL_POINTER,
             "torque_out: NULL pointer",
         ),
         (
             "dt = 0",
-            Box::new(|| unsafe {
-                pvfc_controller_step(
-                    ctl,
-                    q.as_ptr(),
-                    v.as_ptr(),
-                    6,
-                    0.0,
-                    t,
-                    6,
-                    std::ptr::null_mut(),
-                )
-            }),
+            Box::new(|| step(ctl, q.as_ptr(), 6, 0.0, t)),
             pvfc_status::PVFC_ERROR_INVALID_ARGUMENT,
             "dt: finite and > 0",
         ),
         (
             "a NULL controller",
-            Box::new(|| unsafe {
-                pvfc_controller_step(
-                    std::ptr::null_mut(),
-                    q.as_ptr(),
-                    v.as_ptr(),
-                    6,
-                    1e-3,
-                    t,
-                    6,
-                    std::ptr::null_mut(),
-                )
-            }),
+            Box::new(|| step(std::ptr::null_mut(), q.as_ptr(), 6, 1e-3, t)),
             pvfc_status::PVFC_ERROR_NULL_POINTER,
             "ctl: NULL pointer",
         ),
         (
             "the internal states overflow (the law's own error)",
-            Box::new(|| unsafe {
-                pvfc_controller_step(
-                    ctl,
-                    q.as_ptr(),
-                    v.as_ptr(),
-                    6,
-                    1e300,
-                    t,
-                    6,
-                    std::ptr::null_mut(),
-                )
-            }),
+            Box::new(|| step(ctl, q.as_ptr(), 6, 1e300, t)),
             pvfc_status::PVFC_ERROR_NON_FINITE,
             "internal states overflowed",
         ),
