@@ -156,14 +156,7 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         with_gravity: bool,
     ) -> LawProducts<T, N> {
         // The kinematics on the fly (no arrays of poses).
-        let rotation = Self::joint_rotations(q);
-        self.products_along(
-            |i, parent| self.joint_step(i, parent, q[i], |axis| rotation(i, axis)),
-            v,
-            x,
-            a,
-            with_gravity,
-        )
+        self.products_along(self.joint_steps(q), v, x, a, with_gravity)
     }
 
     /// [`law_products`](Self::law_products) from the chain's forward kinematics at `q`,

@@ -214,10 +214,10 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
             link_poses: [Pose::identity(); N],
             axes: [Spatial::zeros(); N],
         };
-        let rotation = Self::joint_rotations(q);
+        let joint = self.joint_steps(q);
         let mut parent = self.base;
         for i in 0..N {
-            let (pose, s) = self.joint_step(i, &parent, q[i], |axis| rotation(i, axis));
+            let (pose, s) = joint(i, &parent);
             k.link_poses[i] = pose;
             k.axes[i] = s;
             parent = pose;
@@ -225,8 +225,9 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         k
     }
 
-    /// Joint `i`'s rotation by `q_i` about its `axis` for [`joint_step`](Self::joint_step),
-    /// as a function of `(i, axis)` (Rodrigues, [`axis_angle`](super::axis_angle)).
+    /// The forward kinematics at `q` one joint at a time: `(i, parent's pose)` to link `i`'s
+    /// pose and joint `i`'s spatial axis ([`joint_step`](Self::joint_step)), the joint's
+    /// rotation by Rodrigues' formula ([`axis_angle`](super::axis_angle)).
     ///
     /// On a core that executes out of order, every joint's sine and cosine is taken first, all
     /// at once: each is a long chain of dependent operations but independent of the others, so
@@ -238,26 +239,35 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
     /// same values either way, so the same kinematics to the bit. (A prismatic joint's sine and
     /// cosine, taken in the table, are not used.)
     #[inline(always)]
-    pub(super) fn joint_rotations<'a>(
+    pub(super) fn joint_steps<'a>(
+        &'a self,
         q: &'a SVector<T, N>,
-    ) -> impl Fn(usize, &Vector3<T>) -> Matrix3<T> + 'a {
+    ) -> impl Fn(usize, &Pose<T>) -> (Pose<T>, Spatial<T>) + 'a {
         #[cfg(not(target_os = "none"))]
         {
             let table: [(T, T); N] = core::array::from_fn(|i| q[i].sin_cos_fast());
-            move |i: usize, axis: &Vector3<T>| super::spatial::axis_rotation(axis, table[i])
+            move |i: usize, parent: &Pose<T>| {
+                self.joint_step(i, parent, q[i], |axis| {
+                    super::spatial::axis_rotation(axis, table[i])
+                })
+            }
         }
         #[cfg(target_os = "none")]
         {
-            move |i: usize, axis: &Vector3<T>| super::spatial::axis_angle(axis, q[i])
+            move |i: usize, parent: &Pose<T>| {
+                self.joint_step(i, parent, q[i], |axis| {
+                    super::spatial::axis_angle(axis, q[i])
+                })
+            }
         }
     }
 
     /// One joint of the forward kinematics: link `i`'s pose in the base frame from its
     /// parent's, and joint `i`'s spatial axis `[a; p × a]` (revolute) or `[0; a]` (prismatic),
     /// with `rotation` giving the joint's rotation about its axis (from
-    /// [`joint_rotations`](Self::joint_rotations)).
+    /// [`joint_steps`](Self::joint_steps)).
     #[inline(always)]
-    pub(super) fn joint_step(
+    fn joint_step(
         &self,
         i: usize,
         parent: &Pose<T>,
