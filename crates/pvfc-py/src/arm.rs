@@ -10,6 +10,7 @@ use crate::robots::Robot;
 use crate::settings::ControllerSettings;
 use pvfc_sim::model::arm::{ArmController as SimArm, ArmSettings, JointContourSpec};
 use pvfc_sim::model::MAX_WAYPOINTS;
+use pvfc_sim::scenario::obstacles::ObstacleSpec;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -54,10 +55,15 @@ fn composed(
     contour: &Bound<'_, PyAny>,
     navigation: Option<&JointNavigation>,
     settings: Option<&ControllerSettings>,
+    obstacles: Option<ObstacleSpec>,
 ) -> PyResult<Controller> {
     let n = robot.robot.dof();
     let d = ControllerSettings::default();
     let settings = settings.unwrap_or(&d);
+    let with_obstacles = |mut s: ArmSettings| {
+        s.obstacles = obstacles.clone();
+        build(robot, s)
+    };
     if let Ok(t) = contour.cast::<crate::cartesian::TaskSpaceField>() {
         let t = t.get();
         if t.image.dim() != n {
@@ -73,7 +79,7 @@ fn composed(
         }
         let mut s = settings.arm_settings(t.image.clone(), vec![1.0; n]);
         s.field = t.field.clone();
-        return build(robot, s);
+        return with_obstacles(s);
     }
     let spec = if let Ok(c) = contour.cast::<WaypointCurve>() {
         c.get().c.spec.clone()
@@ -110,7 +116,14 @@ fn composed(
         }
         None => vec![1.0; n],
     };
-    build(robot, settings.arm_settings(spec, h))
+    with_obstacles(settings.arm_settings(spec, h))
+}
+
+/// `Controller.compose`'s `obstacles`: a dict with the layout of a scenario's `[obstacles]`
+/// table.
+fn obstacle_spec(py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<ObstacleSpec> {
+    let text: String = py.import("json")?.call_method1("dumps", (d,))?.extract()?;
+    serde_json::from_str(&text).map_err(|e| PyValueError::new_err(format!("obstacles: {e}")))
 }
 
 #[pymethods]
@@ -146,14 +159,20 @@ impl Controller {
     /// The contour and the navigation function take the robot's joint kinds (prismatic joints
     /// are lengths). In place of the contour, a `TaskSpaceField` (`CartesianPath.task_field`)
     /// makes the controller follow the tool path itself, with no navigation function.
+    /// `obstacles`, a dict with the layout of a scenario's `[obstacles]` table (`kappa`,
+    /// `scale`, `speed`, and lists `joint`, `body`, `world`), keeps the arm away from them
+    /// through the navigation function (the paper's Remark 3; joint-space contours only).
     #[staticmethod]
-    #[pyo3(signature = (robot, contour, navigation=None, settings=None))]
+    #[pyo3(signature = (robot, contour, navigation=None, settings=None, obstacles=None))]
     fn compose(
+        py: Python<'_>,
         robot: &Robot,
         contour: &Bound<'_, PyAny>,
         navigation: Option<&JointNavigation>,
         settings: Option<&ControllerSettings>,
+        obstacles: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Controller> {
-        composed(robot, contour, navigation, settings)
+        let obstacles = obstacles.map(|d| obstacle_spec(py, d)).transpose()?;
+        composed(robot, contour, navigation, settings, obstacles)
     }
 }

@@ -416,6 +416,7 @@ class Controller:
         contour: Union[WaypointCurve, Lissajous, Ellipse, TaskSpaceField],
         navigation: Optional[JointNavigation] = None,
         settings: Optional[ControllerSettings] = None,
+        obstacles: Optional[dict[str, Any]] = None,
     ) -> Controller: ...
     @staticmethod
     def attitude(
@@ -470,6 +471,7 @@ class ArmController(Controller):
         contour: Union[WaypointCurve, Lissajous, Ellipse, TaskSpaceField],
         navigation: Optional[JointNavigation] = None,
         settings: Optional[ControllerSettings] = None,
+        obstacles: Optional[dict[str, Any]] = None,
     ) -> ArmController: ...
 
 @final
