@@ -239,6 +239,30 @@ fn interpolating_spline_passes_through_waypoints() {
     );
 }
 
+/// The fit of `through_slice` updates its spline in place: the result is, to the bit, the
+/// spline `from_control_slice` builds from the fitted control points (its segment logarithms
+/// included, compared by `PartialEq` over the whole capacity), and a capacity far above the
+/// number of waypoints fits the same control points as an exact one.
+#[test]
+fn the_fit_in_place_is_the_spline_of_its_control_points() {
+    let keys = common::setups::key_orientations::<f64>();
+    let exact = PeriodicBSpline::through(keys, 2.0).unwrap();
+    let roomy = PeriodicBSpline::<f64, So3<f64>, 3, 256>::through_slice(&keys, 2.0).unwrap();
+    assert_eq!(roomy.control_points(), exact.control_points());
+    let rebuilt =
+        PeriodicBSpline::<f64, So3<f64>, 3, 256>::from_control_slice(roomy.control_points(), 2.0)
+            .unwrap();
+    assert_eq!(roomy, rebuilt);
+    let pts = common::setups::waypoints::<f32>();
+    let roomy = PeriodicBSpline::<f32, _, 2, 64>::through_slice(&pts, 1.3).unwrap();
+    let rebuilt = PeriodicBSpline::from_control_slice(roomy.control_points(), 1.3).unwrap();
+    assert_eq!(roomy, rebuilt);
+    assert_eq!(
+        roomy.control_points(),
+        PeriodicBSpline::through(pts, 1.3).unwrap().control_points()
+    );
+}
+
 #[test]
 fn bspline_is_c2_at_the_knots() {
     let spline = PeriodicBSpline::through(common::setups::key_orientations::<f64>(), 2.0).unwrap();

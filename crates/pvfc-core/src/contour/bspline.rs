@@ -105,9 +105,10 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
         let mut spline = Self::from_control_slice(waypoints, spacing)?;
         let n = spline.len;
         let tolerance = T::default_epsilon() * cast(64.0);
+        // The next control points; its first `n` equal the spline's at each iteration's start.
+        let mut next = spline.control;
         for _ in 0..2000 {
             let mut worst = T::zero();
-            let mut next = spline.control;
             for (k, c) in next.iter_mut().enumerate().take(n) {
                 let at: T = spline.spacing * cast(k as f64);
                 let residual = spline.point(at).inverse().compose(&waypoints[k]).log();
@@ -131,12 +132,34 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
             if worst <= tolerance {
                 return Ok(spline);
             }
-            spline = Self::from_control_slice(&next[..n], spacing)?;
+            spline.set_control(&next)?;
         }
         Err(Error::new(
             ErrorKind::NoConvergence,
             "PeriodicBSpline::through: control points did not converge",
         ))
+    }
+
+    /// Moves the spline's `n` control points to the first `n` of `points`, in place: the
+    /// values [`from_control_slice`](Self::from_control_slice) gives, the same operations,
+    /// without building a spline of capacity `K` (the fit of
+    /// [`through_slice`](Self::through_slice) iterates on a few points of a large capacity).
+    fn set_control(&mut self, points: &[G; K]) -> Result<()> {
+        let n = self.len;
+        if !points[..n].iter().all(|c| c.is_finite()) {
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                "PeriodicBSpline: control points",
+            ));
+        }
+        self.control[..n].copy_from_slice(&points[..n]);
+        for (k, d) in self.delta.iter_mut().enumerate().take(n) {
+            *d = self.control[k]
+                .inverse()
+                .compose(&self.control[(k + 1) % n])
+                .log();
+        }
+        Ok(())
     }
 
     /// The control points.
