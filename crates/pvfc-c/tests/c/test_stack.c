@@ -1,0 +1,112 @@
+/* The real-time calls run on a small stack: after the set-up on the main thread, a thread
+ * whose whole stack is STACK_KIB KiB (pthread_attr_setstacksize) runs 100 periods of the
+ * joint-space and the task-space controllers' steps, the passive step, the dynamics, the tool
+ * pose and the distance to the path, and fails a step with a NaN. A call that needed more
+ * would overflow the stack into its guard page and kill the process.
+ *   test_stack path/to/ur5_robot.urdf [STACK_KIB] */
+#define _POSIX_C_SOURCE 200809L
+#include "pvfc.h"
+
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define DOF 6
+
+typedef struct {
+  pvfc_robot *robot;
+  pvfc_controller *joint, *task;
+  pvfc_passive *passive;
+  pvfc_contour *circle;
+  int ok;
+} Handles;
+
+static void *periods(void *arg) {
+  Handles *h = arg;
+  double q[DOF] = {0.1, -1.1, 1.3, -1.7, -1.5, 0.1};
+  double v[DOF] = {0.2, -0.1, 0.05, 0.0, 0.1, -0.2};
+  double torque[DOF], held[DOF], m[DOF * DOF], c[DOF * DOF], g[DOF], p[3], d;
+  pvfc_diagnostics diag;
+  pvfc_energy_account account;
+  int ok = 1;
+  for (int k = 0; k < 100 && ok; k++) {
+    ok = pvfc_controller_step(h->joint, q, v, DOF, 1e-3, torque, DOF, &diag) == PVFC_OK &&
+         pvfc_controller_step(h->task, q, v, DOF, 1e-3, torque, DOF, &diag) == PVFC_OK &&
+         pvfc_passive_step(h->passive, q, NULL, NULL, DOF, 1e-3, held, DOF, &account) ==
+             PVFC_OK &&
+         pvfc_robot_dynamics(h->robot, q, v, DOF, m, c, g) == PVFC_OK &&
+         pvfc_robot_tool_pose(h->robot, q, DOF, NULL, p) == PVFC_OK &&
+         pvfc_contour_distance(h->circle, p, &d, NULL) == PVFC_OK;
+    for (int i = 0; i < DOF; i++) q[i] += 1e-3 * v[i];
+  }
+  q[2] = 0.0 / 0.0;
+  ok = ok &&
+       pvfc_controller_step(h->joint, q, v, DOF, 1e-3, torque, DOF, &diag) ==
+           PVFC_ERROR_NON_FINITE &&
+       strstr(pvfc_last_error(), "q[2] is NaN") != NULL;
+  h->ok = ok;
+  return NULL;
+}
+
+static void fail(const char *what) {
+  fprintf(stderr, "%s: %s\n", what, pvfc_last_error());
+  exit(1);
+}
+
+int main(int argc, char **argv) {
+  if (argc < 2) {
+    fprintf(stderr, "usage: %s ur5_robot.urdf [stack KiB]\n", argv[0]);
+    return 2;
+  }
+  const size_t kib = argc > 2 ? (size_t)atoi(argv[2]) : 32;
+  Handles h = {0};
+  if (pvfc_robot_from_urdf_file(argv[1], NULL, "tool0", &h.robot) != PVFC_OK) fail("robot");
+  const double waypoints[3 * DOF] = {
+      0.0, -1.2, 1.4, -1.8, -1.57, 0.0,
+      0.3, -1.0, 1.2, -1.7, -1.57, 0.2,
+      -0.2, -1.3, 1.5, -1.9, -1.57, -0.1,
+  };
+  pvfc_settings s = pvfc_settings_default();
+  s.energy = 40.0;
+  s.self_pacing = 50.0;
+  if (pvfc_controller_new_waypoints(h.robot, waypoints, 3, DOF, 1.5, NULL, 0, &s, &h.joint) !=
+      PVFC_OK)
+    fail("joint controller");
+  const double seed[DOF] = {0.0, -1.2, 1.4, -1.8, -1.57, 0.0};
+  const double center[3] = {0.55, 0.0, 0.3}, normal[3] = {0.0, 0.0, 1.0};
+  pvfc_cartesian_options o = pvfc_cartesian_options_default();
+  o.seed = seed;
+  o.seed_len = DOF;
+  o.fixed_orientation = true;
+  o.task_field = true;
+  if (pvfc_contour_cartesian_circle(center, normal, 0.1, NULL, 0.0, 10.0, &o, &h.circle) !=
+      PVFC_OK)
+    fail("circle");
+  if (pvfc_controller_new(h.robot, h.circle, NULL, 0, &s, &h.task) != PVFC_OK)
+    fail("task controller");
+  const double limit[DOF] = {150, 150, 150, 28, 28, 28};
+  pvfc_passive_options po = pvfc_passive_options_default();
+  po.torque_limit = limit;
+  po.n = DOF;
+  if (pvfc_passive_new(h.task, &po, &h.passive) != PVFC_OK) fail("passive");
+
+  pthread_attr_t attr;
+  pthread_t thread;
+  if (pthread_attr_init(&attr) != 0 || pthread_attr_setstacksize(&attr, kib * 1024) != 0 ||
+      pthread_create(&thread, &attr, periods, &h) != 0 || pthread_join(thread, NULL) != 0) {
+    fprintf(stderr, "test_stack: no thread with a stack of %zu KiB\n", kib);
+    return 1;
+  }
+  pvfc_passive_destroy(h.passive);
+  pvfc_controller_destroy(h.task);
+  pvfc_controller_destroy(h.joint);
+  pvfc_contour_destroy(h.circle);
+  pvfc_robot_destroy(h.robot);
+  if (!h.ok) {
+    fprintf(stderr, "test_stack: a call failed (or a failure was not reported)\n");
+    return 1;
+  }
+  printf("test_stack: 100 periods and a failure in a thread of %zu KiB of stack\n", kib);
+  return 0;
+}
