@@ -1,9 +1,10 @@
-/* The real-time calls run on a small stack: after the set-up on the main thread, a thread
- * whose whole stack is STACK_KIB KiB (pthread_attr_setstacksize) runs 100 periods of the
- * joint-space and the task-space controllers' steps, the passive step, the dynamics, the tool
- * pose and the distance to the path, and fails a step with a NaN. A call that needed more
- * would overflow the stack into its guard page and kill the process.
- *   test_stack path/to/ur5_robot.urdf [STACK_KIB] */
+/* The stack pvfc needs: a thread whose whole stack is SETUP_KIB KiB (pthread_attr_setstacksize)
+ * reads the UR5 and builds a joint-space controller on waypoints, a Cartesian circle, a
+ * task-space controller on it and a passive controller; then a thread of STEP_KIB KiB runs
+ * 100 periods of the two controllers' steps, the passive step, the dynamics, the tool pose
+ * and the distance to the path, and fails a step with a NaN. A call that needed more would
+ * overflow the stack into its guard page and kill the process.
+ *   test_stack path/to/ur5_robot.urdf [SETUP_KIB [STEP_KIB]] */
 #define _POSIX_C_SOURCE 200809L
 #include "pvfc.h"
 
@@ -54,14 +55,11 @@ static void fail(const char *what) {
   exit(1);
 }
 
-int main(int argc, char **argv) {
-  if (argc < 2) {
-    fprintf(stderr, "usage: %s ur5_robot.urdf [stack KiB]\n", argv[0]);
-    return 2;
-  }
-  const size_t kib = argc > 2 ? (size_t)atoi(argv[2]) : 32;
-  Handles h = {0};
-  if (pvfc_robot_from_urdf_file(argv[1], NULL, "tool0", &h.robot) != PVFC_OK) fail("robot");
+static const char *g_urdf;
+
+static void *setup(void *arg) {
+  Handles *h = arg;
+  if (pvfc_robot_from_urdf_file(g_urdf, NULL, "tool0", &h->robot) != PVFC_OK) fail("robot");
   const double waypoints[3 * DOF] = {
       0.0, -1.2, 1.4, -1.8, -1.57, 0.0,
       0.3, -1.0, 1.2, -1.7, -1.57, 0.2,
@@ -70,7 +68,7 @@ int main(int argc, char **argv) {
   pvfc_settings s = pvfc_settings_default();
   s.energy = 40.0;
   s.self_pacing = 50.0;
-  if (pvfc_controller_new_waypoints(h.robot, waypoints, 3, DOF, 1.5, NULL, 0, &s, &h.joint) !=
+  if (pvfc_controller_new_waypoints(h->robot, waypoints, 3, DOF, 1.5, NULL, 0, &s, &h->joint) !=
       PVFC_OK)
     fail("joint controller");
   const double seed[DOF] = {0.0, -1.2, 1.4, -1.8, -1.57, 0.0};
@@ -80,24 +78,41 @@ int main(int argc, char **argv) {
   o.seed_len = DOF;
   o.fixed_orientation = true;
   o.task_field = true;
-  if (pvfc_contour_cartesian_circle(center, normal, 0.1, NULL, 0.0, 10.0, &o, &h.circle) !=
+  if (pvfc_contour_cartesian_circle(center, normal, 0.1, NULL, 0.0, 10.0, &o, &h->circle) !=
       PVFC_OK)
     fail("circle");
-  if (pvfc_controller_new(h.robot, h.circle, NULL, 0, &s, &h.task) != PVFC_OK)
+  if (pvfc_controller_new(h->robot, h->circle, NULL, 0, &s, &h->task) != PVFC_OK)
     fail("task controller");
   const double limit[DOF] = {150, 150, 150, 28, 28, 28};
   pvfc_passive_options po = pvfc_passive_options_default();
   po.torque_limit = limit;
   po.n = DOF;
-  if (pvfc_passive_new(h.task, &po, &h.passive) != PVFC_OK) fail("passive");
+  if (pvfc_passive_new(h->task, &po, &h->passive) != PVFC_OK) fail("passive");
+  return NULL;
+}
 
+/* Runs `f(h)` in a thread whose stack is `kib` KiB. */
+static void in_thread(void *(*f)(void *), Handles *h, size_t kib, const char *what) {
   pthread_attr_t attr;
   pthread_t thread;
   if (pthread_attr_init(&attr) != 0 || pthread_attr_setstacksize(&attr, kib * 1024) != 0 ||
-      pthread_create(&thread, &attr, periods, &h) != 0 || pthread_join(thread, NULL) != 0) {
-    fprintf(stderr, "test_stack: no thread with a stack of %zu KiB\n", kib);
-    return 1;
+      pthread_create(&thread, &attr, f, h) != 0 || pthread_join(thread, NULL) != 0) {
+    fprintf(stderr, "test_stack: no thread of %zu KiB for %s\n", kib, what);
+    exit(1);
   }
+}
+
+int main(int argc, char **argv) {
+  if (argc < 2) {
+    fprintf(stderr, "usage: %s ur5_robot.urdf [setup KiB [step KiB]]\n", argv[0]);
+    return 2;
+  }
+  g_urdf = argv[1];
+  const size_t setup_kib = argc > 2 ? (size_t)atoi(argv[2]) : 256;
+  const size_t step_kib = argc > 3 ? (size_t)atoi(argv[3]) : 32;
+  Handles h = {0};
+  in_thread(setup, &h, setup_kib, "the set-up");
+  in_thread(periods, &h, step_kib, "the periods");
   pvfc_passive_destroy(h.passive);
   pvfc_controller_destroy(h.task);
   pvfc_controller_destroy(h.joint);
@@ -107,6 +122,8 @@ int main(int argc, char **argv) {
     fprintf(stderr, "test_stack: a call failed (or a failure was not reported)\n");
     return 1;
   }
-  printf("test_stack: 100 periods and a failure in a thread of %zu KiB of stack\n", kib);
+  printf("test_stack: the set-up in a thread of %zu KiB of stack, 100 periods and a failure in "
+         "one of %zu KiB\n",
+         setup_kib, step_kib);
   return 0;
 }

@@ -78,9 +78,7 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
             ));
         }
         let mut delta = [Tangent::zeros(); K];
-        for (k, d) in delta.iter_mut().enumerate().take(n) {
-            *d = control[k].inverse().compose(&control[(k + 1) % n]).log();
-        }
+        spline_segment_logs(&control[..n], &mut delta);
         Ok(PeriodicBSpline {
             control,
             delta,
@@ -102,64 +100,31 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
 
     /// As [`through`](Self::through) with `3 ≤ n ≤ K` waypoints.
     pub fn through_slice(waypoints: &[G], spacing: T) -> Result<Self> {
-        let mut spline = Self::from_control_slice(waypoints, spacing)?;
-        let n = spline.len;
-        let tolerance = T::default_epsilon() * cast(64.0);
-        // The next control points; its first `n` equal the spline's at each iteration's start.
-        let mut next = spline.control;
-        for _ in 0..2000 {
-            let mut worst = T::zero();
-            for (k, c) in next.iter_mut().enumerate().take(n) {
-                let at: T = spline.spacing * cast(k as f64);
-                let residual = spline.point(at).inverse().compose(&waypoints[k]).log();
-                worst = worst.max(residual.norm());
-                *c = c.compose(&G::exp(&residual));
-            }
-            if !worst.is_finite() {
-                break;
-            }
-            // Neighbouring control points more than ~π apart make the logarithm jump: the
-            // waypoints are too coarse for an interpolating spline on this group.
-            let spread = (0..n)
-                .map(|k| G::chart_extent(&next[k].inverse().compose(&next[(k + 1) % n]).log()))
-                .fold(T::zero(), |a, b| a.max(b));
-            if spread > cast::<T>(0.9 * core::f64::consts::PI) {
-                return Err(Error::new(
-                    ErrorKind::NoConvergence,
-                    "PeriodicBSpline::through: waypoints too far apart (control points would be ≥ 0.9π apart); add waypoints",
-                ));
-            }
-            if worst <= tolerance {
-                return Ok(spline);
-            }
-            spline.set_control(&next)?;
-        }
-        Err(Error::new(
-            ErrorKind::NoConvergence,
-            "PeriodicBSpline::through: control points did not converge",
-        ))
-    }
-
-    /// Moves the spline's `n` control points to the first `n` of `points`, in place: the
-    /// values [`from_control_slice`](Self::from_control_slice) gives, the same operations,
-    /// without building a spline of capacity `K` (the fit of
-    /// [`through_slice`](Self::through_slice) iterates on a few points of a large capacity).
-    fn set_control(&mut self, points: &[G; K]) -> Result<()> {
-        let n = self.len;
-        if !points[..n].iter().all(|c| c.is_finite()) {
+        let n = waypoints.len();
+        if n > K {
             return Err(Error::new(
-                ErrorKind::NonFinite,
-                "PeriodicBSpline: control points",
-            ));
+                ErrorKind::DimensionMismatch,
+                "PeriodicBSpline: more points than the spline's capacity K",
+            )
+            .with_value(n as f64));
         }
-        self.control[..n].copy_from_slice(&points[..n]);
-        for (k, d) in self.delta.iter_mut().enumerate().take(n) {
-            *d = self.control[k]
-                .inverse()
-                .compose(&self.control[(k + 1) % n])
-                .log();
-        }
-        Ok(())
+        let mut control = [G::identity(); K];
+        let mut delta = [Tangent::zeros(); K];
+        let mut next = [G::identity(); K];
+        spline_through(
+            waypoints,
+            spacing,
+            &mut control[..n],
+            &mut delta[..n],
+            &mut next[..n],
+        )?;
+        Ok(PeriodicBSpline {
+            control,
+            delta,
+            len: n,
+            spacing,
+            _t: PhantomData,
+        })
     }
 
     /// The control points.
@@ -186,11 +151,58 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
 impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> Contour<T, G, D>
     for PeriodicBSpline<T, G, D, K>
 {
+    #[inline]
     fn sample(&self, tau: T) -> ContourSample<T, G, D> {
+        SplineView::new(
+            &self.control[..self.len],
+            &self.delta[..self.len],
+            self.spacing,
+        )
+        .sample(tau)
+    }
+
+    fn period(&self) -> Option<T> {
+        Some(self.spacing * cast(self.len as f64))
+    }
+}
+
+/// The spline's arithmetic on borrowed storage: `n ≥ 1` control points `C_k` and their segment
+/// logarithms `Ω_k = log(C_k⁻¹ C_{k+1})` (indices modulo `n`), one knot every `spacing` of
+/// `τ`. [`PeriodicBSpline`] evaluates itself through it; a spline kept elsewhere (on the heap,
+/// where a capacity of many waypoints should not pass through the stack) uses it with its own
+/// storage, and so computes the same values to the bit.
+#[derive(Clone, Copy, Debug)]
+pub struct SplineView<'a, T: Real, G, const D: usize> {
+    control: &'a [G],
+    delta: &'a [Tangent<T, D>],
+    spacing: T,
+}
+
+impl<'a, T: Real, G: LieGroup<T, D>, const D: usize> SplineView<'a, T, G, D> {
+    /// The view of `control` and `delta` (the shorter's length counts; at least one point).
+    pub fn new(control: &'a [G], delta: &'a [Tangent<T, D>], spacing: T) -> Self {
+        let n = control.len().min(delta.len());
+        SplineView {
+            control: &control[..n],
+            delta: &delta[..n],
+            spacing,
+        }
+    }
+
+    /// `x_d(τ)` and its body derivatives (see [`PeriodicBSpline`] for the formulas); the
+    /// identity at rest if the view is empty.
+    pub fn sample(&self, tau: T) -> ContourSample<T, G, D> {
+        let n = self.control.len();
+        if n == 0 {
+            return ContourSample {
+                point: G::identity(),
+                velocity: Tangent::<T, D>::zeros(),
+                acceleration: Tangent::<T, D>::zeros(),
+            };
+        }
         let s = tau / self.spacing;
         let floor = s.floor();
         let u = s - floor;
-        let n = self.len;
         let kf: T = cast(n as f64);
         // Segment index modulo n, for negative τ too.
         let seg = floor - (floor / kf).floor() * kf;
@@ -232,8 +244,95 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> Contour<T, G, D
             acceleration: dw,
         }
     }
+}
 
-    fn period(&self) -> Option<T> {
-        Some(self.spacing * cast(self.len as f64))
+/// The segment logarithms `Ω_k = log(C_k⁻¹ C_{k+1})` of the control points (indices modulo
+/// `n`) into `delta` (its first `n`).
+pub fn spline_segment_logs<T: Real, G: LieGroup<T, D>, const D: usize>(
+    control: &[G],
+    delta: &mut [Tangent<T, D>],
+) {
+    let n = control.len();
+    for (k, d) in delta.iter_mut().enumerate().take(n) {
+        *d = control[k].inverse().compose(&control[(k + 1) % n]).log();
     }
+}
+
+/// The interpolating spline through `waypoints` (`n ≥ 3` of them, at `τ = k·spacing`) on
+/// storage of the caller's: on return `control` (`n`) holds its control points and `delta`
+/// (`n`) their segment logarithms; `next` is room for `n` points. The same fit, checks and
+/// errors as [`PeriodicBSpline::through`] (which calls it): the fixed-point iteration
+/// `C_k ← C_k·exp(log(x_d(k h)⁻¹ W_k))` from `C_k = W_k`, a `NoConvergence` error if the
+/// waypoints are too coarse. Evaluate the result with [`SplineView`].
+pub fn spline_through<T: Real, G: LieGroup<T, D>, const D: usize>(
+    waypoints: &[G],
+    spacing: T,
+    control: &mut [G],
+    delta: &mut [Tangent<T, D>],
+    next: &mut [G],
+) -> Result<()> {
+    let n = waypoints.len();
+    if n < 3 {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            "PeriodicBSpline: needs at least 3 points",
+        ));
+    }
+    if control.len() != n || delta.len() != n || next.len() != n {
+        return Err(Error::new(
+            ErrorKind::DimensionMismatch,
+            "PeriodicBSpline: room for the control points, their logarithms and the next ones must be one per waypoint",
+        ));
+    }
+    control.copy_from_slice(waypoints);
+    check_period(spacing, "PeriodicBSpline: spacing must be finite and > 0")?;
+    if !control.iter().all(|c| c.is_finite()) {
+        return Err(Error::new(
+            ErrorKind::NonFinite,
+            "PeriodicBSpline: control points",
+        ));
+    }
+    spline_segment_logs(control, delta);
+    let tolerance = T::default_epsilon() * cast(64.0);
+    // The next control points; they equal the spline's at each iteration's start.
+    next.copy_from_slice(control);
+    for _ in 0..2000 {
+        let mut worst = T::zero();
+        let view = SplineView::new(control, delta, spacing);
+        for (k, c) in next.iter_mut().enumerate() {
+            let at: T = spacing * cast(k as f64);
+            let residual = view.sample(at).point.inverse().compose(&waypoints[k]).log();
+            worst = worst.max(residual.norm());
+            *c = c.compose(&G::exp(&residual));
+        }
+        if !worst.is_finite() {
+            break;
+        }
+        // Neighbouring control points more than ~π apart make the logarithm jump: the
+        // waypoints are too coarse for an interpolating spline on this group.
+        let spread = (0..n)
+            .map(|k| G::chart_extent(&next[k].inverse().compose(&next[(k + 1) % n]).log()))
+            .fold(T::zero(), |a, b| a.max(b));
+        if spread > cast::<T>(0.9 * core::f64::consts::PI) {
+            return Err(Error::new(
+                ErrorKind::NoConvergence,
+                "PeriodicBSpline::through: waypoints too far apart (control points would be ≥ 0.9π apart); add waypoints",
+            ));
+        }
+        if worst <= tolerance {
+            return Ok(());
+        }
+        if !next.iter().all(|c| c.is_finite()) {
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                "PeriodicBSpline: control points",
+            ));
+        }
+        control.copy_from_slice(next);
+        spline_segment_logs(control, delta);
+    }
+    Err(Error::new(
+        ErrorKind::NoConvergence,
+        "PeriodicBSpline::through: control points did not converge",
+    ))
 }

@@ -11,7 +11,7 @@ mod constant_rate;
 mod ellipse;
 mod lissajous;
 
-pub use bspline::PeriodicBSpline;
+pub use bspline::{spline_segment_logs, spline_through, PeriodicBSpline, SplineView};
 pub use constant_rate::ConstantRate;
 pub use ellipse::Ellipse;
 pub use lissajous::Lissajous;

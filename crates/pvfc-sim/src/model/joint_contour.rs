@@ -2,6 +2,7 @@
 //! one of the core's contours for a run-time number of joints: a periodic spline through
 //! waypoints, a Lissajous curve or an ellipse.
 
+use super::waypoint_spline::WaypointSpline;
 use super::{fixed, MAX_JOINTS, MAX_WAYPOINTS};
 use crate::error::{Result, SimError};
 use pvfc_core::contour::ContourSample;
@@ -79,7 +80,7 @@ impl JointContourSpec {
                         ))
                     })
                     .collect::<Result<Vec<_>>>()?;
-                JointContour::Spline(Box::new(PeriodicBSpline::through_slice(&pts, *spacing)?))
+                JointContour::Spline(WaypointSpline::through(&pts, *spacing)?)
             }
             JointContourSpec::Lissajous {
                 amplitude,
@@ -120,7 +121,7 @@ impl JointContourSpec {
 pub enum JointContour<const N: usize> {
     /// A periodic C² spline through waypoints (on the heap: up to [`MAX_WAYPOINTS`] of them;
     /// evaluating it costs the same for any number).
-    Spline(Box<PeriodicBSpline<f64, JointSpace<f64, N>, N, MAX_WAYPOINTS>>),
+    Spline(WaypointSpline<N>),
     /// A Lissajous curve.
     Lissajous(Lissajous<f64, N>),
     /// An ellipse.

@@ -15,6 +15,7 @@ pub mod joint_contour;
 pub mod path_orientation;
 pub mod robot;
 pub mod tool_path;
+pub mod waypoint_spline;
 
 use crate::error::{Result, SimError};
 use nalgebra::SVector;
@@ -22,7 +23,7 @@ use nalgebra::SVector;
 /// The largest number of joints (and of contour coordinates) dispatched at run time.
 pub use crate::urdf::chain::MAX_JOINTS;
 
-/// The most waypoints a joint-space contour may have (the spline's capacity; no allocation).
+/// The most waypoints a joint-space contour may have.
 pub const MAX_WAYPOINTS: usize = 1024;
 
 /// A per-joint list as a vector of the robot's dimension, or an error naming it.
