@@ -55,28 +55,10 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
     /// As [`from_control_points`](Self::from_control_points) with `3 ≤ n ≤ K` points.
     pub fn from_control_slice(points: &[G], spacing: T) -> Result<Self> {
         let n = points.len();
-        if n < 3 {
-            return Err(Error::new(
-                ErrorKind::InvalidParameter,
-                "PeriodicBSpline: needs at least 3 points",
-            ));
-        }
-        if n > K {
-            return Err(Error::new(
-                ErrorKind::DimensionMismatch,
-                "PeriodicBSpline: more points than the spline's capacity K",
-            )
-            .with_value(n as f64));
-        }
+        check_capacity(n, K)?;
+        check_control(points, spacing)?;
         let mut control = [G::identity(); K];
         control[..n].copy_from_slice(points);
-        check_period(spacing, "PeriodicBSpline: spacing must be finite and > 0")?;
-        if !control.iter().all(|c| c.is_finite()) {
-            return Err(Error::new(
-                ErrorKind::NonFinite,
-                "PeriodicBSpline: control points",
-            ));
-        }
         let mut delta = [Tangent::zeros(); K];
         spline_segment_logs(&control[..n], &mut delta);
         Ok(PeriodicBSpline {
@@ -101,13 +83,7 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize, const K: usize> PeriodicBSpline
     /// As [`through`](Self::through) with `3 ≤ n ≤ K` waypoints.
     pub fn through_slice(waypoints: &[G], spacing: T) -> Result<Self> {
         let n = waypoints.len();
-        if n > K {
-            return Err(Error::new(
-                ErrorKind::DimensionMismatch,
-                "PeriodicBSpline: more points than the spline's capacity K",
-            )
-            .with_value(n as f64));
-        }
+        check_capacity(n, K)?;
         let mut control = [G::identity(); K];
         let mut delta = [Tangent::zeros(); K];
         let mut next = [G::identity(); K];
@@ -272,12 +248,7 @@ pub fn spline_through<T: Real, G: LieGroup<T, D>, const D: usize>(
     next: &mut [G],
 ) -> Result<()> {
     let n = waypoints.len();
-    if n < 3 {
-        return Err(Error::new(
-            ErrorKind::InvalidParameter,
-            "PeriodicBSpline: needs at least 3 points",
-        ));
-    }
+    check_control(waypoints, spacing)?;
     if control.len() != n || delta.len() != n || next.len() != n {
         return Err(Error::new(
             ErrorKind::DimensionMismatch,
@@ -285,13 +256,6 @@ pub fn spline_through<T: Real, G: LieGroup<T, D>, const D: usize>(
         ));
     }
     control.copy_from_slice(waypoints);
-    check_period(spacing, "PeriodicBSpline: spacing must be finite and > 0")?;
-    if !control.iter().all(|c| c.is_finite()) {
-        return Err(Error::new(
-            ErrorKind::NonFinite,
-            "PeriodicBSpline: control points",
-        ));
-    }
     spline_segment_logs(control, delta);
     let tolerance = T::default_epsilon() * cast(64.0);
     // The next control points; they equal the spline's at each iteration's start.
@@ -335,4 +299,37 @@ pub fn spline_through<T: Real, G: LieGroup<T, D>, const D: usize>(
         ErrorKind::NoConvergence,
         "PeriodicBSpline::through: control points did not converge",
     ))
+}
+
+/// At most `capacity` points.
+fn check_capacity(n: usize, capacity: usize) -> Result<()> {
+    if n > capacity {
+        return Err(Error::new(
+            ErrorKind::DimensionMismatch,
+            "PeriodicBSpline: more points than the spline's capacity K",
+        )
+        .with_value(n as f64));
+    }
+    Ok(())
+}
+
+/// At least 3 finite points, and a spacing finite and > 0.
+fn check_control<T: Real, G: LieGroup<T, D>, const D: usize>(
+    points: &[G],
+    spacing: T,
+) -> Result<()> {
+    if points.len() < 3 {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            "PeriodicBSpline: needs at least 3 points",
+        ));
+    }
+    check_period(spacing, "PeriodicBSpline: spacing must be finite and > 0")?;
+    if !points.iter().all(|c| c.is_finite()) {
+        return Err(Error::new(
+            ErrorKind::NonFinite,
+            "PeriodicBSpline: control points",
+        ));
+    }
+    Ok(())
 }
