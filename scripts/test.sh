@@ -30,11 +30,12 @@ cc -std=c99 -Wall -Wextra -Werror -pedantic crates/pvfc-c/tests/c/test_pvfc.c \
 cc -std=gnu99 -Wall -Wextra -Werror crates/pvfc-c/tests/c/test_no_syscall.c \
   -Icrates/pvfc-c/include "$clib" -lm -lpthread -ldl -o target/c/test_no_syscall
 target/c/test_no_syscall models/ur5/ur5_robot.urdf
-# The set-up (a robot, three controllers, a Cartesian contour) runs in a thread of 256 KiB of
-# stack (it needs 160 KiB), the real-time calls in one of 32 KiB (they need 24 KiB).
+# The set-up (a robot, three controllers, a Cartesian contour) runs in a thread of 128 KiB of
+# stack, musl's default (a release build needs 96 KiB), the real-time calls in one of 32 KiB
+# (they need 24 KiB).
 cc -std=c99 -Wall -Wextra -Werror -pedantic crates/pvfc-c/tests/c/test_stack.c \
   -Icrates/pvfc-c/include "$clib" -lm -lpthread -ldl -o target/c/test_stack
-target/c/test_stack models/ur5/ur5_robot.urdf 256 32
+target/c/test_stack models/ur5/ur5_robot.urdf 128 32
 # The header also compiles as C++ (cbindgen's cpp_compat).
 c++ -std=c++17 -Wall -Wextra -Werror -fsyntax-only -x c++ crates/pvfc-c/include/pvfc.h
 c_tests=(target/c/test_pvfc)

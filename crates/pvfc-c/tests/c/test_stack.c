@@ -108,7 +108,7 @@ int main(int argc, char **argv) {
     return 2;
   }
   g_urdf = argv[1];
-  const size_t setup_kib = argc > 2 ? (size_t)atoi(argv[2]) : 256;
+  const size_t setup_kib = argc > 2 ? (size_t)atoi(argv[2]) : 128;
   const size_t step_kib = argc > 3 ? (size_t)atoi(argv[3]) : 32;
   Handles h = {0};
   in_thread(setup, &h, setup_kib, "the set-up");

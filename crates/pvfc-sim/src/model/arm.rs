@@ -95,6 +95,19 @@ fn setting(message: String) -> SimError {
     SimError::Setting(message)
 }
 
+/// [`arm_controller`] on the heap, built in a stack frame of its own (not inlined into the
+/// dispatch on the number of joints, whose frame would otherwise hold every `N`'s value).
+#[inline(never)]
+fn arm_controller_boxed<const N: usize>(
+    chain: &SerialChain<f64, N>,
+    s: &ArmSettings,
+) -> Result<ArmController>
+where
+    ArmController: From<ArmControllerN<N>>,
+{
+    Ok(ArmController::from(arm_controller::<N>(*chain, s)?))
+}
+
 /// Builds the controller of an `N`-joint chain.
 pub fn arm_controller<const N: usize>(
     chain: SerialChain<f64, N>,
@@ -152,7 +165,7 @@ impl ArmController {
     /// The controller of `robot` with the given settings.
     pub fn new(robot: &Robot, s: &ArmSettings) -> Result<Self> {
         Ok(crate::on_joints!(ChainModel, robot.model(), c, N => {
-            ArmController::from(arm_controller::<N>(*c, s)?)
+            arm_controller_boxed::<N>(c, s)?
         }))
     }
 
@@ -244,7 +257,7 @@ impl ArmController {
     /// This controller in the passive digital mode ([`pvfc_core::passive`]), with its
     /// internal states as they are now.
     pub fn passive(&self, o: &PassiveOptions) -> Result<PassiveArm> {
-        Ok(on_arm!(self, c, N => PassiveArm::from(o.build::<N>(c.clone())?)))
+        Ok(on_arm!(self, c, N => o.build_boxed::<N>(c)?))
     }
 }
 
@@ -264,6 +277,16 @@ pub struct PassiveOptions {
 }
 
 impl PassiveOptions {
+    /// The passive controller of `c` on the heap, built in a stack frame of its own (see
+    /// [`arm_controller_boxed`]).
+    #[inline(never)]
+    fn build_boxed<const N: usize>(&self, c: &ArmControllerN<N>) -> Result<PassiveArm>
+    where
+        PassiveArm: From<PassiveArmN<N>>,
+    {
+        Ok(PassiveArm::from(self.build::<N>(c.clone())?))
+    }
+
     fn build<const N: usize>(&self, c: ArmControllerN<N>) -> Result<PassiveArmN<N>> {
         let mut p = PassiveController::new(c)
             .with_velocity_filter(self.velocity_filter)?

@@ -35,19 +35,20 @@ macro_rules! dof_dispatch {
     };
     (@go [$($v:ident $n:literal),*] enum $(#[$m:meta])* $vis:vis $name:ident of $ty:ident) => {
         $(#[$m])*
-        // One per robot or controller, built once: boxing the larger variants would buy nothing.
-        #[allow(clippy::large_enum_variant)]
+        // Each variant on the heap: the values are large (a controller with its obstacle
+        // set's fixed capacity, ~8 KB for 6 joints), and inline they took a slot per variant
+        // on the stack of the functions that build, clone or convert one.
         $vis enum $name {
             $(
                 #[doc = concat!("With ", stringify!($n), " joints.")]
-                $v($ty<$n>),
+                $v(Box<$ty<$n>>),
             )*
         }
 
         $(
             impl From<$ty<$n>> for $name {
                 fn from(x: $ty<$n>) -> Self {
-                    $name::$v(x)
+                    $name::$v(Box::new(x))
                 }
             }
 
@@ -57,7 +58,7 @@ macro_rules! dof_dispatch {
                 /// The value, when it has this number of joints.
                 fn try_from(x: &$name) -> $crate::Result<Self> {
                     match x {
-                        $name::$v(c) => Ok(c.clone()),
+                        $name::$v(c) => Ok(c.as_ref().clone()),
                         #[allow(unreachable_patterns)]
                         _ => Err($crate::SimError::Core(
                             pvfc_core::Error::new(
@@ -82,10 +83,10 @@ macro_rules! with_dof {
     };
 }
 
-/// Defines an enum with one variant per number of joints, `J1(T<1>)` … `J8(T<8>)`, for a
-/// generic type `T<const N: usize>` (a type alias when the type has other parameters), with
-/// `From<T<N>>` for the enum and `TryFrom<&Enum>` for `T<N>` (an error unless the value has
-/// `N` joints).
+/// Defines an enum with one variant per number of joints, `J1(Box<T<1>>)` …
+/// `J8(Box<T<8>>)`, for a generic type `T<const N: usize>` (a type alias when the type has
+/// other parameters), with `From<T<N>>` for the enum and `TryFrom<&Enum>` for `T<N>` (an error
+/// unless the value has `N` joints).
 #[macro_export]
 macro_rules! dof_enum {
     ($(#[$m:meta])* $vis:vis enum $name:ident of $ty:ident) => {
