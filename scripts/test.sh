@@ -108,10 +108,14 @@ py="$(cd "$venv" && pwd)/bin/python"   # absolute: the pytest stage runs from an
 
 stage "MuJoCo: the C++ torque loop (examples/cpp/mujoco_ur5.cpp) on the mujoco wheel's library"
 mujoco_dir=$("$py" -c "import mujoco, os; print(os.path.dirname(mujoco.__file__))")
-rm -rf target/cmake-example-mujoco
-cmake -S examples/cpp -B target/cmake-example-mujoco -DCMAKE_PREFIX_PATH="$prefix" \
-  -DPVFC_STATIC=ON -DMUJOCO_DIR="$mujoco_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build target/cmake-example-mujoco >/dev/null
+# Builds the MuJoCo example into $1 against the pvfc package installed in $2.
+build_mujoco_example() {
+  rm -rf "$1"
+  cmake -S examples/cpp -B "$1" -DCMAKE_PREFIX_PATH="$2" \
+    -DPVFC_STATIC=ON -DMUJOCO_DIR="$mujoco_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$1" >/dev/null
+}
+build_mujoco_example target/cmake-example-mujoco "$prefix"
 # 30 s of the loop: convergence onto the path, the energy balance, no allocation in update().
 target/cmake-example-mujoco/mujoco_ur5 models/ur5/ur5_robot.urdf 30 | tee target/mujoco-portable.txt
 # The package built for x86-64-v3 (-DPVFC_TARGET_CPU) computes the same bits: the same loop,
@@ -125,14 +129,12 @@ has_x86_64_v3() {
 }
 if has_x86_64_v3; then
   prefix_v3="$PWD/target/cmake-install-x86-64-v3"
-  rm -rf target/cmake-build-x86-64-v3 "$prefix_v3" target/cmake-example-mujoco-v3
+  rm -rf target/cmake-build-x86-64-v3 "$prefix_v3"
   cmake -S crates/pvfc-c -B target/cmake-build-x86-64-v3 -DPVFC_TARGET_CPU=x86-64-v3 \
     -DCMAKE_INSTALL_PREFIX="$prefix_v3" >/dev/null
   cmake --build target/cmake-build-x86-64-v3 >/dev/null
   cmake --install target/cmake-build-x86-64-v3 >/dev/null
-  cmake -S examples/cpp -B target/cmake-example-mujoco-v3 -DCMAKE_PREFIX_PATH="$prefix_v3" \
-    -DPVFC_STATIC=ON -DMUJOCO_DIR="$mujoco_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build target/cmake-example-mujoco-v3 >/dev/null
+  build_mujoco_example target/cmake-example-mujoco-v3 "$prefix_v3"
   target/cmake-example-mujoco-v3/mujoco_ur5 models/ur5/ur5_robot.urdf 30 >target/mujoco-v3.txt
   diff target/mujoco-portable.txt target/mujoco-v3.txt \
     || { echo "pvfc built for x86-64-v3 computes other numbers than the portable build" >&2; exit 1; }

@@ -9,6 +9,7 @@
  * makes system calls of its own).
  *   test_no_syscall path/to/ur5_robot.urdf */
 #include "pvfc.h"
+#include "ur5_handles.h"
 
 #include <linux/seccomp.h>
 #include <stdio.h>
@@ -17,7 +18,6 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
-#define DOF 6
 
 static void fail(const char *what) {
   fprintf(stderr, "%s: %s\n", what, pvfc_last_error());
@@ -29,36 +29,13 @@ int main(int argc, char **argv) {
     fprintf(stderr, "usage: %s ur5_robot.urdf\n", argv[0]);
     return 2;
   }
-  pvfc_robot *robot = NULL;
-  if (pvfc_robot_from_urdf_file(argv[1], NULL, "tool0", &robot) != PVFC_OK) fail("robot");
-  const double waypoints[3 * DOF] = {
-      0.0, -1.2, 1.4, -1.8, -1.57, 0.0,
-      0.3, -1.0, 1.2, -1.7, -1.57, 0.2,
-      -0.2, -1.3, 1.5, -1.9, -1.57, -0.1,
-  };
-  pvfc_settings s = pvfc_settings_default();
-  s.energy = 40.0;
-  s.self_pacing = 50.0;
-  pvfc_controller *joint = NULL, *task = NULL;
-  if (pvfc_controller_new_waypoints(robot, waypoints, 3, DOF, 1.5, NULL, 0, &s, &joint) != PVFC_OK)
-    fail("joint controller");
-  const double seed[DOF] = {0.0, -1.2, 1.4, -1.8, -1.57, 0.0};
-  const double center[3] = {0.55, 0.0, 0.3}, normal[3] = {0.0, 0.0, 1.0};
-  pvfc_cartesian_options o = pvfc_cartesian_options_default();
-  o.seed = seed;
-  o.seed_len = DOF;
-  o.fixed_orientation = true;
-  o.task_field = true;
-  pvfc_contour *circle = NULL;
-  if (pvfc_contour_cartesian_circle(center, normal, 0.1, NULL, 0.0, 10.0, &o, &circle) != PVFC_OK)
-    fail("circle");
-  if (pvfc_controller_new(robot, circle, NULL, 0, &s, &task) != PVFC_OK) fail("task controller");
-  const double limit[DOF] = {150, 150, 150, 28, 28, 28};
-  pvfc_passive_options po = pvfc_passive_options_default();
-  po.torque_limit = limit;
-  po.n = DOF;
-  pvfc_passive *passive = NULL;
-  if (pvfc_passive_new(task, &po, &passive) != PVFC_OK) fail("passive");
+  Ur5Handles h = {0};
+  const char *failed = ur5_handles_new(argv[1], &h);
+  if (failed != NULL) fail(failed);
+  pvfc_robot *robot = h.robot;
+  pvfc_controller *joint = h.joint, *task = h.task;
+  pvfc_contour *circle = h.circle;
+  pvfc_passive *passive = h.passive;
 
   double q[DOF] = {0.1, -1.1, 1.3, -1.7, -1.5, 0.1};
   double v[DOF] = {0.2, -0.1, 0.05, 0.0, 0.1, -0.2};

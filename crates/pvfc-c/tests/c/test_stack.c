@@ -7,19 +7,16 @@
  *   test_stack path/to/ur5_robot.urdf [SETUP_KIB [STEP_KIB]] */
 #define _POSIX_C_SOURCE 200809L
 #include "pvfc.h"
+#include "ur5_handles.h"
 
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define DOF 6
 
 typedef struct {
-  pvfc_robot *robot;
-  pvfc_controller *joint, *task;
-  pvfc_passive *passive;
-  pvfc_contour *circle;
+  Ur5Handles u;
   int ok;
 } Handles;
 
@@ -32,18 +29,18 @@ static void *periods(void *arg) {
   pvfc_energy_account account;
   int ok = 1;
   for (int k = 0; k < 100 && ok; k++) {
-    ok = pvfc_controller_step(h->joint, q, v, DOF, 1e-3, torque, DOF, &diag) == PVFC_OK &&
-         pvfc_controller_step(h->task, q, v, DOF, 1e-3, torque, DOF, &diag) == PVFC_OK &&
-         pvfc_passive_step(h->passive, q, NULL, NULL, DOF, 1e-3, held, DOF, &account) ==
+    ok = pvfc_controller_step(h->u.joint, q, v, DOF, 1e-3, torque, DOF, &diag) == PVFC_OK &&
+         pvfc_controller_step(h->u.task, q, v, DOF, 1e-3, torque, DOF, &diag) == PVFC_OK &&
+         pvfc_passive_step(h->u.passive, q, NULL, NULL, DOF, 1e-3, held, DOF, &account) ==
              PVFC_OK &&
-         pvfc_robot_dynamics(h->robot, q, v, DOF, m, c, g) == PVFC_OK &&
-         pvfc_robot_tool_pose(h->robot, q, DOF, NULL, p) == PVFC_OK &&
-         pvfc_contour_distance(h->circle, p, &d, NULL) == PVFC_OK;
+         pvfc_robot_dynamics(h->u.robot, q, v, DOF, m, c, g) == PVFC_OK &&
+         pvfc_robot_tool_pose(h->u.robot, q, DOF, NULL, p) == PVFC_OK &&
+         pvfc_contour_distance(h->u.circle, p, &d, NULL) == PVFC_OK;
     for (int i = 0; i < DOF; i++) q[i] += 1e-3 * v[i];
   }
   q[2] = 0.0 / 0.0;
   ok = ok &&
-       pvfc_controller_step(h->joint, q, v, DOF, 1e-3, torque, DOF, &diag) ==
+       pvfc_controller_step(h->u.joint, q, v, DOF, 1e-3, torque, DOF, &diag) ==
            PVFC_ERROR_NON_FINITE &&
        strstr(pvfc_last_error(), "q[2] is NaN") != NULL;
   h->ok = ok;
@@ -59,35 +56,8 @@ static const char *g_urdf;
 
 static void *setup(void *arg) {
   Handles *h = arg;
-  if (pvfc_robot_from_urdf_file(g_urdf, NULL, "tool0", &h->robot) != PVFC_OK) fail("robot");
-  const double waypoints[3 * DOF] = {
-      0.0, -1.2, 1.4, -1.8, -1.57, 0.0,
-      0.3, -1.0, 1.2, -1.7, -1.57, 0.2,
-      -0.2, -1.3, 1.5, -1.9, -1.57, -0.1,
-  };
-  pvfc_settings s = pvfc_settings_default();
-  s.energy = 40.0;
-  s.self_pacing = 50.0;
-  if (pvfc_controller_new_waypoints(h->robot, waypoints, 3, DOF, 1.5, NULL, 0, &s, &h->joint) !=
-      PVFC_OK)
-    fail("joint controller");
-  const double seed[DOF] = {0.0, -1.2, 1.4, -1.8, -1.57, 0.0};
-  const double center[3] = {0.55, 0.0, 0.3}, normal[3] = {0.0, 0.0, 1.0};
-  pvfc_cartesian_options o = pvfc_cartesian_options_default();
-  o.seed = seed;
-  o.seed_len = DOF;
-  o.fixed_orientation = true;
-  o.task_field = true;
-  if (pvfc_contour_cartesian_circle(center, normal, 0.1, NULL, 0.0, 10.0, &o, &h->circle) !=
-      PVFC_OK)
-    fail("circle");
-  if (pvfc_controller_new(h->robot, h->circle, NULL, 0, &s, &h->task) != PVFC_OK)
-    fail("task controller");
-  const double limit[DOF] = {150, 150, 150, 28, 28, 28};
-  pvfc_passive_options po = pvfc_passive_options_default();
-  po.torque_limit = limit;
-  po.n = DOF;
-  if (pvfc_passive_new(h->task, &po, &h->passive) != PVFC_OK) fail("passive");
+  const char *failed = ur5_handles_new(g_urdf, &h->u);
+  if (failed != NULL) fail(failed);
   return NULL;
 }
 
@@ -113,11 +83,7 @@ int main(int argc, char **argv) {
   Handles h = {0};
   in_thread(setup, &h, setup_kib, "the set-up");
   in_thread(periods, &h, step_kib, "the periods");
-  pvfc_passive_destroy(h.passive);
-  pvfc_controller_destroy(h.task);
-  pvfc_controller_destroy(h.joint);
-  pvfc_contour_destroy(h.circle);
-  pvfc_robot_destroy(h.robot);
+  ur5_handles_free(&h.u);
   if (!h.ok) {
     fprintf(stderr, "test_stack: a call failed (or a failure was not reported)\n");
     return 1;
