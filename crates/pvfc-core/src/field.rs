@@ -5,7 +5,7 @@ use crate::lie::{LieGroup, Tangent};
 use crate::mechanics::{ChainKinematics, SerialChain};
 use crate::navigation::NavigationFunction;
 use crate::obstacle::{NoObstacles, Obstacles, Potential};
-use crate::pacing::SelfPacing;
+use crate::pacing::{PacingGains, SelfPacing};
 use crate::Real;
 use core::marker::PhantomData;
 
@@ -233,8 +233,8 @@ where
             }
         };
         let Some((barrier, composition)) = self.obstacles.barrier(q, v) else {
-            let g = self.pacing.gains(nav.value);
-            let l1_dot = g.dlambda1 * nav.value_rate;
+            let g = self.pacing.gains(nav.value, tau);
+            let l1_dot = pace_rate::<T, S>(&g, nav.value_rate, tau_dot);
             let l2_dot = g.dlambda2 * nav.value_rate;
             return FieldSample {
                 velocity: ff * g.lambda1 - a * g.lambda2,
@@ -259,8 +259,8 @@ where
             gradient_rate: a_dot,
         };
         let phi = composition.compose(&potential, &barrier, self.navigation.metric_weight());
-        let g = self.pacing.gains(phi.value);
-        let l1_dot = g.dlambda1 * phi.value_rate;
+        let g = self.pacing.gains(phi.value, tau);
+        let l1_dot = pace_rate::<T, S>(&g, phi.value_rate, tau_dot);
         let l2_dot = g.dlambda2 * phi.value_rate;
         let feed = g.lambda1 * phi.feed;
         let feed_dot = l1_dot * phi.feed + g.lambda1 * phi.feed_rate;
@@ -279,6 +279,16 @@ where
             lambda2: g.lambda2,
             error_velocity: eps,
         }
+    }
+}
+
+/// `λ̇₁ = λ₁'(U) U̇ + ∂λ₁/∂τ τ̇`, the second term only for a pacing that depends on `τ`.
+#[inline(always)]
+pub(crate) fn pace_rate<T: Real, S: SelfPacing<T>>(g: &PacingGains<T>, u_dot: T, tau_dot: T) -> T {
+    if S::DEPENDS_ON_TAU {
+        g.dlambda1 * u_dot + g.dlambda1_dtau * tau_dot
+    } else {
+        g.dlambda1 * u_dot
     }
 }
 

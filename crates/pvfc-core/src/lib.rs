@@ -61,6 +61,7 @@ pub mod linalg;
 pub mod mechanics;
 pub mod navigation;
 pub mod obstacle;
+pub mod pace;
 pub mod pacing;
 pub mod passive;
 pub mod scalar;

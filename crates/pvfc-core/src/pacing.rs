@@ -17,13 +17,25 @@ pub struct PacingGains<T: Real> {
     pub dlambda1: T,
     /// `dλ₂/dU`.
     pub dlambda2: T,
+    /// `∂λ₁/∂τ`: zero unless a pace profile scales `λ₁` along the contour
+    /// ([`crate::pace::Paced`]).
+    pub dlambda1_dtau: T,
 }
 
-/// A self-pacing strategy: positive bounded gains `λ₁(U), λ₂(U)` (eq. 30's requirements
+/// A self-pacing strategy: positive bounded gains `λ₁(U, τ), λ₂(U)` (eq. 30's requirements
 /// `λ̄₁ ≥ λ₁ > 0`, `λ̄₂ ≥ λ₂ ≥ ε > 0`).
+///
+/// The paper's gains depend on `U` alone (eq. 21). `λ₁` may also depend on the contour's
+/// parameter `τ` (a pace profile along the contour, [`crate::pace::Paced`]): Proposition 1,
+/// `E_*V = −λ₂ grad U`, holds for any `λ₁ > 0`, since the feed-forward term `λ₁ ξ_d` and
+/// `V_I = λ₁` cancel in the error's push-forward (eq. 29) whatever `λ₁` is.
 pub trait SelfPacing<T: Real> {
-    /// The gains at the navigation-function value `U`.
-    fn gains(&self, u: T) -> PacingGains<T>;
+    /// `true` when `λ₁` depends on `τ` (`dlambda1_dtau` may be non-zero). `false` (the
+    /// default) lets the field leave the `∂λ₁/∂τ · τ̇` term of its rate out entirely.
+    const DEPENDS_ON_TAU: bool = false;
+
+    /// The gains at the navigation-function value `U` and the contour parameter `τ`.
+    fn gains(&self, u: T, tau: T) -> PacingGains<T>;
 }
 
 /// Eq. (21): `λ₁ = exp(−R U)`, `λ₂ = 2 − exp(−R U)`. `R = 0` turns self-pacing off
@@ -32,7 +44,7 @@ pub trait SelfPacing<T: Real> {
 ///
 /// ```
 /// use pvfc_core::pacing::{ExponentialPacing, SelfPacing};
-/// let g = ExponentialPacing::new(100.0_f64).unwrap().gains(0.01);
+/// let g = ExponentialPacing::new(100.0_f64).unwrap().gains(0.01, 0.0);
 /// assert!((g.lambda1 - (-1.0_f64).exp()).abs() < 1e-15);
 /// assert!((g.lambda1 + g.lambda2 - 2.0).abs() < 1e-15);
 /// ```
@@ -72,7 +84,7 @@ impl<T: Real> ExponentialPacing<T> {
 
 impl<T: Real> SelfPacing<T> for ExponentialPacing<T> {
     #[inline]
-    fn gains(&self, u: T) -> PacingGains<T> {
+    fn gains(&self, u: T, _tau: T) -> PacingGains<T> {
         let l1 = (-self.r * u).exp_fast();
         // Below the scalar's floor, 0: its products would be subnormal (`Real::PACING_FLOOR`).
         let l1 = if l1 < T::PACING_FLOOR { T::zero() } else { l1 };
@@ -82,6 +94,7 @@ impl<T: Real> SelfPacing<T> for ExponentialPacing<T> {
             lambda2: T::one() + T::one() - l1,
             dlambda1: d1,
             dlambda2: -d1,
+            dlambda1_dtau: T::zero(),
         }
     }
 }
@@ -111,12 +124,13 @@ impl<T: Real> ConstantGains<T> {
 
 impl<T: Real> SelfPacing<T> for ConstantGains<T> {
     #[inline]
-    fn gains(&self, _u: T) -> PacingGains<T> {
+    fn gains(&self, _u: T, _tau: T) -> PacingGains<T> {
         PacingGains {
             lambda1: self.lambda1,
             lambda2: self.lambda2,
             dlambda1: T::zero(),
             dlambda2: T::zero(),
+            dlambda1_dtau: T::zero(),
         }
     }
 }

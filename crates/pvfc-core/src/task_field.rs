@@ -424,8 +424,11 @@ where
             u_dot += *u_r_dot;
             gradient += kin.jac.fixed_rows::<3>(3).transpose() * (e_r * *kr);
         }
-        let g = self.pacing.gains(u);
-        let (l1_dot, l2_dot) = (g.dlambda1 * u_dot, g.dlambda2 * u_dot);
+        let g = self.pacing.gains(u, tau);
+        let (l1_dot, l2_dot) = (
+            crate::field::pace_rate::<T, S>(&g, u_dot, tau_dot),
+            g.dlambda2 * u_dot,
+        );
         let w = c.velocity * g.lambda1 - f * g.lambda2;
         let w_dot = c.velocity * l1_dot + c.acceleration * (g.lambda1 * tau_dot)
             - f * l2_dot

@@ -6,6 +6,7 @@ use nalgebra::{Matrix3, Vector2, Vector3};
 use pvfc_core::obstacle::{
     BodySphere, Composition, JointRegion, ObstacleSet, WorldObstacle, WorldShape,
 };
+use pvfc_core::pace::{PaceTable, Paced};
 use pvfc_core::prelude::*;
 use pvfc_core::scalar::cast;
 
@@ -31,6 +32,45 @@ pub fn scara_lissajous<T: Real>(p: Params) -> ScaraLissajous<T> {
         Lissajous::paper(),
         TorusNavigation::paper(vec([p.h[0], p.h[1]])).unwrap(),
         ExponentialPacing::new(cast(p.r)).unwrap(),
+    );
+    PvfcLaw::new(
+        Scara::pelican(),
+        field,
+        Flywheel::new(T::one(), cast(50.0)).unwrap(),
+        cast(p.gamma),
+    )
+    .unwrap()
+}
+
+/// The paper's setting with a pace profile along the contour (`pvfc_core::pace`): twelve
+/// knots between 0.3 and 1.2 over the Lissajous curve's period of 6.
+pub type ScaraPaced<T> = PvfcLaw<
+    T,
+    Torus<T, 2>,
+    Scara<T>,
+    SuspendedField<
+        T,
+        Torus<T, 2>,
+        Lissajous<T, 2>,
+        TorusNavigation<T, 2>,
+        Paced<ExponentialPacing<T>, PaceTable<T, 16>>,
+        2,
+    >,
+    2,
+>;
+
+/// The pace profile of [`scara_paced`].
+pub fn test_pace<T: Real>() -> PaceTable<T, 16> {
+    let knots = [1.0, 0.8, 0.3, 0.5, 1.2, 0.9, 0.6, 0.7, 1.0, 0.4, 0.45, 1.1].map(cast::<T>);
+    PaceTable::new(&knots, cast(6.0)).unwrap()
+}
+
+/// [`scara_lissajous`] with the pace profile [`test_pace`].
+pub fn scara_paced<T: Real>(p: Params) -> ScaraPaced<T> {
+    let field = SuspendedField::new(
+        Lissajous::paper(),
+        TorusNavigation::paper(vec([p.h[0], p.h[1]])).unwrap(),
+        Paced::new(ExponentialPacing::new(cast(p.r)).unwrap(), test_pace()),
     );
     PvfcLaw::new(
         Scara::pelican(),

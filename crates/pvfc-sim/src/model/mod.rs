@@ -2,7 +2,8 @@
 //! serial chain read from a URDF ([`robot`], dispatched onto `SerialChain<N>` by
 //! [`with_dof!`](crate::with_dof)), the PVFC controller of any chain and its joint-space
 //! contours ([`arm`]), the law at one state for any robot ([`evaluation`]), tool paths in Cartesian space and their inverse kinematics
-//! ([`cartesian`]), joint friction ([`friction`]) and disturbance torques ([`disturbance`]).
+//! ([`cartesian`]), joint friction ([`friction`]), disturbance torques ([`disturbance`]) and the
+//! drive-limited pace along a contour ([`pace`]).
 
 pub mod arm;
 pub mod arm_field;
@@ -12,6 +13,7 @@ pub mod disturbance;
 pub mod evaluation;
 pub mod friction;
 pub mod joint_contour;
+pub mod pace;
 pub mod path_orientation;
 pub mod robot;
 pub mod tool_path;

@@ -5,12 +5,13 @@
 //! builds it with.
 
 use super::{
-    direct_drive_arm, joint_vector, run_size, ArmSpec, AttitudeController, Mode, PaperController,
-    PaperField, PaperPassiveController, Scenario,
+    direct_drive_arm, joint_vector, run_size, ArmSpec, AttitudeController, Mode, PaceSpec,
+    PaperController, PaperField, PaperPassiveController, Scenario,
 };
 use crate::error::{Result, SimError};
 use crate::model::arm::{ArmController, ArmSettings, JointContourSpec};
 use crate::model::arm_field::FieldSpec;
+use crate::model::pace::{drive_limited_pace, uniform_pacing};
 use crate::model::robot::Robot;
 use nalgebra::{Matrix3, Vector2, Vector3};
 use pvfc_core::obstacle::ObstacleSet;
@@ -500,11 +501,23 @@ impl Scenario {
     fn field_for(&self, arm: &ScaraParameters<f64>) -> Result<PaperField> {
         let navigation =
             TorusNavigation::paper(joint_vector::<2>(&self.controller.h, "controller.h")?)?;
-        let field = SuspendedField::new(
-            self.contour()?,
-            navigation,
-            ExponentialPacing::new(self.controller.self_pacing)?,
-        );
+        let contour = self.contour()?;
+        let mut pacing = uniform_pacing(self.controller.self_pacing)?;
+        if let Some(p) = &self.controller.pace {
+            let limits = p.limits::<2>(&self.controller, false)?;
+            let period = Contour::<f64, Torus<f64, 2>, 2>::period(&contour).ok_or_else(|| {
+                SimError::Setting("controller.pace: the contour must be closed".into())
+            })?;
+            let table = drive_limited_pace(
+                &Scara::new(*arm)?,
+                &contour,
+                &limits,
+                period,
+                PaceSpec::beta(&self.controller),
+            )?;
+            *pacing.profile_mut() = Some(table);
+        }
+        let field = SuspendedField::new(contour, navigation, pacing);
         let set = match &self.obstacles {
             None => ObstacleSet::empty(),
             Some(o) => {

@@ -34,13 +34,14 @@ pub fn direct_drive_arm() -> ScaraParameters<f64> {
 }
 
 /// The velocity field of the planar arm's scenarios (section V): the Lissajous contour, the
-/// torus navigation function of eq. (17), exponential self-pacing (eq. 21).
+/// torus navigation function of eq. (17), exponential self-pacing (eq. 21) with the
+/// drive-limited pace of `[controller.pace]`, if any.
 pub type PaperField = SuspendedField<
     f64,
     Torus<f64, 2>,
     Lissajous<f64, 2>,
     TorusNavigation<f64, 2>,
-    ExponentialPacing<f64>,
+    crate::model::pace::FieldPacing,
     2,
     pvfc_core::obstacle::ObstacleSet<f64, 2>,
 >;
@@ -335,6 +336,69 @@ pub struct ControllerSpec {
     /// limits, encoder quantisation and position-only measurement.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub passive: Option<PassiveSpec>,
+    /// The drive-limited pace (`[controller.pace]`): the field slows along the contour to
+    /// the fastest pace the drives allow (`pvfc_core::pace`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pace: Option<PaceSpec>,
+}
+
+/// `[controller.pace]`: the field's pace along the contour bounded by what the drives allow
+/// (`pvfc_core::pace::drive_limits`), computed from the controller's model of the robot at
+/// the energy level the controller runs at (the nominal speed `r` of eq. (36) if set, else 1).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PaceSpec {
+    /// Per-joint torque limits (N·m, each > 0); empty: `[controller.passive]`'s.
+    pub torque_limit: Vec<f64>,
+    /// The share of each limit the motion along the contour may use, in (0, 1]; the rest is
+    /// kept for the correction of errors and for what the model misses.
+    pub headroom: f64,
+}
+
+impl Default for PaceSpec {
+    fn default() -> Self {
+        PaceSpec {
+            torque_limit: Vec::new(),
+            headroom: 0.8,
+        }
+    }
+}
+
+impl PaceSpec {
+    /// The drive limits of this pace for a controller with these settings: the limits (its
+    /// own or the passive controller's), the headroom, the friction compensation.
+    pub fn limits<const N: usize>(
+        &self,
+        controller: &ControllerSpec,
+        gravity: bool,
+    ) -> Result<pvfc_core::pace::DriveLimits<f64, N>> {
+        let setting = |what: String| SimError::Setting(what);
+        let limit = match (&self.torque_limit, &controller.passive) {
+            (l, _) if !l.is_empty() => l.clone(),
+            (_, Some(p)) if !p.torque_limit.is_empty() => p.torque_limit.clone(),
+            _ => {
+                return Err(setting(
+                    "controller.pace: no torque limits (give controller.pace.torque_limit or controller.passive.torque_limit)".into(),
+                ))
+            }
+        };
+        let limit = crate::model::fixed::<N>(&limit, "controller.pace.torque_limit")?;
+        let mut limits = pvfc_core::pace::DriveLimits::new(limit)
+            .map_err(|e| setting(format!("controller.pace.torque_limit: {e}")))?
+            .with_headroom(self.headroom)
+            .map_err(|e| setting(format!("controller.pace.headroom = {}: {e}", self.headroom)))?
+            .with_gravity(gravity);
+        if let Some(f) = &controller.friction_compensation {
+            let f = crate::model::fixed::<N>(f, "controller.friction_compensation")?;
+            limits = limits.with_friction_compensation(f)?;
+        }
+        Ok(limits)
+    }
+
+    /// The energy level `β` the controller runs at: the nominal speed `r` if set, else 1.
+    pub fn beta(controller: &ControllerSpec) -> f64 {
+        controller.nominal_speed.map_or(1.0, |n| n.r)
+    }
 }
 
 /// `[controller.passive]`: the digital controller of `pvfc_core::passive`, and what the
@@ -460,6 +524,7 @@ impl Default for ControllerSpec {
             gravity_compensation: None,
             nominal_speed: None,
             passive: None,
+            pace: None,
         }
     }
 }

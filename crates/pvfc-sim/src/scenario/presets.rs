@@ -495,6 +495,9 @@ pub fn fig1_saturated(contour: Fig1Contour, speed: u32) -> Scenario {
         torque_limit: FIG1_TORQUE_LIMITS.to_vec(),
         ..PassiveSpec::default()
     });
+    // The field slows along the contour to the pace the drives allow (`pvfc_core::pace`),
+    // with a fifth of each limit kept for the correction of errors.
+    s.controller.pace = Some(PaceSpec::default());
     s.baseline = Some(BaselineSpec {
         kp: vec![400.0, 400.0],
         kd: vec![40.0, 40.0],

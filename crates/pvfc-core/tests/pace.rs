@@ -1,0 +1,268 @@
+//! The pace profile along the contour (`pvfc_core::pace`): the table's interpolant (periodic,
+//! `C¹`, its derivative against finite differences, never outside its knots' range), the
+//! drive-limited rates (every torque along the profile within the limits, computed
+//! independently from the model; the profile at a limit wherever it is below the rate asked
+//! for), and the errors.
+
+mod common;
+
+use common::setups::test_pace;
+use nalgebra::Vector2;
+use proptest::prelude::*;
+use pvfc_core::pace::{drive_limited_rates, DriveLimits, PaceProfile, PaceTable};
+use pvfc_core::prelude::*;
+use pvfc_core::ErrorKind;
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2_000))]
+
+    /// Between knots k and k+1 the interpolant stays within [min, max](σ_k, σ_{k+1}), its
+    /// derivative is the finite difference of its values, and it repeats with the period.
+    #[test]
+    fn table_is_monotone_c1_and_periodic(
+        knots in proptest::collection::vec(0.05..3.0f64, 3..40),
+        period in 0.5..20.0f64,
+        x in -3.0..3.0f64,
+    ) {
+        let t = PaceTable::<f64, 64>::new(&knots, period).unwrap();
+        let tau = x * period;
+        let (s, ds) = t.pace(tau);
+        let n = knots.len() as f64;
+        let k = (tau * n / period).floor() as i64;
+        let at = |k: i64| knots[k.rem_euclid(knots.len() as i64) as usize];
+        let (lo, hi) = (at(k).min(at(k + 1)), at(k).max(at(k + 1)));
+        prop_assert!(s >= lo - 1e-12 && s <= hi + 1e-12, "σ = {s} outside [{lo}, {hi}]");
+        let (p, _) = t.pace(tau + period);
+        prop_assert!((p - s).abs() <= 1e-9 * (1.0 + s), "not periodic: {s} vs {p}");
+        // Central difference, away from the knots (where σ'' jumps).
+        let h = 1e-6 * period / n;
+        let frac = tau * n / period - k as f64;
+        if frac > 1e-3 && frac < 1.0 - 1e-3 {
+            let fd = (t.pace(tau + h).0 - t.pace(tau - h).0) / (2.0 * h);
+            prop_assert!((fd - ds).abs() <= 1e-5 * (1.0 + ds.abs()), "σ' {ds} vs FD {fd}");
+        }
+    }
+}
+
+#[test]
+fn table_is_continuous_in_value_and_slope_across_knots() {
+    let t = test_pace::<f64>();
+    let spacing = 6.0 / 12.0;
+    for k in 0..12 {
+        let tau = k as f64 * spacing;
+        let (a, da) = t.pace(tau - 1e-12);
+        let (b, db) = t.pace(tau);
+        assert!((a - b).abs() < 1e-9, "σ jumps at knot {k}: {a} vs {b}");
+        assert!((da - db).abs() < 1e-6, "σ' jumps at knot {k}: {da} vs {db}");
+        assert_eq!(b, t.values()[k], "σ at knot {k} is its value");
+    }
+}
+
+#[test]
+fn table_refuses_bad_input() {
+    let kind = |r: Result<PaceTable<f64, 4>, pvfc_core::Error>| r.unwrap_err().kind();
+    assert_eq!(
+        kind(PaceTable::new(&[1.0, 1.0], 1.0)),
+        ErrorKind::DimensionMismatch
+    );
+    assert_eq!(
+        kind(PaceTable::new(&[1.0; 5], 1.0)),
+        ErrorKind::DimensionMismatch
+    );
+    assert_eq!(
+        kind(PaceTable::new(&[1.0, f64::NAN, 1.0], 1.0)),
+        ErrorKind::NonFinite
+    );
+    assert_eq!(
+        kind(PaceTable::new(&[1.0, 0.0, 1.0], 1.0)),
+        ErrorKind::InvalidParameter
+    );
+    assert_eq!(
+        kind(PaceTable::new(&[1.0; 3], 0.0)),
+        ErrorKind::InvalidParameter
+    );
+    assert_eq!(
+        kind(PaceTable::new(&[1.0; 3], f64::INFINITY)),
+        ErrorKind::InvalidParameter
+    );
+    let t = PaceTable::<f64, 4>::new(&[1.0, 0.5, 2.0], 3.0).unwrap();
+    assert_eq!(
+        t.pace(f64::NAN),
+        (1.0, 0.0),
+        "a non-finite τ gives the first knot, no panic"
+    );
+}
+
+/// The torque the motion along the contour needs at `τ` with rate `τ̇` and `τ̈`, from the
+/// model's `M` and `C` written out (`M q̈ + C(q, q̇) q̇`, q̈ = ξ τ̈ + ξ' τ̇²), plus friction
+/// compensation `f ∘ sign(q̇)`.
+fn motion_torque(
+    scara: &Scara<f64>,
+    tau: f64,
+    rate: f64,
+    accel: f64,
+    fric: [f64; 2],
+) -> Vector2<f64> {
+    let c = Lissajous::<f64, 2>::paper().sample(tau);
+    let v = c.velocity * rate;
+    let a = c.velocity * accel + c.acceleration * rate * rate;
+    let m = scara.inertia(&c.point);
+    let cor = scara.coriolis(&c.point, &v);
+    let mut t = m * a + cor * v;
+    for i in 0..2 {
+        t[i] += fric[i] * v[i].signum() * f64::from(u8::from(v[i] != 0.0));
+    }
+    t
+}
+
+#[test]
+fn drive_limited_rates_keep_every_torque_within_the_limits_and_reach_them() {
+    let scara = Scara::<f64>::pelican();
+    let contour = Lissajous::<f64, 2>::paper();
+    let fric = [2.0, 3.0];
+    let (l, h) = ([15.0, 5.0], 0.8);
+    let limits = DriveLimits::new(Vector2::from(l))
+        .unwrap()
+        .with_headroom(h)
+        .unwrap()
+        .with_friction_compensation(Vector2::from(fric))
+        .unwrap();
+    let n = 3000;
+    let period = 6.0;
+    let asked = 4.0;
+    let mut rates = vec![asked; n];
+    drive_limited_rates(&scara, &contour, &limits, period, &mut rates).unwrap();
+    let step = period / n as f64;
+    let (mut below, mut at_limit) = (0, 0);
+    let mut lap = 0.0;
+    for j in 0..n {
+        let (x0, x1) = (rates[j].powi(2), rates[(j + 1) % n].powi(2));
+        let accel = (x1 - x0) / (2.0 * step);
+        let t = motion_torque(&scara, j as f64 * step, rates[j], accel, fric);
+        let use_ = (0..2).map(|i| t[i].abs() / (h * l[i])).fold(0.0, f64::max);
+        assert!(
+            rates[j] <= asked * (1.0 + 1e-12),
+            "rate above the one asked for at {j}"
+        );
+        assert!(
+            use_ <= 1.0 + 1e-6,
+            "τ = {}: {use_} of the limits",
+            j as f64 * step
+        );
+        if rates[j] < asked * (1.0 - 1e-9) {
+            below += 1;
+            if use_ >= 1.0 - 1e-6 {
+                at_limit += 1;
+            }
+        }
+        lap += 2.0 * step / (rates[j] + rates[(j + 1) % n]);
+    }
+    // The drives cannot make τ̇ = 4 all round (the paper's Lissajous, 15 / 5 N·m), and
+    // wherever the profile is below it, a joint is at its limit (the time-optimal profile is
+    // bang-bang) but at the few points where it switches from accelerating to braking.
+    assert!(
+        below > n / 4,
+        "only {below} points below the rate asked for"
+    );
+    assert!(
+        at_limit as f64 >= 0.99 * below as f64,
+        "{at_limit} of {below} at a limit"
+    );
+    // Not a profile that stops: the lap takes less than twice what the slowest point's rate
+    // would take all round, and more than the rate asked for would.
+    let slowest = rates.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!(slowest > 0.1, "the profile nearly stops: {slowest}");
+    assert!(
+        lap > period / asked && lap < period / slowest,
+        "lap {lap} s"
+    );
+}
+
+#[test]
+fn drive_limited_rates_are_the_rate_asked_for_when_the_drives_suffice() {
+    let scara = Scara::<f64>::pelican();
+    let limits = DriveLimits::new(Vector2::new(1e4, 1e4)).unwrap();
+    let mut rates = vec![0.5; 500];
+    drive_limited_rates(
+        &scara,
+        &Lissajous::<f64, 2>::paper(),
+        &limits,
+        6.0,
+        &mut rates,
+    )
+    .unwrap();
+    assert!(rates.iter().all(|r| *r == 0.5));
+}
+
+#[test]
+fn drive_limited_rates_refuse_bad_input_and_drives_that_cannot_hold() {
+    let scara = Scara::<f64>::pelican();
+    let contour = Lissajous::<f64, 2>::paper();
+    let limits = DriveLimits::new(Vector2::new(15.0, 5.0)).unwrap();
+    let run = |limits: &DriveLimits<f64, 2>, rates: &mut [f64], period: f64| {
+        drive_limited_rates(&scara, &contour, limits, period, rates).map_err(|e| e.kind())
+    };
+    assert_eq!(
+        run(&limits, &mut [1.0; 2], 6.0),
+        Err(ErrorKind::DimensionMismatch)
+    );
+    assert_eq!(
+        run(&limits, &mut [1.0, f64::NAN, 1.0], 6.0),
+        Err(ErrorKind::NonFinite)
+    );
+    assert_eq!(
+        run(&limits, &mut [1.0, 0.0, 1.0], 6.0),
+        Err(ErrorKind::InvalidParameter)
+    );
+    assert_eq!(
+        run(&limits, &mut [1.0; 3], -1.0),
+        Err(ErrorKind::InvalidParameter)
+    );
+    // Friction compensation of 6 N·m on a 5 N·m drive: not even at rest.
+    let weak = limits
+        .with_friction_compensation(Vector2::new(0.0, 6.0))
+        .unwrap();
+    let mut rates = [1.0; 10];
+    assert_eq!(
+        run(&weak, &mut rates, 6.0),
+        Err(ErrorKind::InvalidParameter)
+    );
+    assert_eq!(
+        rates, [1.0; 10],
+        "an error leaves the rates as they were asked"
+    );
+    assert!(DriveLimits::new(Vector2::new(1.0, -1.0)).is_err());
+    assert!(limits.with_headroom(0.0).is_err() && limits.with_headroom(1.5).is_err());
+}
+
+#[test]
+fn a_table_below_fine_rates_stays_below_them_everywhere() {
+    // A profile with a sharp dip, on 5,000 points; 64 knots.
+    let n = 5000;
+    let period = 6.0;
+    let fine: Vec<f64> = (0..n)
+        .map(|j| {
+            let tau = j as f64 * period / n as f64;
+            2.0 - 1.5 * (-((tau - 4.0) / 0.05).powi(2)).exp() + 0.3 * (tau * 2.0).sin()
+        })
+        .collect();
+    let t = PaceTable::<f64, 64>::below(&fine, 2.0, 64, period).unwrap();
+    for (j, r) in fine.iter().enumerate() {
+        let (s, _) = t.pace(j as f64 * period / n as f64);
+        assert!(
+            s <= r / 2.0 + 1e-12,
+            "σ {s} above rate/β {} at point {j}",
+            r / 2.0
+        );
+    }
+    // ... and not far below away from the dip.
+    let (s, _) = t.pace(1.0);
+    assert!(
+        s > 0.95 * fine[n / 6] / 2.0,
+        "σ {s} far below {}",
+        fine[n / 6] / 2.0
+    );
+    assert!(PaceTable::<f64, 64>::below(&fine, 0.0, 64, period).is_err());
+    assert!(PaceTable::<f64, 64>::below(&fine[..10], 1.0, 64, period).is_err());
+    assert!(PaceTable::<f64, 64>::below(&fine, 1.0, 65, period).is_err());
+}
