@@ -47,6 +47,7 @@ fn settings(waypoints: Vec<Vec<f64>>, n: usize) -> ArmSettings {
         nominal_speed: None,
         tau0: 0.0,
         obstacles: None,
+        pace: None,
     }
 }
 

@@ -139,6 +139,7 @@ pub unsafe extern "C" fn pvfc_controller_new(
                 .then_some((s.nominal_speed_c, s.nominal_speed_r)),
             tau0: s.tau0,
             obstacles: None,
+            pace: None,
         };
         let ctl = ArmController::new(robot, &settings)?;
         unsafe {

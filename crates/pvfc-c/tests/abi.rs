@@ -374,6 +374,7 @@ fn agree(urdf: &str, tip: &str, waypoints: &[f64], mut q: Vec<f64>, v: Vec<f64>)
         nominal_speed: None,
         tau0: 0.0,
         obstacles: None,
+        pace: None,
     };
     let mut rust = pvfc_sim::model::arm::ArmController::new(&r, &settings).unwrap();
     let mut torque = vec![0.0; n];

@@ -50,6 +50,7 @@ impl ControllerSettings {
             nominal_speed: self.nominal_speed,
             tau0: self.tau0,
             obstacles: None,
+            pace: None,
         }
     }
 }

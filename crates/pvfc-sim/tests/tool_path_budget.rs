@@ -179,6 +179,7 @@ fn the_adaptive_sampling_puts_the_ur5_contour_within_its_tolerance() {
         nominal_speed: None,
         tau0: 0.0,
         obstacles: None,
+        pace: None,
     };
     let ctl = ArmController::new(&ur5, &settings).unwrap();
     let path = spec.path(base).unwrap();

@@ -8,6 +8,7 @@ use crate::error::{Result, SimError};
 use crate::model::arm_field::{ArmField, FieldSpec};
 use crate::model::evaluation::Evaluation;
 pub use crate::model::joint_contour::{DynJointContour, JointContour, JointContourSpec};
+use crate::model::pace::{uniform_pacing, DrivePace};
 use crate::model::robot::{ChainModel, Robot};
 use nalgebra::SVector;
 use pvfc_core::augmented::AugmentedState;
@@ -49,6 +50,9 @@ pub struct ArmSettings {
     pub tau0: f64,
     /// Obstacles the joint-space field keeps the arm away from (Remark 3).
     pub obstacles: Option<crate::scenario::obstacles::ObstacleSpec>,
+    /// The drive-limited pace: the field slows along the contour to the fastest pace the
+    /// drives allow (`pvfc_core::pace`); `None`: the paper's uniform pace.
+    pub pace: Option<DrivePace>,
 }
 
 /// What one control step gives, with the numbers a log wants.
@@ -115,7 +119,15 @@ pub fn arm_controller<const N: usize>(
 ) -> Result<ArmControllerN<N>> {
     let kinds = chain.kinds();
     let contour = s.contour.build(kinds)?;
-    let pacing = ExponentialPacing::new(s.self_pacing)?;
+    let mut pacing = uniform_pacing(s.self_pacing)?;
+    if let Some(p) = &s.pace {
+        let period = s.contour.period().ok_or_else(|| {
+            setting("pace: the drive-limited pace needs a closed contour (a period)".into())
+        })?;
+        let friction = s.friction_compensation.as_deref();
+        let table = p.profile(&chain, &contour, period, friction, s.gravity_compensation)?;
+        *pacing.profile_mut() = Some(table);
+    }
     let field = match &s.field {
         FieldSpec::Joint => {
             let navigation = JointNavigation::new(fixed::<N>(&s.h, "h")?, kinds)?;
@@ -159,6 +171,21 @@ pub fn arm_controller<const N: usize>(
         ctl = ctl.with_nominal_speed(NominalSpeed::new(c, r)?);
     }
     Ok(ctl)
+}
+
+/// The least time of one lap of the settings' joint contour that `pace`'s drives allow at
+/// full use of their limits ([`DrivePace::minimum_lap`]), for `robot` with the settings'
+/// friction and gravity compensation.
+pub fn minimum_lap(robot: &Robot, s: &ArmSettings, pace: &DrivePace) -> Result<f64> {
+    let period = s
+        .contour
+        .period()
+        .ok_or_else(|| setting("contour: a lap needs a closed contour (a period)".into()))?;
+    let friction = s.friction_compensation.as_deref();
+    crate::on_joints!(ChainModel, robot.model(), c, N => {
+        let contour = s.contour.build(c.kinds())?;
+        pace.minimum_lap(c.as_ref(), &contour, period, friction, s.gravity_compensation)
+    })
 }
 
 impl ArmController {

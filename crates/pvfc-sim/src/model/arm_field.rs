@@ -7,6 +7,7 @@
 use super::fixed;
 use crate::error::{Result, SimError};
 use crate::model::joint_contour::JointContour;
+use crate::model::pace::FieldPacing;
 use crate::model::path_orientation::{CornerOrientations, PathOrientation};
 use crate::model::tool_path::{PathContour, ToolPath};
 use nalgebra::{Matrix3, SVector};
@@ -16,13 +17,13 @@ use pvfc_core::prelude::*;
 use pvfc_core::task_field::TaskSpaceField;
 
 /// The joint-space field of an `N`-joint arm: its joint contour, the mixed navigation
-/// function, exponential self-pacing (eq. 21).
+/// function, exponential self-pacing (eq. 21) with the drive-limited pace, if any.
 pub type JointField<const N: usize> = SuspendedField<
     f64,
     JointSpace<f64, N>,
     JointContour<N>,
     JointNavigation<f64, N>,
-    ExponentialPacing<f64>,
+    FieldPacing,
     N,
     pvfc_core::obstacle::ObstacleSet<f64, N>,
 >;
@@ -30,7 +31,7 @@ pub type JointField<const N: usize> = SuspendedField<
 /// The task-space field of an `N`-joint arm on the exact tool path, with the tool's
 /// orientation along it (if any).
 pub type TaskField<const N: usize> =
-    TaskSpaceField<f64, PathContour, ExponentialPacing<f64>, N, PathOrientation>;
+    TaskSpaceField<f64, PathContour, FieldPacing, N, PathOrientation>;
 
 /// The field of an `N`-joint arm.
 // One field per controller, read at every step: the joint field (with its obstacle set's
@@ -154,7 +155,7 @@ impl TaskFieldSpec {
     pub fn build<const N: usize>(
         &self,
         chain: SerialChain<f64, N>,
-        pacing: ExponentialPacing<f64>,
+        pacing: FieldPacing,
         period: f64,
     ) -> Result<TaskField<N>> {
         let path = PathContour::new(self.path.clone(), period)

@@ -5,13 +5,13 @@
 //! builds it with.
 
 use super::{
-    direct_drive_arm, joint_vector, run_size, ArmSpec, AttitudeController, Mode, PaceSpec,
-    PaperController, PaperField, PaperPassiveController, Scenario,
+    direct_drive_arm, joint_vector, run_size, ArmSpec, AttitudeController, Mode, PaperController,
+    PaperField, PaperPassiveController, Scenario,
 };
 use crate::error::{Result, SimError};
 use crate::model::arm::{ArmController, ArmSettings, JointContourSpec};
 use crate::model::arm_field::FieldSpec;
-use crate::model::pace::{drive_limited_pace, uniform_pacing};
+use crate::model::pace::uniform_pacing;
 use crate::model::robot::Robot;
 use nalgebra::{Matrix3, Vector2, Vector3};
 use pvfc_core::obstacle::ObstacleSet;
@@ -276,6 +276,7 @@ impl Scenario {
             nominal_speed: c.nominal_speed.map(|n| (n.c, n.r)),
             tau0: self.initial.tau,
             obstacles: self.obstacles.clone(),
+            pace: self.drive_pace()?,
         })
     }
 
@@ -503,18 +504,12 @@ impl Scenario {
             TorusNavigation::paper(joint_vector::<2>(&self.controller.h, "controller.h")?)?;
         let contour = self.contour()?;
         let mut pacing = uniform_pacing(self.controller.self_pacing)?;
-        if let Some(p) = &self.controller.pace {
-            let limits = p.limits::<2>(&self.controller, false)?;
+        if let Some(p) = self.drive_pace()? {
             let period = Contour::<f64, Torus<f64, 2>, 2>::period(&contour).ok_or_else(|| {
                 SimError::Setting("controller.pace: the contour must be closed".into())
             })?;
-            let table = drive_limited_pace(
-                &Scara::new(*arm)?,
-                &contour,
-                &limits,
-                period,
-                PaceSpec::beta(&self.controller),
-            )?;
+            let friction = self.controller.friction_compensation.as_deref();
+            let table = p.profile(&Scara::new(*arm)?, &contour, period, friction, false)?;
             *pacing.profile_mut() = Some(table);
         }
         let field = SuspendedField::new(contour, navigation, pacing);

@@ -6,6 +6,7 @@ use crate::error::{Result, SimError};
 use crate::model::arm::PassiveOptions;
 use crate::model::disturbance::Disturbance;
 use crate::model::friction::JointFriction;
+use crate::model::pace::DrivePace;
 use pvfc_core::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -365,39 +366,23 @@ impl Default for PaceSpec {
 }
 
 impl PaceSpec {
-    /// The drive limits of this pace for a controller with these settings: the limits (its
-    /// own or the passive controller's), the headroom, the friction compensation.
-    pub fn limits<const N: usize>(
-        &self,
-        controller: &ControllerSpec,
-        gravity: bool,
-    ) -> Result<pvfc_core::pace::DriveLimits<f64, N>> {
-        let setting = |what: String| SimError::Setting(what);
-        let limit = match (&self.torque_limit, &controller.passive) {
+    /// This pace as plain data for a controller with the settings `controller`, starting at
+    /// the energy level `level`: the limits given here, or else `[controller.passive]`'s.
+    pub fn drive_pace(&self, controller: &ControllerSpec, level: f64) -> Result<DrivePace> {
+        let torque_limit = match (&self.torque_limit, &controller.passive) {
             (l, _) if !l.is_empty() => l.clone(),
             (_, Some(p)) if !p.torque_limit.is_empty() => p.torque_limit.clone(),
             _ => {
-                return Err(setting(
+                return Err(SimError::Setting(
                     "controller.pace: no torque limits (give controller.pace.torque_limit or controller.passive.torque_limit)".into(),
                 ))
             }
         };
-        let limit = crate::model::fixed::<N>(&limit, "controller.pace.torque_limit")?;
-        let mut limits = pvfc_core::pace::DriveLimits::new(limit)
-            .map_err(|e| setting(format!("controller.pace.torque_limit: {e}")))?
-            .with_headroom(self.headroom)
-            .map_err(|e| setting(format!("controller.pace.headroom = {}: {e}", self.headroom)))?
-            .with_gravity(gravity);
-        if let Some(f) = &controller.friction_compensation {
-            let f = crate::model::fixed::<N>(f, "controller.friction_compensation")?;
-            limits = limits.with_friction_compensation(f)?;
-        }
-        Ok(limits)
-    }
-
-    /// The energy level `β` the controller runs at: the nominal speed `r` if set, else 1.
-    pub fn beta(controller: &ControllerSpec) -> f64 {
-        controller.nominal_speed.map_or(1.0, |n| n.r)
+        Ok(DrivePace {
+            torque_limit,
+            headroom: self.headroom,
+            level,
+        })
     }
 }
 
@@ -787,6 +772,31 @@ impl Scenario {
     /// `true` for a rigid body's attitude (`[plant.rigid_body]`, on SO(3)).
     pub fn is_body(&self) -> bool {
         self.plant.rigid_body.is_some()
+    }
+
+    /// The energy level `β` the controller runs at: the nominal speed `r` of eq. (36) if set,
+    /// else the level its internal states start at (`√(κ_a(0)/Ē)` with the arm at rest).
+    pub fn pace_level(&self) -> f64 {
+        let c = &self.controller;
+        if let Some(n) = c.nominal_speed {
+            return n.r;
+        }
+        match self.initial.flywheel_speed {
+            None => 1.0,
+            Some(w) => {
+                let kappa = 0.5 * (c.flywheel_inertia * w * w + self.initial.tau_dot.powi(2));
+                (kappa / c.energy).sqrt()
+            }
+        }
+    }
+
+    /// The drive-limited pace of `[controller.pace]`, if any, at [`pace_level`](Self::pace_level).
+    pub fn drive_pace(&self) -> Result<Option<DrivePace>> {
+        self.controller
+            .pace
+            .as_ref()
+            .map(|p| p.drive_pace(&self.controller, self.pace_level()))
+            .transpose()
     }
 
     /// The contour's period in `τ`: for a URDF arm `spacing × waypoints` (or × the Cartesian

@@ -789,6 +789,8 @@ pub fn ur5_saturated(free: &Scenario, path: SaturatedPath, speed: u32) -> Scenar
         torque_limit: UR5_TORQUE_LIMITS.to_vec(),
         ..PassiveSpec::default()
     });
+    // The field slows along the path to the pace the drives allow (`pvfc_core::pace`).
+    s.controller.pace = Some(PaceSpec::default());
     if let Some(b) = s.baseline.as_mut() {
         b.tau_rate = Some(r);
         b.torque_limit = UR5_TORQUE_LIMITS.to_vec();
