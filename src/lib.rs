@@ -28,4 +28,6 @@ mod manual {
     struct Studies;
     #[doc = include_str!("../docs/src/guide/obstacles.md")]
     struct Obstacles;
+    #[doc = include_str!("../docs/src/guide/drive-limits.md")]
+    struct DriveLimits;
 }
