@@ -96,15 +96,28 @@ pub fn ur5_point(r: &Runs, name: &str, demanded: f64) -> Result<SpeedPoint> {
     })
 }
 
-/// The UR5's PVFC and timed points on `path`, by demanded speed.
-pub fn ur5_sweep(r: &Runs, path: SaturatedPath) -> Result<(Vec<SpeedPoint>, Vec<SpeedPoint>)> {
-    let (mut pvfc, mut timed) = (Vec::new(), Vec::new());
+/// The points of a sweep over the demanded speed, one per speed for each controller.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Sweep {
+    /// PVFC's.
+    pub pvfc: Vec<SpeedPoint>,
+    /// The timed tracker's.
+    pub timed: Vec<SpeedPoint>,
+    /// The speed-scaling tracker's.
+    pub scaled: Vec<SpeedPoint>,
+}
+
+/// The UR5's points on `path`, by demanded speed.
+pub fn ur5_sweep(r: &Runs, path: SaturatedPath) -> Result<Sweep> {
+    let mut out = Sweep::default();
     for speed in path.speeds() {
         let id = PresetId::Ur5Saturated { path, speed };
-        pvfc.push(ur5_point(r, &id.name(), f64::from(speed))?);
-        timed.push(ur5_point(r, &id.timed_name(), f64::from(speed))?);
+        let demanded = f64::from(speed);
+        out.pvfc.push(ur5_point(r, &id.name(), demanded)?);
+        out.timed.push(ur5_point(r, &id.timed_name(), demanded)?);
+        out.scaled.push(ur5_point(r, &id.scaled_name(), demanded)?);
     }
-    Ok((pvfc, timed))
+    Ok(out)
 }
 
 /// The figures of one run over its last [`WINDOW`] seconds.
@@ -165,17 +178,20 @@ pub fn ur5_minimum_lap(r: &Runs, path: SaturatedPath) -> Result<f64> {
     minimum_lap(&system.robot, &system.settings, &pace)
 }
 
-/// PVFC's and the timed tracker's points on `contour`, by demanded speed.
-pub fn sweep(r: &Runs, contour: Fig1Contour) -> Result<(Vec<SpeedPoint>, Vec<SpeedPoint>)> {
-    let (mut pvfc, mut timed) = (Vec::new(), Vec::new());
+/// The SCARA's points on `contour`, by demanded speed.
+pub fn sweep(r: &Runs, contour: Fig1Contour) -> Result<Sweep> {
+    let mut out = Sweep::default();
     for speed in FIG1_SATURATED_SPEEDS {
         let id = PresetId::Fig1Saturated { contour, speed };
         let demanded = f64::from(speed) / 100.0;
         let (s, t) = r.run(id)?;
-        pvfc.push(speed_point(s, t, demanded)?);
-        timed.push(speed_point(s, &r.named(&id.timed_name())?.1, demanded)?);
+        out.pvfc.push(speed_point(s, t, demanded)?);
+        out.timed
+            .push(speed_point(s, &r.named(&id.timed_name())?.1, demanded)?);
+        out.scaled
+            .push(speed_point(s, &r.named(&id.scaled_name())?.1, demanded)?);
     }
-    Ok((pvfc, timed))
+    Ok(out)
 }
 
 /// The claims, one per contour, as the paper's Fig. 1 means them: where the drives saturate
@@ -189,15 +205,14 @@ pub(crate) fn fig1_saturated_claims(
     push: &mut impl FnMut(&str, &str, &str, String, bool),
 ) -> Result<()> {
     for contour in Fig1Contour::ALL {
-        let (pvfc, timed) = sweep(r, contour)?;
+        let w = sweep(r, contour)?;
         let least = scara_minimum_lap(r, contour)?;
-        let holds = verdict(&pvfc, &timed);
-        let rows: Vec<String> = pvfc
-            .iter()
-            .zip(&timed)
-            .map(|(p, t)| {
+        let holds = verdict(&w);
+        let rows: Vec<String> = (0..w.pvfc.len())
+            .map(|i| {
+                let (p, t, c) = (&w.pvfc[i], &w.timed[i], &w.scaled[i]);
                 format!(
-                    "r = {}: PVFC τ̇ {:.2} (least {:.2} of it; lap {:.2}× the least the drives allow), error {:.1e} / {:.1e} rad (at limit {:.0} %); timed error {:.1e} / {:.1e} rad (at limit {:.0} %)",
+                    "r = {}: PVFC τ̇ {:.2} (least {:.2} of it; lap {:.2}× the least the drives allow), error {:.1e} / {:.1e} rad (at limit {:.0} %); timed error {:.1e} / {:.1e} rad (at limit {:.0} %); speed-scaling τ̇ {:.2}, error {:.1e} / {:.1e} rad (at limit {:.0} %)",
                     p.demanded,
                     p.tau_rate,
                     p.slowest,
@@ -207,7 +222,11 @@ pub(crate) fn fig1_saturated_claims(
                     100.0 * p.saturated,
                     t.error.0,
                     t.error.1,
-                    100.0 * t.saturated
+                    100.0 * t.saturated,
+                    c.tau_rate,
+                    c.error.0,
+                    c.error.1,
+                    100.0 * c.saturated
                 )
             })
             .collect();
@@ -223,8 +242,8 @@ pub(crate) fn fig1_saturated_claims(
         };
         push(
             id,
-            "On drives that saturate, a timed tracker leaves the contour to keep pace; PVFC slows down to the pace the drives allow and stays on the contour",
-            &format!("{shape}, torques limited to 15 / 5 N·m on both controllers; demanded speed r (PVFC: eq. 36 at the energy of β = r, the field's pace bounded by the drives' limits with 20 % headroom, passive 1 kHz; timed: τ̇ = r, computed torque + PD at 20 rad/s); distance to the contour (mean / max) over the last 12 s; holds if, at every speed where the tracker is at a limit in over 5 % of its samples, PVFC's mean error is at most a third of the tracker's, its τ̇ below r, its max at most twice its max where nothing saturates, and its least τ̇ over a tenth of its mean"),
+            "On drives that saturate, a timed tracker leaves the contour to keep pace; PVFC slows down to the pace the drives allow and stays on the contour, nearer than a speed-scaling tracker",
+            &format!("{shape}, torques limited to 15 / 5 N·m on every controller; demanded speed r (PVFC: eq. 36 at the energy of β = r, the field's pace bounded by the drives' limits with 20 % headroom, passive 1 kHz; timed: τ̇ = r, computed torque + PD at 20 rad/s; speed-scaling: the same tracker, τ̇ = s·r with s slowed while a command passes 80 % of its limit, time constant 50 ms); distance to the contour (mean / max) over the last 12 s; holds if, at every speed where a tracker is at a limit in over 5 % of its samples, PVFC's mean error is at most a third of the timed tracker's and at most the speed-scaling tracker's, its τ̇ below r, its max at most twice its max where nothing saturates, and its least τ̇ over a tenth of its mean"),
             rows.join("; "),
             holds,
         );
@@ -232,25 +251,26 @@ pub(crate) fn fig1_saturated_claims(
     Ok(())
 }
 
-/// The speeds where the timed tracker is at a limit in over 5 % of its samples.
-fn saturating(timed: &[SpeedPoint]) -> Vec<usize> {
-    (0..timed.len())
-        .filter(|&i| timed[i].saturated > 0.05)
+/// The speeds where either tracker is at a limit in over 5 % of its samples.
+fn saturating(w: &Sweep) -> Vec<usize> {
+    (0..w.timed.len())
+        .filter(|&i| w.timed[i].saturated > 0.05 || w.scaled[i].saturated > 0.05)
         .collect()
 }
 
-/// The verdict of the SCARA's claims ([`fig1_saturated_claims`]).
-fn verdict(pvfc: &[SpeedPoint], timed: &[SpeedPoint]) -> bool {
-    let saturated = saturating(timed);
-    let calm_max = (0..timed.len())
+/// The verdict of the claims ([`fig1_saturated_claims`], [`ur5_saturated_claims`]).
+fn verdict(w: &Sweep) -> bool {
+    let saturated = saturating(w);
+    let calm_max = (0..w.pvfc.len())
         .filter(|i| !saturated.contains(i))
-        .map(|i| pvfc[i].error.1)
+        .map(|i| w.pvfc[i].error.1)
         .fold(0.0, f64::max);
     !saturated.is_empty()
         && calm_max > 0.0
         && saturated.iter().all(|&i| {
-            let p = &pvfc[i];
-            p.error.0 <= timed[i].error.0 / 3.0
+            let p = &w.pvfc[i];
+            p.error.0 <= w.timed[i].error.0 / 3.0
+                && p.error.0 <= w.scaled[i].error.0
                 && p.tau_rate < p.demanded
                 && p.error.1 <= 2.0 * calm_max
                 && p.slowest > 0.1
@@ -265,15 +285,14 @@ pub(crate) fn ur5_saturated_claims(
     push: &mut impl FnMut(&str, &str, &str, String, bool),
 ) -> Result<()> {
     for path in SaturatedPath::ALL {
-        let (pvfc, timed) = ur5_sweep(r, path)?;
+        let w = ur5_sweep(r, path)?;
         let least = ur5_minimum_lap(r, path)?;
-        let holds = verdict(&pvfc, &timed);
-        let rows: Vec<String> = pvfc
-            .iter()
-            .zip(&timed)
-            .map(|(p, t)| {
+        let holds = verdict(&w);
+        let rows: Vec<String> = (0..w.pvfc.len())
+            .map(|i| {
+                let (p, t, c) = (&w.pvfc[i], &w.timed[i], &w.scaled[i]);
                 format!(
-                    "r = {}: PVFC {:.0} mm/s (least τ̇ {:.2} of its mean; lap {:.2}× the least the drives allow), {:.3} / {:.2} mm (at limit {:.0} %); timed {:.0} mm/s, {:.3} / {:.2} mm (at limit {:.0} %)",
+                    "r = {}: PVFC {:.0} mm/s (least τ̇ {:.2} of its mean; lap {:.2}× the least the drives allow), {:.3} / {:.2} mm (at limit {:.0} %); timed {:.0} mm/s, {:.3} / {:.2} mm (at limit {:.0} %); speed-scaling {:.0} mm/s, {:.3} / {:.2} mm (at limit {:.0} %)",
                     p.demanded,
                     p.speed * 1e3,
                     p.slowest,
@@ -284,7 +303,11 @@ pub(crate) fn ur5_saturated_claims(
                     t.speed * 1e3,
                     t.error.0 * 1e3,
                     t.error.1 * 1e3,
-                    100.0 * t.saturated
+                    100.0 * t.saturated,
+                    c.speed * 1e3,
+                    c.error.0 * 1e3,
+                    c.error.1 * 1e3,
+                    100.0 * c.saturated
                 )
             })
             .collect();
@@ -300,8 +323,8 @@ pub(crate) fn ur5_saturated_claims(
                 "UR5 circle of 10 cm radius (ur5_circle, 52 mm/s at r = 1)",
             ),
         };
-        let statement = format!("On the UR5's saturating drives, the timed tracker leaves {which} to keep pace; PVFC slows down to the pace the drives allow and stays on it");
-        let setting = format!("{shape} at r times its speed, both controllers limited to 60/60/30/5/5/5 N·m (PVFC passive 1 kHz at the energy of β = r, γ/r³, the field's pace bounded by the drives' limits with 20 % headroom; timed: τ̇ = r, computed torque + PD at 100 rad/s); the tool's distance to the path along the surface (mean / max) and speed along it over the steady passes; holds if, at every speed where the tracker is at a limit in over 5 % of its samples, PVFC's mean distance is at most a third of the tracker's, its τ̇ below r, its max at most twice its max where nothing saturates, and its least τ̇ over a tenth of its mean");
+        let statement = format!("On the UR5's saturating drives, the timed tracker leaves {which} to keep pace; PVFC slows down to the pace the drives allow and stays on it, nearer than a speed-scaling tracker");
+        let setting = format!("{shape} at r times its speed, every controller limited to 60/60/30/5/5/5 N·m (PVFC passive 1 kHz at the energy of β = r, γ/r³, the field's pace bounded by the drives' limits with 20 % headroom; timed: τ̇ = r, computed torque + PD at 100 rad/s; speed-scaling: the same tracker, τ̇ = s·r with s slowed while a command passes 80 % of its limit, time constant 50 ms); the tool's distance to the path along the surface (mean / max) and speed along it over the steady passes; holds if, at every speed where a tracker is at a limit in over 5 % of its samples, PVFC's mean distance is at most a third of the timed tracker's and at most the speed-scaling tracker's, its τ̇ below r, its max at most twice its max where nothing saturates, and its least τ̇ over a tenth of its mean");
         push(id, &statement, &setting, rows.join("; "), holds);
     }
     Ok(())
@@ -349,16 +372,18 @@ pub fn figure_saturated(r: &Runs, dir: &Path) -> Result<PathBuf> {
         points: v.iter().map(|x| (x.demanded, x.error.0 * 1e3)).collect(),
         reference: false,
     };
-    let scara = |a: &crate::canvas::Area<'_>,
-                 title: &str,
-                 (pv, tm): &(Vec<SpeedPoint>, Vec<SpeedPoint>)| {
+    let scara = |a: &crate::canvas::Area<'_>, title: &str, w: &Sweep| {
         panel(
             a,
             &p,
             title,
             "mean speed along the contour [rad/s]",
             "mean distance to the contour [rad]",
-            &[series("PVFC", pv), series("timed tracker", tm)],
+            &[
+                series("PVFC", &w.pvfc),
+                series("timed tracker", &w.timed),
+                series("speed-scaling tracker", &w.scaled),
+            ],
             true,
         )
     };
@@ -374,13 +399,17 @@ pub fn figure_saturated(r: &Runs, dir: &Path) -> Result<PathBuf> {
             &lissajous,
         ),
         3 => match &ur5 {
-            Some(((pv, tm), _)) => panel(
+            Some((w, _)) => panel(
                 a,
                 &p,
                 "UR5 rectangle on saturating drives: speed against accuracy",
                 "mean speed along the path [mm/s]",
                 "mean distance along the surface [mm]",
-                &[mm("PVFC", pv), mm("timed tracker", tm)],
+                &[
+                    mm("PVFC", &w.pvfc),
+                    mm("timed tracker", &w.timed),
+                    mm("speed-scaling tracker", &w.scaled),
+                ],
                 true,
             ),
             None => Ok(()),
@@ -388,13 +417,17 @@ pub fn figure_saturated(r: &Runs, dir: &Path) -> Result<PathBuf> {
         // Against the demanded speed: a tracker that has lost the circle makes no speed along
         // it worth plotting (its closest point may even run backwards).
         4 => match &ur5 {
-            Some((_, (pv, tm))) => panel(
+            Some((_, w)) => panel(
                 a,
                 &p,
                 "UR5 circle on saturating drives: demanded speed against accuracy",
                 "demanded speed r (times 52 mm/s)",
                 "mean distance along the surface [mm]",
-                &[by_demand("PVFC", pv), by_demand("timed tracker", tm)],
+                &[
+                    by_demand("PVFC", &w.pvfc),
+                    by_demand("timed tracker", &w.timed),
+                    by_demand("speed-scaling tracker", &w.scaled),
+                ],
                 true,
             ),
             None => Ok(()),
@@ -406,9 +439,10 @@ pub fn figure_saturated(r: &Runs, dir: &Path) -> Result<PathBuf> {
             "demanded speed r",
             "mean dτ/dt",
             &[
-                demanded("PVFC, circle", &circle.0),
-                demanded("timed tracker, circle", &circle.1),
-                demanded("PVFC, Lissajous", &lissajous.0),
+                demanded("PVFC, circle", &circle.pvfc),
+                demanded("speed-scaling tracker, circle", &circle.scaled),
+                demanded("PVFC, Lissajous", &lissajous.pvfc),
+                demanded("speed-scaling tracker, Lissajous", &lissajous.scaled),
                 Series {
                     label: "demanded".into(),
                     points: vec![(0.0, 0.0), (4.0, 4.0)],

@@ -1,7 +1,7 @@
 //! `pvfc.Controller.arm` and `pvfc.Controller.compose`: PVFC for any `pvfc.Robot`, to drive
 //! a user's own simulator (MuJoCo, PyBullet) or hardware loop from Python.
 
-use crate::contours::{Ellipse, Lissajous, WaypointCurve};
+use crate::contours::joint_contour_spec;
 use crate::controller::{Controller, Law};
 use crate::convert::{array, dyn_vector};
 use crate::errors::sim_err;
@@ -81,17 +81,11 @@ fn composed(
         s.field = t.field.clone();
         return with_obstacles(s);
     }
-    let spec = if let Ok(c) = contour.cast::<WaypointCurve>() {
-        c.get().c.spec.clone()
-    } else if let Ok(c) = contour.cast::<Lissajous>() {
-        c.get().c.spec.clone()
-    } else if let Ok(c) = contour.cast::<Ellipse>() {
-        c.get().c.spec.clone()
-    } else {
-        return Err(PyTypeError::new_err(
+    let spec = joint_contour_spec(contour).map_err(|_| {
+        PyTypeError::new_err(
             "contour: expected a pvfc.WaypointCurve, pvfc.Lissajous, pvfc.Ellipse or pvfc.TaskSpaceField",
-        ));
-    };
+        )
+    })?;
     if spec.dim() != n {
         return Err(PyValueError::new_err(format!(
             "contour: {} coordinates for the {n}-joint robot",

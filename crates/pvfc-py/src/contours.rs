@@ -49,6 +49,21 @@ impl JointSpaceContour {
     }
 }
 
+/// The plain data of a joint-space contour object (`Lissajous`, `Ellipse`, `WaypointCurve`).
+pub(crate) fn joint_contour_spec(contour: &Bound<'_, PyAny>) -> PyResult<JointContourSpec> {
+    if let Ok(c) = contour.cast::<WaypointCurve>() {
+        Ok(c.get().c.spec.clone())
+    } else if let Ok(c) = contour.cast::<Lissajous>() {
+        Ok(c.get().c.spec.clone())
+    } else if let Ok(c) = contour.cast::<Ellipse>() {
+        Ok(c.get().c.spec.clone())
+    } else {
+        Err(pyo3::exceptions::PyTypeError::new_err(
+            "contour: expected a pvfc.WaypointCurve, pvfc.Lissajous or pvfc.Ellipse",
+        ))
+    }
+}
+
 /// A Lissajous curve in joint space, x_i = c_i + a_i sin(2πτ/T_i + φ_i), any number of joints
 /// (1 to 8).
 #[pyclass(module = "pvfc", frozen, from_py_object)]

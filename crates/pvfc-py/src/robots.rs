@@ -1,11 +1,14 @@
 //! `pvfc.Robot`: any serial chain from its URDF, with its rigid-body algorithms.
 
+use crate::contours::joint_contour_spec;
 use crate::convert::{array, dyn_vector, out1, out_dmatrix};
 use crate::errors::sim_err;
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
 use pvfc_core::lie::JointKind;
 use pvfc_core::mechanics::Pose;
+use pvfc_sim::model::arm::drive_limited_rates;
+use pvfc_sim::model::pace::DrivePace;
 use pvfc_sim::model::robot::Robot as SimRobot;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -238,6 +241,46 @@ impl Robot {
             .inverse_kinematics(position, rotation, &seed, tolerance)
             .map_err(sim_err)?;
         Ok(out1(py, q.as_slice().to_vec()))
+    }
+
+    /// The fastest rates `τ̇` the drives allow along a closed joint-space `contour` at
+    /// `points` evenly spaced values of `τ` over one period: the time-optimal
+    /// parameterisation under the torque limits `torque_limit` (one per joint, > 0), each
+    /// used up to `headroom` (in (0, 1]), with the friction compensation
+    /// `friction_compensation` (eq. 35) and, if `gravity`, `g(q)` counted against them, at
+    /// most `rate` (the rate asked for). Shape `(points,)`.
+    #[pyo3(signature = (contour, torque_limit, *, headroom=1.0, friction_compensation=None, gravity=true, rate=1e6, points=4096))]
+    #[allow(clippy::too_many_arguments)]
+    fn drive_limited_rates<'py>(
+        &self,
+        py: Python<'py>,
+        contour: &Bound<'_, PyAny>,
+        torque_limit: &Bound<'_, PyAny>,
+        headroom: f64,
+        friction_compensation: Option<&Bound<'_, PyAny>>,
+        gravity: bool,
+        rate: f64,
+        points: usize,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let spec = joint_contour_spec(contour)?;
+        let pace = DrivePace {
+            torque_limit: self.v(torque_limit, "torque_limit")?,
+            headroom,
+            level: rate,
+        };
+        let friction = friction_compensation
+            .map(|f| self.v(f, "friction_compensation"))
+            .transpose()?;
+        let rates = drive_limited_rates(
+            &self.robot,
+            &spec,
+            &pace,
+            friction.as_deref(),
+            gravity,
+            points,
+        )
+        .map_err(sim_err)?;
+        Ok(out1(py, rates))
     }
 
     /// Yoshikawa's manipulability of the tool's position at `q` (0 at a singularity).

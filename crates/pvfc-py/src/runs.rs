@@ -428,6 +428,7 @@ pub(crate) fn simulate_timed(
             Some(l) => dyn_vector(l, "torque_limit", n)?,
             None => Vec::new(),
         },
+        speed_scaling: None,
     };
     let s = scenario.s.clone();
     let t = py

@@ -237,6 +237,7 @@ fn bad_settings_of_a_body_are_named() {
                 kd: vec![1.0; 3],
                 tau_rate: None,
                 torque_limit: vec![],
+                speed_scaling: None,
             })
         },
         "baseline",

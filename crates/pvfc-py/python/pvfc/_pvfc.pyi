@@ -186,6 +186,17 @@ class Robot:
     def tool_pose(self, q: _ArrayLike) -> _F64Array: ...
     def jacobian(self, q: _ArrayLike, frame: str = "world") -> _F64Array: ...
     def inverse_kinematics(self, target: _ArrayLike, seed: _ArrayLike, tolerance: float = 1e-9) -> _F64Array: ...
+    def drive_limited_rates(
+        self,
+        contour: Union[Lissajous, Ellipse, WaypointCurve],
+        torque_limit: _ArrayLike,
+        *,
+        headroom: float = 1.0,
+        friction_compensation: Optional[_ArrayLike] = None,
+        gravity: bool = True,
+        rate: float = 1e6,
+        points: int = 4096,
+    ) -> _F64Array: ...
     def manipulability(self, q: _ArrayLike) -> float: ...
 
 @final

@@ -173,19 +173,57 @@ pub fn arm_controller<const N: usize>(
     Ok(ctl)
 }
 
+/// The fastest rates `τ̇` the drives allow at `points` evenly spaced points of one period of
+/// the joint contour `contour` for `robot` (`pvfc_core::pace::drive_limited_rates`): `pace`'s
+/// torque limits and headroom, at most `pace.level`, with the controller's friction
+/// compensation (eq. 35) and gravity compensation (if `gravity`) counted against the limits.
+pub fn drive_limited_rates(
+    robot: &Robot,
+    contour: &JointContourSpec,
+    pace: &DrivePace,
+    friction: Option<&[f64]>,
+    gravity: bool,
+    points: usize,
+) -> Result<Vec<f64>> {
+    let period = contour.period().ok_or_else(|| {
+        setting("contour: the drive-limited rates need a closed contour (a period)".into())
+    })?;
+    if !(pace.level.is_finite() && pace.level > 0.0) {
+        return Err(setting(format!(
+            "pace.level = {}: finite and > 0",
+            pace.level
+        )));
+    }
+    let mut rates = vec![pace.level; points];
+    crate::on_joints!(ChainModel, robot.model(), c, N => {
+        let built = contour.build(c.kinds())?;
+        let limits = pace.limits::<N>(friction, gravity)?;
+        pvfc_core::pace::drive_limited_rates(c.as_ref(), &built, &limits, period, &mut rates)?;
+    });
+    Ok(rates)
+}
+
 /// The least time of one lap of the settings' joint contour that `pace`'s drives allow at
-/// full use of their limits ([`DrivePace::minimum_lap`]), for `robot` with the settings'
+/// full use of their limits (headroom 1; the time-optimal parameterisation's lap on
+/// [`PACE_GRID`](crate::model::pace::PACE_GRID) points), for `robot` with the settings'
 /// friction and gravity compensation.
 pub fn minimum_lap(robot: &Robot, s: &ArmSettings, pace: &DrivePace) -> Result<f64> {
-    let period = s
-        .contour
-        .period()
-        .ok_or_else(|| setting("contour: a lap needs a closed contour (a period)".into()))?;
+    let full = DrivePace {
+        headroom: 1.0,
+        level: 1e6,
+        ..pace.clone()
+    };
     let friction = s.friction_compensation.as_deref();
-    crate::on_joints!(ChainModel, robot.model(), c, N => {
-        let contour = s.contour.build(c.kinds())?;
-        pace.minimum_lap(c.as_ref(), &contour, period, friction, s.gravity_compensation)
-    })
+    let rates = drive_limited_rates(
+        robot,
+        &s.contour,
+        &full,
+        friction,
+        s.gravity_compensation,
+        crate::model::pace::PACE_GRID,
+    )?;
+    let period = s.contour.period().unwrap_or(f64::NAN);
+    Ok(crate::model::pace::lap_time(&rates, period))
 }
 
 impl ArmController {

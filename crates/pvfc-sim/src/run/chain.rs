@@ -8,6 +8,7 @@ use crate::contact::spatial::SpatialContact;
 use crate::error::{Result, SimError};
 use crate::model::arm::{arm_controller, ArmControllerN};
 use crate::run::loops::{self, Surroundings};
+use crate::run::path_clock::{tracker_clock, PathClock};
 use crate::run::stepper::PassiveDrive;
 use crate::scenario::ArmSystem;
 use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
@@ -86,14 +87,35 @@ pub fn simulate_timed_chain_with(
     tau_rate: f64,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    if !tau_rate.is_finite() {
-        return Err(SimError::Setting("baseline: τ rate must be finite".into()));
-    }
+    tracker(s, system, b, (tau_rate, false), progress)
+}
+
+/// The speed-scaling tracker (`[baseline.speed_scaling]`) for a URDF arm: the timed
+/// tracker whose path time slows while a commanded torque nears its limit; its trace is
+/// `NAME-scaled`.
+pub fn simulate_scaled_chain_with(
+    s: &Scenario,
+    system: &ArmSystem,
+    b: &BaselineSpec,
+    tau_rate: f64,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
+    tracker(s, system, b, (tau_rate, true), progress)
+}
+
+fn tracker(
+    s: &Scenario,
+    system: &ArmSystem,
+    b: &BaselineSpec,
+    (tau_rate, scaled): (f64, bool),
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
+    let clock = tracker_clock(s, b, tau_rate, scaled)?;
     let robot = &system.robot;
     with_dof!(robot.dof(), N => {
         let chain = SerialChain::<f64, N>::try_from(robot.model())?;
         let plant = SerialChain::<f64, N>::try_from(system.plant.model())?;
-        timed::<N>(s, b, tau_rate, (chain, plant), system, progress)
+        timed::<N>(s, b, clock, (chain, plant), system, progress)
     }, otherwise Err(SimError::Setting(format!(
         "robot {}: {} joints; pvfc supports 1 to 8", robot.description().name, robot.dof()
     ))))
@@ -102,7 +124,7 @@ pub fn simulate_timed_chain_with(
 fn timed<const N: usize>(
     s: &Scenario,
     b: &BaselineSpec,
-    tau_rate: f64,
+    (clock, suffix): (PathClock, &str),
     (chain, plant): (SerialChain<f64, N>, SerialChain<f64, N>),
     system: &ArmSystem,
     progress: &mut dyn FnMut(f64),
@@ -131,12 +153,17 @@ fn timed<const N: usize>(
     let (q, v) = initial_state(s, &chain)?;
     let mut env = Spatial::of(s, system, &plant)?;
     let columns = env.columns();
-    let law = |tau: f64, q: &JointSpace<f64, N>, v: &SVector<f64, N>| {
+    let law = |(tau, tau_rate, tau_accel): (f64, f64, f64),
+               q: &JointSpace<f64, N>,
+               v: &SVector<f64, N>| {
         let xd = contour.sample(tau);
-        let (xd_v, xd_a) = (
+        let (xd_v, mut xd_a) = (
             xd.velocity * tau_rate,
             xd.acceleration * (tau_rate * tau_rate),
         );
+        if tau_accel != 0.0 {
+            xd_a += xd.velocity * tau_accel;
+        }
         let e = xd.point.coords() - q.coords();
         let (m, c) = chain.inertia_and_coriolis(q, v);
         let mut u = m * (xd_a + (xd_v - v).component_mul(&kd) + e.component_mul(&kp))
@@ -146,7 +173,7 @@ fn timed<const N: usize>(
             u += fc.torque(v);
         }
         let err = q.compose(&xd.point.inverse());
-        Ok((BaselineSpec::saturate(u, &limits), navigation.value(&err)))
+        Ok((u, navigation.value(&err)))
     };
     loops::timed(
         s,
@@ -154,7 +181,7 @@ fn timed<const N: usize>(
         &mut env,
         (q, v),
         columns,
-        tau_rate,
+        (clock, limits, suffix),
         law,
         progress,
     )

@@ -13,8 +13,9 @@ use crate::error::{Result, SimError};
 use crate::model::disturbance::{torque_of, Disturbance};
 use crate::model::friction::JointFriction;
 use crate::run::integrate::{ClosedLoop, Derivative};
+use crate::run::path_clock::PathClock;
 use crate::run::stepper::Stepper;
-use crate::scenario::Scenario;
+use crate::scenario::{BaselineSpec, Scenario};
 use crate::trace::{ContactTrace, Row, Trace, Work};
 use nalgebra::SVector;
 use pvfc_core::augmented::AugmentedState;
@@ -167,9 +168,10 @@ where
     Ok(trace)
 }
 
-/// The timed baseline's loop: at each sample the tracker's torque and the navigation
-/// function's value, `law(τ, q, q̇) = (u, U)` with `τ = τ₀ + rate·t`, held over the period on
-/// the same plant, friction and contact; the motor's work is counted.
+/// The trackers' loop: at each sample the tracker's command and the navigation function's
+/// value, `law((τ, τ̇, τ̈), q, q̇) = (u, U)` with the path time of `clock`, clamped to
+/// `limits` (as the drive does) and held over the period on the same plant, friction and
+/// contact; the motor's work is counted. The trace is named `NAME` + `suffix`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn timed<G, Sys, E, const N: usize>(
     s: &Scenario,
@@ -177,8 +179,8 @@ pub(crate) fn timed<G, Sys, E, const N: usize>(
     env: &mut E,
     (mut q, mut v): (G, SVector<f64, N>),
     columns: Option<usize>,
-    tau_rate: f64,
-    mut law: impl FnMut(f64, &G, &SVector<f64, N>) -> Result<(SVector<f64, N>, f64)>,
+    (mut clock, limits, suffix): (PathClock, Option<SVector<f64, N>>, &str),
+    mut law: impl FnMut((f64, f64, f64), &G, &SVector<f64, N>) -> Result<(SVector<f64, N>, f64)>,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace>
 where
@@ -188,17 +190,14 @@ where
 {
     let friction = s.plant.friction.clone();
     let (dt, h, n) = timing(s)?;
-    let mut trace = Trace::with_capacity(
-        format!("{}{}", s.name, crate::trace::TIMED_SUFFIX),
-        N,
-        n + 1,
-    );
+    let mut trace = Trace::with_capacity(format!("{}{suffix}", s.name), N, n + 1);
     let mut contact = columns.map(|dim| ContactTrace::with_capacity(n + 1, N, dim));
     let mut work = Work::default();
     for k in 0..=n {
         let t = k as f64 * dt;
-        let tau = s.initial.tau + tau_rate * t;
-        let (u, potential) = law(tau, &q, &v)?;
+        let (tau, tau_rate, tau_accel) = clock.at(t);
+        let (command, potential) = law((tau, tau_rate, tau_accel), &q, &v)?;
+        let u = BaselineSpec::saturate(command, &limits);
         let coordinates = q.coordinates();
         trace.push(Row {
             t,
@@ -222,6 +221,13 @@ where
         }
         if k == n {
             break;
+        }
+        if let Some(l) = &limits {
+            let share = command
+                .iter()
+                .zip(l.iter())
+                .fold(0.0, |m: f64, (u, l)| m.max(u.abs() / l));
+            clock.advance(dt, share);
         }
         (q, v) = hold(
             s,

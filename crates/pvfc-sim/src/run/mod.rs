@@ -8,6 +8,7 @@ pub mod body;
 pub mod chain;
 pub mod integrate;
 pub(crate) mod loops;
+pub(crate) mod path_clock;
 pub mod planar;
 pub(crate) mod stepper;
 
@@ -16,9 +17,10 @@ use crate::scenario::{ArmSystem, BaselineSpec, Scenario};
 use crate::trace::Trace;
 
 pub use chain::{
-    simulate_chain, simulate_chain_with, simulate_timed_chain, simulate_timed_chain_with,
+    simulate_chain, simulate_chain_with, simulate_scaled_chain_with, simulate_timed_chain,
+    simulate_timed_chain_with,
 };
-pub use planar::{environment, simulate_in, simulate_timed_in};
+pub use planar::{environment, simulate_in, simulate_scaled, simulate_timed_in};
 
 /// Runs the PVFC loop of a scenario (with its contact world, if it has one): the SCARA's or a
 /// URDF arm's. `progress` is called with the fraction done.
@@ -52,7 +54,8 @@ pub fn simulate_timed(
 }
 
 /// Runs one scenario: the PVFC loop, and the timed baseline if the scenario asks for one
-/// (at PVFC's mean `τ̇` over its last 12 s unless the scenario fixes the rate).
+/// (at PVFC's mean `τ̇` over its last 12 s unless the scenario fixes the rate), and the
+/// speed-scaling tracker after it if the baseline has `[baseline.speed_scaling]`.
 pub fn run_scenario(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Vec<Trace>> {
     let system = if s.is_chain() {
         Some(ArmSystem::build(s)?)
@@ -91,6 +94,12 @@ pub fn run_scenario_with(
             Some(sys) => chain::simulate_timed_chain_with(s, sys, b, rate, &mut |_| {})?,
             None => simulate_timed(s, b, rate, &mut |_| {})?,
         });
+        if b.speed_scaling.is_some() {
+            out.push(match system {
+                Some(sys) => chain::simulate_scaled_chain_with(s, sys, b, rate, &mut |_| {})?,
+                None => planar::simulate_scaled(s, b, rate, &mut |_| {})?,
+            });
+        }
     }
     out.insert(0, pvfc);
     Ok(out)

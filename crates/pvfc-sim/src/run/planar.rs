@@ -3,8 +3,9 @@
 //! baseline.
 
 use crate::contact::{ContactForces, Environment, PlanarArm};
-use crate::error::{Result, SimError};
+use crate::error::Result;
 use crate::run::loops::{self, Surroundings};
+use crate::run::path_clock::tracker_clock;
 use crate::run::stepper::Stepper;
 use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
 use crate::trace::Work;
@@ -197,10 +198,32 @@ pub fn simulate_timed(
     tau_rate: f64,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
+    tracker(s, b, tau_rate, false, progress)
+}
+
+/// The speed-scaling tracker (`[baseline.speed_scaling]`): [`simulate_timed`]'s tracker
+/// whose path time slows while a commanded torque nears its limit; its trace is
+/// `NAME-scaled`.
+pub fn simulate_scaled(
+    s: &Scenario,
+    b: &BaselineSpec,
+    tau_rate: f64,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
+    tracker(s, b, tau_rate, true, progress)
+}
+
+fn tracker(
+    s: &Scenario,
+    b: &BaselineSpec,
+    tau_rate: f64,
+    scaled: bool,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
     let arm = Scara::new(s.arm()?)?;
     match environment_with(s, &arm)? {
-        Some(mut env) => timed_in(s, arm, b, tau_rate, Some(&mut *env), progress),
-        None => timed_in(s, arm, b, tau_rate, None, progress),
+        Some(mut env) => timed_in(s, arm, b, (tau_rate, scaled), Some(&mut *env), progress),
+        None => timed_in(s, arm, b, (tau_rate, scaled), None, progress),
     }
 }
 
@@ -212,7 +235,14 @@ pub fn simulate_timed_in(
     env: Option<&mut dyn Environment>,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    timed_in(s, Scara::new(s.arm()?)?, b, tau_rate, env, progress)
+    timed_in(
+        s,
+        Scara::new(s.arm()?)?,
+        b,
+        (tau_rate, false),
+        env,
+        progress,
+    )
 }
 
 /// [`simulate_timed_in`] with the arm's model already built.
@@ -220,7 +250,7 @@ fn timed_in(
     s: &Scenario,
     arm: Scara<f64>,
     b: &BaselineSpec,
-    tau_rate: f64,
+    (tau_rate, scaled): (f64, bool),
     env: Option<&mut dyn Environment>,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
@@ -229,9 +259,7 @@ fn timed_in(
         Some(e) => e,
         None => &mut Free,
     };
-    if !tau_rate.is_finite() {
-        return Err(SimError::Setting("baseline: τ rate must be finite".into()));
-    }
+    let (clock, suffix) = tracker_clock(s, b, tau_rate, scaled)?;
     let contour = s.contour()?;
     let nav = TorusNavigation::paper(joint_vector::<2>(&s.controller.h, "controller.h")?)?;
     let comp = match &s.controller.friction_compensation {
@@ -252,9 +280,12 @@ fn timed_in(
         env,
         kin: PlanarArm::from(arm),
     };
-    let law = |tau: f64, q: &Torus<f64, 2>, v: &Vector2<f64>| {
+    let law = |(tau, tau_rate, tau_accel): (f64, f64, f64), q: &Torus<f64, 2>, v: &Vector2<f64>| {
         let [xd, dxd, ddxd] = contour.coordinates(tau);
-        let (xd_v, xd_a) = (dxd * tau_rate, ddxd * tau_rate * tau_rate);
+        let (xd_v, mut xd_a) = (dxd * tau_rate, ddxd * tau_rate * tau_rate);
+        if tau_accel != 0.0 {
+            xd_a += dxd * tau_accel;
+        }
         let e = xd - q.angles();
         let (m, c) = arm.inertia_and_coriolis(q, v);
         let mut u = m * (xd_a + (xd_v - v).component_mul(&kd) + e.component_mul(&kp)) + c * v;
@@ -262,7 +293,7 @@ fn timed_in(
             u += fc.torque(v);
         }
         let err = q.compose(&Torus::new(xd).inverse());
-        Ok((BaselineSpec::saturate(u, &limits), nav.value(&err)))
+        Ok((u, nav.value(&err)))
     };
     let columns = columns(s, with_contact);
     loops::timed(
@@ -271,7 +302,7 @@ fn timed_in(
         &mut planar,
         (q, v),
         columns,
-        tau_rate,
+        (clock, limits, suffix),
         law,
         progress,
     )

@@ -347,6 +347,11 @@ impl PresetId {
         format!("{}{}", self.name(), crate::trace::TIMED_SUFFIX)
     }
 
+    /// The name of the preset's speed-scaling tracker's run (`[baseline.speed_scaling]`).
+    pub fn scaled_name(&self) -> String {
+        format!("{}{}", self.name(), crate::trace::SCALED_SUFFIX)
+    }
+
     /// Every preset, in the order `pvfc reproduce` runs them (the built-in ones of
     /// [`presets::all`](crate::scenario::presets::all), then the UR5's of
     /// [`presets::arms_3d`](crate::scenario::presets::arms_3d) and

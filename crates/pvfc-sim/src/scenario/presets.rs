@@ -243,6 +243,7 @@ pub fn fig1() -> Scenario {
         kd: vec![40.0, 40.0],
         tau_rate: None,
         torque_limit: Vec::new(),
+        speed_scaling: None,
     });
     s
 }
@@ -503,6 +504,7 @@ pub fn fig1_saturated(contour: Fig1Contour, speed: u32) -> Scenario {
         kd: vec![40.0, 40.0],
         tau_rate: Some(r),
         torque_limit: FIG1_TORQUE_LIMITS.to_vec(),
+        speed_scaling: Some(SpeedScaling::default()),
     });
     s
 }
@@ -527,6 +529,7 @@ fn contact_base(case: ContactCase, description: &str, contact: ContactSpec) -> S
         kd: vec![40.0, 40.0],
         tau_rate: Some(1.0),
         torque_limit: Vec::new(),
+        speed_scaling: None,
     });
     s.contact = Some(contact);
     s
@@ -794,6 +797,7 @@ pub fn ur5_saturated(free: &Scenario, path: SaturatedPath, speed: u32) -> Scenar
     if let Some(b) = s.baseline.as_mut() {
         b.tau_rate = Some(r);
         b.torque_limit = UR5_TORQUE_LIMITS.to_vec();
+        b.speed_scaling = Some(SpeedScaling::default());
     }
     s
 }

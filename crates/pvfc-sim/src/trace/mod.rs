@@ -214,6 +214,9 @@ macro_rules! column_table {
 /// The suffix of the timed baseline's trace name (`NAME-timed`).
 pub const TIMED_SUFFIX: &str = "-timed";
 
+/// The suffix of a speed-scaling tracker's trace name (`[baseline.speed_scaling]`).
+pub const SCALED_SUFFIX: &str = "-scaled";
+
 macro_rules! define_traces {
     (
         trace { $($n:ident as $p:ident : $shape:ident $log:ident $doc:literal;)* }

@@ -1,0 +1,129 @@
+"""The drive-limited pace against TOPP-RA (``toppra``), the reference implementation of the
+time-optimal path parameterisation: on the UR5 (``models/ur5``) along a closed joint-space
+curve under torque limits, with and without Coulomb friction compensation counted against
+them, ``Robot.drive_limited_rates`` gives the same fastest rates and the same lap time as
+TOPP-RA's ``JointTorqueConstraint`` on the same path, inverse dynamics (pvfc's RNEA, checked
+against Pinocchio in ``test_pinocchio.py``) and limits, started and ended at pvfc's rate at
+τ = 0 (the closed contour's rate there).
+"""
+
+import os
+import pathlib
+
+import numpy as np
+import pytest
+
+import pvfc
+
+try:
+    import toppra
+    import toppra.algorithm
+    import toppra.constraint
+    import toppra.interpolator
+except ImportError:  # pragma: no cover - CI installs it (scripts/test.sh)
+    if os.environ.get("CI"):
+        raise
+    pytest.skip("toppra (pip install toppra) is not installed", allow_module_level=True)
+
+REPO = pathlib.Path(__file__).resolve().parents[3]
+LIMITS = np.array([60.0, 60.0, 30.0, 5.0, 5.0, 5.0])
+POINTS = 2000
+
+
+def ur5() -> pvfc.Robot:
+    return pvfc.Robot.from_urdf(REPO / "models" / "ur5" / "ur5_robot.urdf", tip="tool0")
+
+
+def loop() -> pvfc.WaypointCurve:
+    """A closed curve through six joint-space waypoints, one every 0.5 of τ (period 3)."""
+    base = np.array([0.0, -1.2, 1.4, -1.8, -1.57, 0.0])
+    bumps = np.array(
+        [
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.6, 0.2, -0.3, 0.2, 0.3, 0.5],
+            [1.0, -0.1, 0.2, 0.4, -0.2, 1.0],
+            [0.7, -0.4, 0.5, -0.1, 0.1, 0.4],
+            [0.1, -0.2, 0.3, -0.4, 0.4, -0.3],
+            [-0.3, 0.1, -0.1, 0.1, -0.3, -0.6],
+        ]
+    )
+    return pvfc.WaypointCurve(base + bumps, 0.5)
+
+
+class ContourPath(toppra.interpolator.AbstractGeodesicPath):
+    """pvfc's contour as a TOPP-RA path over one period (positions, and their first and second
+    derivatives in τ)."""
+
+    def __init__(self, contour: pvfc.WaypointCurve) -> None:
+        self.contour = contour
+
+    def __call__(self, path_positions, order=0):  # type: ignore[no-untyped-def]
+        s = np.atleast_1d(np.asarray(path_positions, dtype=float))
+        out = np.array([self.contour.sample(float(x))[order] for x in s])
+        return out if np.ndim(path_positions) else out[0]
+
+    @property
+    def dof(self) -> int:
+        return 6
+
+    @property
+    def path_interval(self) -> np.ndarray:
+        return np.array([0.0, self.contour.period])
+
+
+def lap(rates: np.ndarray, period: float) -> float:
+    """Σ 2Δ / (ṡ_j + ṡ_{j+1}) over one period (closed)."""
+    step = period / len(rates)
+    return float(np.sum(2.0 * step / (rates + np.roll(rates, -1))))
+
+
+@pytest.mark.parametrize("friction", [None, np.array([4.0, 4.0, 2.0, 0.5, 0.5, 0.5])])
+def test_the_fastest_rates_are_toppras(friction) -> None:
+    robot, contour = ur5(), loop()
+    period = contour.period
+    ours = robot.drive_limited_rates(
+        contour, LIMITS, friction_compensation=friction, points=POINTS
+    )
+    assert ours.shape == (POINTS,)
+    fs = np.zeros(6) if friction is None else friction
+    constraint = toppra.constraint.JointTorqueConstraint(
+        lambda q, qd, qdd: robot.rnea(q, qd, qdd),
+        np.column_stack([-LIMITS, LIMITS]),
+        fs,
+        discretization_scheme=toppra.constraint.DiscretizationType.Collocation,
+    )
+    grid = np.linspace(0.0, period, POINTS + 1)
+    algo = toppra.algorithm.TOPPRA(
+        [constraint], ContourPath(contour), gridpoints=grid, solver_wrapper="seidel"
+    )
+    _, sd, _, _ = algo.compute_parameterization(ours[0], ours[0])
+    assert sd is not None, "TOPP-RA found the path infeasible from pvfc's rate at τ = 0"
+    theirs = np.asarray(sd)[:-1]
+    # The drives limit the rate somewhere (it is not the rate asked for anywhere near).
+    assert ours.max() < 1e3 and ours.min() > 0.05
+    # The same lap time, and the same profile point by point.
+    t_ours, t_theirs = lap(ours, period), lap(theirs, period)
+    assert abs(t_ours - t_theirs) <= 5e-3 * t_theirs, (t_ours, t_theirs)
+    rel = np.abs(ours - theirs) / theirs
+    assert np.quantile(rel, 0.99) < 2e-2, np.quantile(rel, [0.5, 0.99, 1.0])
+
+
+def test_the_rates_asked_for_and_the_headroom_bound_the_profile() -> None:
+    robot, contour = ur5(), loop()
+    full = robot.drive_limited_rates(contour, LIMITS, points=POINTS)
+    slow = robot.drive_limited_rates(contour, LIMITS, rate=0.5 * full.min(), points=POINTS)
+    assert np.all(slow == 0.5 * full.min())
+    kept = robot.drive_limited_rates(contour, LIMITS, headroom=0.5, points=POINTS)
+    assert np.all(kept <= full * (1 + 1e-12)) and lap(kept, 3.0) > 1.2 * lap(full, 3.0)
+
+
+def test_bad_input_is_a_named_error() -> None:
+    robot, contour = ur5(), loop()
+    with pytest.raises(ValueError, match="torque_limit"):
+        robot.drive_limited_rates(contour, LIMITS[:5])
+    with pytest.raises(pvfc.PvfcError, match="headroom"):
+        robot.drive_limited_rates(contour, LIMITS, headroom=1.5)
+    with pytest.raises(pvfc.PvfcError, match="torque limits"):
+        robot.drive_limited_rates(contour, -LIMITS)
+    with pytest.raises(TypeError, match="contour"):
+        robot.drive_limited_rates("circle", LIMITS)
