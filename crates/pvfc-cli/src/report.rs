@@ -502,20 +502,21 @@ fn contact_claims(r: &Runs, push: &mut impl FnMut(&str, &str, &str, String, bool
     Ok(())
 }
 
-/// The claims as a Markdown table.
+/// The claims as a Markdown table, the verdict beside the claim's name (a wide table
+/// scrolls: the verdict stays in view).
 pub fn markdown(claims: &[Claim]) -> String {
     let mut s =
-        String::from("| claim | statement | measure | measured | holds |\n|---|---|---|---|---|\n");
+        String::from("| claim | holds | statement | measure | measured |\n|---|---|---|---|---|\n");
     let cell = |x: &str| x.replace('|', "\\|");
     for c in claims {
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} | {} |",
             cell(&c.id),
+            if c.holds { "yes" } else { "**no**" },
             cell(&c.statement),
             cell(&c.measure),
             cell(&c.measured),
-            if c.holds { "yes" } else { "**no**" }
         );
     }
     s

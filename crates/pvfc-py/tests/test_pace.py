@@ -1,7 +1,7 @@
 """The drive-limited pace against TOPP-RA (``toppra``), the reference implementation of the
 time-optimal path parameterisation: on the UR5 (``models/ur5``) along a closed joint-space
 curve under torque limits, with and without Coulomb friction compensation counted against
-them, ``Robot.drive_limited_rates`` gives the same fastest rates and the same lap time as
+them, ``Robot.drive_limited_rates`` gives the same fastest rates (to 1e-7 relative, measured) and the same lap time as
 TOPP-RA's ``JointTorqueConstraint`` on the same path, inverse dynamics (pvfc's RNEA, checked
 against Pinocchio in ``test_pinocchio.py``) and limits, started and ended at pvfc's rate at
 τ = 0 (the closed contour's rate there).
@@ -50,7 +50,7 @@ def loop() -> pvfc.WaypointCurve:
     return pvfc.WaypointCurve(base + bumps, 0.5)
 
 
-class ContourPath(toppra.interpolator.AbstractGeodesicPath):
+class ContourPath(toppra.interpolator.AbstractGeometricPath):
     """pvfc's contour as a TOPP-RA path over one period (positions, and their first and second
     derivatives in τ)."""
 
@@ -96,16 +96,19 @@ def test_the_fastest_rates_are_toppras(friction) -> None:
     algo = toppra.algorithm.TOPPRA(
         [constraint], ContourPath(contour), gridpoints=grid, solver_wrapper="seidel"
     )
-    _, sd, _, _ = algo.compute_parameterization(ours[0], ours[0])
-    assert sd is not None, "TOPP-RA found the path infeasible from pvfc's rate at τ = 0"
+    _, sd, _ = algo.compute_parameterization(ours[0], ours[0])
     theirs = np.asarray(sd)[:-1]
+    assert np.all(np.isfinite(theirs)), "TOPP-RA found no parameterisation from pvfc's rate at τ = 0"
+
     # The drives limit the rate somewhere (it is not the rate asked for anywhere near).
     assert ours.max() < 1e3 and ours.min() > 0.05
-    # The same lap time, and the same profile point by point.
+    # The same lap time, and the same profile point by point (the same discretisation: the
+    # rates agree to ~1e-7, TOPP-RA's own margins of 0.01 % on its forward pass).
     t_ours, t_theirs = lap(ours, period), lap(theirs, period)
-    assert abs(t_ours - t_theirs) <= 5e-3 * t_theirs, (t_ours, t_theirs)
     rel = np.abs(ours - theirs) / theirs
-    assert np.quantile(rel, 0.99) < 2e-2, np.quantile(rel, [0.5, 0.99, 1.0])
+    what = f"lap {t_ours:.6f} s against TOPP-RA's {t_theirs:.6f} s; rates within {rel.max():.1e}"
+    assert abs(t_ours - t_theirs) <= 1e-6 * t_theirs, what
+    assert rel.max() < 1e-5, what
 
 
 def test_the_rates_asked_for_and_the_headroom_bound_the_profile() -> None:
@@ -113,8 +116,8 @@ def test_the_rates_asked_for_and_the_headroom_bound_the_profile() -> None:
     full = robot.drive_limited_rates(contour, LIMITS, points=POINTS)
     slow = robot.drive_limited_rates(contour, LIMITS, rate=0.5 * full.min(), points=POINTS)
     assert np.all(slow == 0.5 * full.min())
-    kept = robot.drive_limited_rates(contour, LIMITS, headroom=0.5, points=POINTS)
-    assert np.all(kept <= full * (1 + 1e-12)) and lap(kept, 3.0) > 1.2 * lap(full, 3.0)
+    kept = robot.drive_limited_rates(contour, LIMITS, headroom=0.8, points=POINTS)
+    assert np.all(kept <= full * (1 + 1e-12)) and lap(kept, 3.0) > 1.05 * lap(full, 3.0)
 
 
 def test_bad_input_is_a_named_error() -> None:
