@@ -9,6 +9,7 @@ use crate::navigation::JointNavigation;
 use crate::robots::Robot;
 use crate::settings::ControllerSettings;
 use pvfc_sim::model::arm::{ArmController as SimArm, ArmSettings, JointContourSpec};
+use pvfc_sim::model::pace::{PaceSettings, PathSpeed};
 use pvfc_sim::model::MAX_WAYPOINTS;
 use pvfc_sim::scenario::obstacles::ObstacleSpec;
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -55,13 +56,16 @@ fn composed(
     contour: &Bound<'_, PyAny>,
     navigation: Option<&JointNavigation>,
     settings: Option<&ControllerSettings>,
-    obstacles: Option<ObstacleSpec>,
+    (obstacles, pace): (Option<ObstacleSpec>, Option<&Bound<'_, PyDict>>),
 ) -> PyResult<Controller> {
     let n = robot.robot.dof();
     let d = ControllerSettings::default();
     let settings = settings.unwrap_or(&d);
+    let level = settings.nominal_speed.map_or(1.0, |(_, r)| r);
+    let pace = pace.map(|p| pace_settings(p, level)).transpose()?;
     let with_obstacles = |mut s: ArmSettings| {
         s.obstacles = obstacles.clone();
+        s.pace = pace.clone();
         build(robot, s)
     };
     if let Ok(t) = contour.cast::<crate::cartesian::TaskSpaceField>() {
@@ -120,6 +124,42 @@ fn obstacle_spec(py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<ObstacleSpec
     serde_json::from_str(&text).map_err(|e| PyValueError::new_err(format!("obstacles: {e}")))
 }
 
+/// `Controller.compose`'s `pace`: `tool_speed` (m/s) or `joint_speed` (rad/s), and/or the
+/// drives' `torque_limit` with its `headroom` (default 0.8), at the energy level `level`.
+fn pace_settings(d: &Bound<'_, PyDict>, level: f64) -> PyResult<PaceSettings> {
+    let mut pace = PaceSettings {
+        speed: None,
+        torque_limit: Vec::new(),
+        headroom: 0.8,
+        level,
+    };
+    for (key, value) in d.iter() {
+        let key: String = key.extract()?;
+        match key.as_str() {
+            "tool_speed" => pace.speed = Some(PathSpeed::Tool(value.extract()?)),
+            "joint_speed" => pace.speed = Some(PathSpeed::Joint(value.extract()?)),
+            "torque_limit" => pace.torque_limit = value.extract()?,
+            "headroom" => pace.headroom = value.extract()?,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "pace: unknown key {other:?} (tool_speed, joint_speed, torque_limit, headroom)"
+                )))
+            }
+        }
+    }
+    if d.contains("tool_speed")? && d.contains("joint_speed")? {
+        return Err(PyValueError::new_err(
+            "pace: give tool_speed or joint_speed, not both",
+        ));
+    }
+    if pace.speed.is_none() && pace.torque_limit.is_empty() {
+        return Err(PyValueError::new_err(
+            "pace: give a speed (tool_speed or joint_speed) or the drives' torque_limit",
+        ));
+    }
+    Ok(pace)
+}
+
 #[pymethods]
 impl Controller {
     /// PVFC for a robot along a closed joint-space contour through waypoints (a periodic C²
@@ -156,8 +196,12 @@ impl Controller {
     /// `obstacles`, a dict with the layout of a scenario's `[obstacles]` table (`kappa`,
     /// `scale`, `speed`, and lists `joint`, `body`, `world`), keeps the arm away from them
     /// through the navigation function (the paper's Remark 3; joint-space contours only).
+    /// `pace`, a dict, sets the pace along the contour: `tool_speed` (m/s of the tool) or
+    /// `joint_speed` (rad/s), bounded by the drives' `torque_limit` (one per joint) of which
+    /// the motion uses `headroom` (default 0.8), at the energy level of the nominal speed (or
+    /// 1); with `energy=0` in the settings the energy level is sized from it.
     #[staticmethod]
-    #[pyo3(signature = (robot, contour, navigation=None, settings=None, obstacles=None))]
+    #[pyo3(signature = (robot, contour, navigation=None, settings=None, obstacles=None, pace=None))]
     fn compose(
         py: Python<'_>,
         robot: &Robot,
@@ -165,8 +209,9 @@ impl Controller {
         navigation: Option<&JointNavigation>,
         settings: Option<&ControllerSettings>,
         obstacles: Option<&Bound<'_, PyDict>>,
+        pace: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Controller> {
         let obstacles = obstacles.map(|d| obstacle_spec(py, d)).transpose()?;
-        composed(robot, contour, navigation, settings, obstacles)
+        composed(robot, contour, navigation, settings, (obstacles, pace))
     }
 }

@@ -8,7 +8,7 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
 use pvfc_core::lie::JointKind;
 use pvfc_core::mechanics::Pose;
 use pvfc_sim::model::arm::drive_limited_rates;
-use pvfc_sim::model::pace::DrivePace;
+use pvfc_sim::model::pace::PaceSettings;
 use pvfc_sim::model::robot::Robot as SimRobot;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -263,7 +263,8 @@ impl Robot {
         points: usize,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let spec = joint_contour_spec(contour)?;
-        let pace = DrivePace {
+        let pace = PaceSettings {
+            speed: None,
             torque_limit: self.v(torque_limit, "torque_limit")?,
             headroom,
             level: rate,

@@ -130,3 +130,42 @@ def test_bad_input_is_a_named_error() -> None:
         robot.drive_limited_rates(contour, -LIMITS)
     with pytest.raises(TypeError, match="contour"):
         robot.drive_limited_rates("circle", LIMITS)
+
+
+def test_a_controller_paced_at_a_joint_speed_moves_its_field_at_that_speed() -> None:
+    """``Controller.compose(..., pace={"joint_speed": v})``: on the contour the field's joint
+    velocity has the norm asked for (λ₁ = σ(τ) = v / |ξ_d(τ)|), at every τ; with
+    ``energy=0`` the level is sized from it (the field is evaluated without finding it too
+    low)."""
+    robot, contour = ur5(), loop()
+    settings = pvfc.ControllerSettings(self_pacing=0.0, energy=0.0, gamma=1.0)
+    ctl = pvfc.Controller.compose(robot, contour, settings=settings, pace={"joint_speed": 0.5})
+    for tau in np.linspace(0.0, contour.period, 13)[:-1]:
+        q = contour.sample(float(tau))[0]
+        e = ctl.evaluate(q, np.zeros(6), float(tau), 0.0, 1.0)
+        speed = np.linalg.norm(e["field_velocity"][:6])
+        # The profile's knots stay below the rates asked for (by at most a knot's change).
+        assert 0.97 * 0.5 <= speed <= 0.5 * (1 + 1e-9), (tau, speed)
+        # The energy level was sized (evaluating the field does not find it too low).
+        assert e["energy_level"] > 0.5 * speed**2
+
+
+def test_a_pace_bounded_by_the_drives_is_never_faster_than_asked() -> None:
+    robot, contour = ur5(), loop()
+    slow = pvfc.Controller.compose(robot, contour, pace={"torque_limit": LIMITS})
+    q = contour.sample(0.0)[0]
+    e = slow.evaluate(q, np.zeros(6), 0.0, 0.0, 1.0)
+    assert 0.0 < e["lambda1"] <= 1.0
+
+
+def test_bad_paces_are_named_errors() -> None:
+    robot, contour = ur5(), loop()
+    for pace, what in [
+        ({"speed": 1.0}, "unknown key"),
+        ({"tool_speed": 0.1, "joint_speed": 1.0}, "not both"),
+        ({"headroom": 0.5}, "give a speed"),
+    ]:
+        with pytest.raises(ValueError, match=what):
+            pvfc.Controller.compose(robot, contour, pace=pace)
+    with pytest.raises(pvfc.PvfcError, match="pace.speed"):
+        pvfc.Controller.compose(robot, contour, pace={"joint_speed": -1.0})

@@ -428,6 +428,7 @@ class Controller:
         navigation: Optional[JointNavigation] = None,
         settings: Optional[ControllerSettings] = None,
         obstacles: Optional[dict[str, Any]] = None,
+        pace: Optional[dict[str, Any]] = None,
     ) -> Controller: ...
     @staticmethod
     def attitude(

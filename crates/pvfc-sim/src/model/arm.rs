@@ -8,7 +8,7 @@ use crate::error::{Result, SimError};
 use crate::model::arm_field::{ArmField, FieldSpec};
 use crate::model::evaluation::Evaluation;
 pub use crate::model::joint_contour::{DynJointContour, JointContour, JointContourSpec};
-use crate::model::pace::{uniform_pacing, DrivePace};
+use crate::model::pace::{energy_for_pace, uniform_pacing, PaceSettings};
 use crate::model::robot::{ChainModel, Robot};
 use nalgebra::SVector;
 use pvfc_core::augmented::AugmentedState;
@@ -32,7 +32,7 @@ pub struct ArmSettings {
     pub h: Vec<f64>,
     /// Self-pacing `R` of eq. (21) (0: off).
     pub self_pacing: f64,
-    /// The energy level `Ē`.
+    /// The energy level `Ē`; 0: sized from the pace ([`energy_for_pace`]).
     pub energy: f64,
     /// The flywheel's inertia `M_F`.
     pub flywheel_inertia: f64,
@@ -52,7 +52,7 @@ pub struct ArmSettings {
     pub obstacles: Option<crate::scenario::obstacles::ObstacleSpec>,
     /// The drive-limited pace: the field slows along the contour to the fastest pace the
     /// drives allow (`pvfc_core::pace`); `None`: the paper's uniform pace.
-    pub pace: Option<DrivePace>,
+    pub pace: Option<PaceSettings>,
 }
 
 /// What one control step gives, with the numbers a log wants.
@@ -120,13 +120,22 @@ pub fn arm_controller<const N: usize>(
     let kinds = chain.kinds();
     let contour = s.contour.build(kinds)?;
     let mut pacing = uniform_pacing(s.self_pacing)?;
+    let mut energy = s.energy;
     if let Some(p) = &s.pace {
         let period = s.contour.period().ok_or_else(|| {
-            setting("pace: the drive-limited pace needs a closed contour (a period)".into())
+            setting("pace: a pace along the contour needs a closed contour (a period)".into())
         })?;
         let friction = s.friction_compensation.as_deref();
         let table = p.profile(&chain, &contour, period, friction, s.gravity_compensation)?;
+        if energy == 0.0 {
+            energy = energy_for_pace(&chain, &contour, &table, period);
+        }
         *pacing.profile_mut() = Some(table);
+    }
+    if energy == 0.0 {
+        return Err(setting(
+            "energy = 0 sizes the energy level from the pace; give a pace (pace.speed)".into(),
+        ));
     }
     let field = match &s.field {
         FieldSpec::Joint => {
@@ -155,7 +164,7 @@ pub fn arm_controller<const N: usize>(
             }
         }
     };
-    let flywheel = Flywheel::new(s.flywheel_inertia, s.energy)?;
+    let flywheel = Flywheel::new(s.flywheel_inertia, energy)?;
     let law = PvfcLaw::new(chain, field, flywheel, s.gamma)?;
     let mut ctl = Controller::new(law).starting_at_rest(s.tau0);
     if s.gravity_compensation {
@@ -180,7 +189,7 @@ pub fn arm_controller<const N: usize>(
 pub fn drive_limited_rates(
     robot: &Robot,
     contour: &JointContourSpec,
-    pace: &DrivePace,
+    pace: &PaceSettings,
     friction: Option<&[f64]>,
     gravity: bool,
     points: usize,
@@ -197,33 +206,27 @@ pub fn drive_limited_rates(
     let mut rates = vec![pace.level; points];
     crate::on_joints!(ChainModel, robot.model(), c, N => {
         let built = contour.build(c.kinds())?;
-        let limits = pace.limits::<N>(friction, gravity)?;
+        let limits = pace.limits::<N>(friction, gravity)?.ok_or_else(|| {
+            setting("torque_limit: the drive-limited rates need the drives' limits".into())
+        })?;
         pvfc_core::pace::drive_limited_rates(c.as_ref(), &built, &limits, period, &mut rates)?;
     });
     Ok(rates)
 }
 
 /// The least time of one lap of the settings' joint contour that `pace`'s drives allow at
-/// full use of their limits (headroom 1; the time-optimal parameterisation's lap on
-/// [`PACE_GRID`](crate::model::pace::PACE_GRID) points), for `robot` with the settings'
+/// full use of their limits ([`PaceSettings::minimum_lap`]), for `robot` with the settings'
 /// friction and gravity compensation.
-pub fn minimum_lap(robot: &Robot, s: &ArmSettings, pace: &DrivePace) -> Result<f64> {
-    let full = DrivePace {
-        headroom: 1.0,
-        level: 1e6,
-        ..pace.clone()
-    };
+pub fn minimum_lap(robot: &Robot, s: &ArmSettings, pace: &PaceSettings) -> Result<f64> {
+    let period = s
+        .contour
+        .period()
+        .ok_or_else(|| setting("contour: a lap needs a closed contour (a period)".into()))?;
     let friction = s.friction_compensation.as_deref();
-    let rates = drive_limited_rates(
-        robot,
-        &s.contour,
-        &full,
-        friction,
-        s.gravity_compensation,
-        crate::model::pace::PACE_GRID,
-    )?;
-    let period = s.contour.period().unwrap_or(f64::NAN);
-    Ok(crate::model::pace::lap_time(&rates, period))
+    crate::on_joints!(ChainModel, robot.model(), c, N => {
+        let contour = s.contour.build(c.kinds())?;
+        pace.minimum_lap(c.as_ref(), &contour, period, friction, s.gravity_compensation)
+    })
 }
 
 impl ArmController {
@@ -309,6 +312,12 @@ impl ArmController {
     /// joint-space image).
     pub fn contour_point(&self, tau: f64) -> Vec<f64> {
         on_arm!(self, c, N => c.law().field().joint_contour().point(tau).coords().as_slice().to_vec())
+    }
+
+    /// The energy level `Ē` (J): the settings', or the one sized from the pace
+    /// ([`energy_for_pace`]) when they give 0.
+    pub fn energy_level(&self) -> f64 {
+        on_arm!(self, c, N => c.law().flywheel().energy())
     }
 
     /// The internal states `(τ, τ̇, q̇_F, laps)`.

@@ -1,18 +1,18 @@
-//! The drive-limited pace of a controller (`pvfc_core::pace`): the fastest rate `τ̇(τ)` the
-//! drives allow along a closed contour, computed on a fine grid and held as a smooth profile
-//! `σ(τ)` of [`PACE_KNOTS`] knots that stays at or below it.
+//! The pace of a controller along its contour (`pvfc_core::pace`): the speed asked for along
+//! the path (the tool's, or the joints'), bounded by the fastest rate `τ̇(τ)` the drives allow,
+//! computed on a fine grid and held as a smooth profile `σ(τ)` of [`PACE_KNOTS`] knots that
+//! stays at or below it.
 
 use crate::error::{Result, SimError};
-use pvfc_core::contour::Contour;
-use pvfc_core::lie::LieGroup;
+use pvfc_core::contour::{Contour, VectorGroup};
 use pvfc_core::mechanics::MechanicalSystem;
-use pvfc_core::pace::{drive_limited_rates, DriveLimits, PaceTable, Paced};
+use pvfc_core::pace::{drive_limited_rates, DriveLimits, PaceProfile, PaceTable, Paced};
 use pvfc_core::pacing::ExponentialPacing;
 
 /// The knots of a controller's pace profile.
 pub const PACE_KNOTS: usize = 256;
 
-/// The points per period on which the drive-limited rates are computed (16 per knot).
+/// The points per period on which the rates are computed (16 per knot).
 pub const PACE_GRID: usize = 16 * PACE_KNOTS;
 
 /// A controller's pace profile: none (the paper's uniform pace) or a table.
@@ -21,27 +21,42 @@ pub type PaceProfileTable = Option<PaceTable<f64, PACE_KNOTS>>;
 /// The self-pacing of the simulator's fields: eq. (21) with an optional pace profile.
 pub type FieldPacing = Paced<ExponentialPacing<f64>, PaceProfileTable>;
 
-/// A controller's drive-limited pace, as plain data: the field slows along the contour to
-/// the fastest pace the drives allow.
+/// The speed asked for along the contour, on the contour at energy level 1.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PathSpeed {
+    /// The tool's speed along its path (m/s): `|J_p(q) ξ_d| τ̇`, `J_p` the linear rows of the
+    /// tool's Jacobian (a serial chain's).
+    Tool(f64),
+    /// The joints' speed (rad/s, m/s for prismatic joints): `|ξ_d| τ̇`.
+    Joint(f64),
+}
+
+/// A controller's pace along its contour, as plain data: a speed asked for along the path
+/// (or the contour's own pace at the energy level), bounded by the fastest pace the drives
+/// allow (if their limits are given).
 #[derive(Clone, Debug, PartialEq)]
-pub struct DrivePace {
-    /// Per-joint torque limits (N·m or N, each > 0).
+pub struct PaceSettings {
+    /// The speed asked for; `None`: `τ̇ = level` (the contour's own parameterisation).
+    pub speed: Option<PathSpeed>,
+    /// Per-joint torque limits (N·m or N, each > 0); empty: the drives do not bound the pace.
     pub torque_limit: Vec<f64>,
     /// The share of each limit the motion along the contour may use, in (0, 1].
     pub headroom: f64,
-    /// The energy level `β` the controller runs at (the rate `τ̇` it makes on the contour
-    /// where nothing limits it).
+    /// The energy level `β` the controller runs at (`τ̇ = β σ(τ)` on the contour).
     pub level: f64,
 }
 
-impl DrivePace {
+impl PaceSettings {
     /// The limits of an `N`-joint controller that adds `friction` compensation (eq. 35) and,
-    /// if `gravity`, its model's `g(q)` to the coupling's torque.
+    /// if `gravity`, its model's `g(q)` to the coupling's torque; `None` without limits.
     pub fn limits<const N: usize>(
         &self,
         friction: Option<&[f64]>,
         gravity: bool,
-    ) -> Result<DriveLimits<f64, N>> {
+    ) -> Result<Option<DriveLimits<f64, N>>> {
+        if self.torque_limit.is_empty() {
+            return Ok(None);
+        }
         let setting = |what: String| SimError::Setting(what);
         let limit = super::fixed::<N>(&self.torque_limit, "pace.torque_limit")?;
         let mut limits = DriveLimits::new(limit)
@@ -53,10 +68,70 @@ impl DrivePace {
             let f = super::fixed::<N>(f, "friction_compensation")?;
             limits = limits.with_friction_compensation(f)?;
         }
-        Ok(limits)
+        Ok(Some(limits))
     }
 
-    /// The pace profile of `system` along `contour` (period `period`) under these limits.
+    /// The rates `τ̇` asked for at [`PACE_GRID`] points of the period: `level`, or the path
+    /// speed's.
+    fn asked<G, Sys, X, const N: usize>(
+        &self,
+        system: &Sys,
+        contour: &X,
+        period: f64,
+    ) -> Result<Vec<f64>>
+    where
+        G: VectorGroup<f64, N>,
+        Sys: MechanicalSystem<f64, G, N>,
+        X: Contour<f64, G, N>,
+    {
+        if !(self.level.is_finite() && self.level > 0.0) {
+            return Err(SimError::Setting(format!(
+                "the pace's energy level β = {}: finite and > 0",
+                self.level
+            )));
+        }
+        let Some(speed) = self.speed else {
+            return Ok(vec![self.level; PACE_GRID]);
+        };
+        let (v, name) = match speed {
+            PathSpeed::Tool(v) => (v, "the tool's speed"),
+            PathSpeed::Joint(v) => (v, "the joints' speed"),
+        };
+        if !(v.is_finite() && v > 0.0) {
+            return Err(SimError::Setting(format!(
+                "pace.speed = {v}: {name} must be finite and > 0"
+            )));
+        }
+        let chain = match speed {
+            PathSpeed::Tool(_) => Some(system.serial_chain().ok_or_else(|| {
+                SimError::Setting(
+                    "pace.speed: a tool speed needs a serial chain (a URDF arm)".into(),
+                )
+            })?),
+            PathSpeed::Joint(_) => None,
+        };
+        Ok((0..PACE_GRID)
+            .map(|j| {
+                let c = contour.sample(j as f64 * period / PACE_GRID as f64);
+                let per_tau = match chain {
+                    Some(chain) => {
+                        let jac = chain.tool_jacobian_world(&c.point.coordinates());
+                        (jac.fixed_rows::<3>(0) * c.velocity).norm()
+                    }
+                    None => c.velocity.norm(),
+                };
+                // Where the path stands still in τ, no rate is too fast for it.
+                if per_tau > 1e-12 {
+                    v / per_tau
+                } else {
+                    1e6
+                }
+            })
+            .collect())
+    }
+
+    /// The pace profile `σ = τ̇(τ) / level` of `system` along `contour` (period `period`): the
+    /// rates asked for, bounded by the drives'.
     pub fn profile<G, Sys, X, const N: usize>(
         &self,
         system: &Sys,
@@ -66,19 +141,30 @@ impl DrivePace {
         gravity: bool,
     ) -> Result<PaceTable<f64, PACE_KNOTS>>
     where
-        G: LieGroup<f64, N>,
+        G: VectorGroup<f64, N>,
         Sys: MechanicalSystem<f64, G, N>,
         X: Contour<f64, G, N>,
     {
-        let limits = self.limits::<N>(friction, gravity)?;
-        drive_limited_pace(system, contour, &limits, period, self.level)
+        let mut rates = self.asked(system, contour, period)?;
+        if let Some(limits) = self.limits::<N>(friction, gravity)? {
+            drive_limited_rates(system, contour, &limits, period, &mut rates)?;
+        }
+        if let Some((j, r)) = rates
+            .iter()
+            .enumerate()
+            .find(|(_, r)| **r <= 1e-6 * self.level)
+        {
+            return Err(SimError::Setting(format!(
+                "the drives cannot move along the contour at τ = {:.4} (fastest rate there {r:.3e})",
+                j as f64 * period / PACE_GRID as f64
+            )));
+        }
+        Ok(PaceTable::below(&rates, self.level, PACE_KNOTS, period)?)
     }
-}
 
-impl DrivePace {
     /// The least time of one lap of `contour` (period `period`) that the drives allow at
-    /// full use of their limits (headroom 1, whatever this pace keeps): the time-optimal
-    /// parameterisation's lap, `∫ dτ / τ̇_max(τ)` on [`PACE_GRID`] points, against which a
+    /// full use of their limits (headroom 1, whatever this pace keeps, and no speed asked
+    /// for): the time-optimal parameterisation's lap on [`PACE_GRID`] points, against which a
     /// controller's lap time is measured.
     pub fn minimum_lap<G, Sys, X, const N: usize>(
         &self,
@@ -89,25 +175,59 @@ impl DrivePace {
         gravity: bool,
     ) -> Result<f64>
     where
-        G: LieGroup<f64, N>,
+        G: VectorGroup<f64, N>,
         Sys: MechanicalSystem<f64, G, N>,
         X: Contour<f64, G, N>,
     {
-        let full = DrivePace {
+        let full = PaceSettings {
+            speed: None,
             headroom: 1.0,
+            // A rate no drive reaches: the profile is then the drives' alone.
+            level: 1e6,
             ..self.clone()
         };
-        let limits = full.limits::<N>(friction, gravity)?;
-        // A rate no drive reaches: the profile is then the drives' alone.
-        let mut rates = vec![1e6; PACE_GRID];
+        let limits = full.limits::<N>(friction, gravity)?.ok_or_else(|| {
+            SimError::Setting(
+                "pace.torque_limit: a lap's least time needs the drives' limits".into(),
+            )
+        })?;
+        let mut rates = vec![full.level; PACE_GRID];
         drive_limited_rates(system, contour, &limits, period, &mut rates)?;
         Ok(lap_time(&rates, period))
     }
 }
 
+/// The energy level `Ē` that a field paced by `pace` along `contour` needs, with a margin of
+/// `2×` for the correction of errors: twice the largest kinetic energy of the suspended field
+/// on the contour, `½ σ(τ)² (ξ_dᵀ M ξ_d + 1)` (eq. 6 asks `Ē > ½ V̄ᵀM̄V̄` everywhere the system
+/// goes), over [`PACE_GRID`] points of the period.
+pub fn energy_for_pace<G, Sys, X, P, const N: usize>(
+    system: &Sys,
+    contour: &X,
+    pace: &P,
+    period: f64,
+) -> f64
+where
+    G: VectorGroup<f64, N>,
+    Sys: MechanicalSystem<f64, G, N>,
+    X: Contour<f64, G, N>,
+    P: PaceProfile<f64>,
+{
+    (0..PACE_GRID)
+        .map(|j| {
+            let tau = j as f64 * period / PACE_GRID as f64;
+            let c = contour.sample(tau);
+            let (sigma, _) = pace.pace(tau);
+            let m = system.inertia(&c.point);
+            0.5 * sigma * sigma * (c.velocity.dot(&(m * c.velocity)) + 1.0)
+        })
+        .fold(0.0, f64::max)
+        * 2.0
+}
+
 /// The time of one lap at the rates `rates` (`τ̇` at evenly spaced points over `period`),
 /// `Σ 2Δ / (τ̇_j + τ̇_{j+1})` (the rate's square moving linearly in `τ`, as the profile's
-/// steps assume, is close to this for a fine grid); infinite if the rate is 0 somewhere.
+/// steps assume); infinite if the rate is 0 somewhere.
 pub fn lap_time(rates: &[f64], period: f64) -> f64 {
     let n = rates.len();
     let step = period / n as f64;
@@ -119,35 +239,4 @@ pub fn lap_time(rates: &[f64], period: f64) -> f64 {
 /// Eq. (21)'s self-pacing with parameter `r`, at the uniform pace.
 pub fn uniform_pacing(r: f64) -> Result<FieldPacing> {
     Ok(Paced::new(ExponentialPacing::new(r)?, None))
-}
-
-/// The profile `σ = τ̇_max(τ) / β` for a field run at energy level `β` (`beta`, the rate `τ̇`
-/// it would make on the contour at `σ = 1`), where `τ̇_max ≤ β` is the fastest rate the drives
-/// allow (`limits`) along `contour` of period `period`, for the model `system`.
-pub fn drive_limited_pace<G, Sys, X, const D: usize>(
-    system: &Sys,
-    contour: &X,
-    limits: &DriveLimits<f64, D>,
-    period: f64,
-    beta: f64,
-) -> Result<PaceTable<f64, PACE_KNOTS>>
-where
-    G: LieGroup<f64, D>,
-    Sys: MechanicalSystem<f64, G, D>,
-    X: Contour<f64, G, D>,
-{
-    if !(beta.is_finite() && beta > 0.0) {
-        return Err(SimError::Setting(format!(
-            "the pace's energy level β = {beta}: finite and > 0"
-        )));
-    }
-    let mut rates = vec![beta; PACE_GRID];
-    drive_limited_rates(system, contour, limits, period, &mut rates)?;
-    if let Some((j, r)) = rates.iter().enumerate().find(|(_, r)| **r <= 1e-6 * beta) {
-        return Err(SimError::Setting(format!(
-            "the drives cannot move along the contour at τ = {:.4} (fastest rate there {r:.3e})",
-            j as f64 * period / PACE_GRID as f64
-        )));
-    }
-    Ok(PaceTable::below(&rates, beta, PACE_KNOTS, period)?)
 }

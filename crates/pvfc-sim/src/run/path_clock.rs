@@ -94,6 +94,7 @@ impl PathClock {
 }
 
 #[cfg(test)]
+#[allow(clippy::unwrap_used)] // tests: a failure is the point
 mod tests {
     use super::*;
 

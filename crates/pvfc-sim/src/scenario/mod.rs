@@ -6,7 +6,7 @@ use crate::error::{Result, SimError};
 use crate::model::arm::PassiveOptions;
 use crate::model::disturbance::Disturbance;
 use crate::model::friction::JointFriction;
-use crate::model::pace::DrivePace;
+use crate::model::pace::{PaceSettings, PathSpeed};
 use pvfc_core::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -343,13 +343,19 @@ pub struct ControllerSpec {
     pub pace: Option<PaceSpec>,
 }
 
-/// `[controller.pace]`: the field's pace along the contour bounded by what the drives allow
-/// (`pvfc_core::pace::drive_limits`), computed from the controller's model of the robot at
-/// the energy level the controller runs at (the nominal speed `r` of eq. (36) if set, else 1).
+/// `[controller.pace]`: the field's pace along the contour: a speed asked for along the path,
+/// bounded by what the drives allow (`pvfc_core::pace::drive_limits`), computed from the
+/// controller's model of the robot at the energy level the controller runs at (the nominal
+/// speed `r` of eq. (36) if set, else the level it starts at).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PaceSpec {
-    /// Per-joint torque limits (N·m, each > 0); empty: `[controller.passive]`'s.
+    /// The speed asked for along the path: the tool's (m/s) along a Cartesian path, the
+    /// joints' (rad/s, the norm of `q̇`) along a joint-space contour; none: the contour's own
+    /// pace. With `controller.energy = 0`, the energy level is sized from it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub speed: Option<f64>,
+    /// Per-joint torque limits (N·m, each > 0); empty: `[controller.passive]`'s, or none.
     pub torque_limit: Vec<f64>,
     /// The share of each limit the motion along the contour may use, in (0, 1]; the rest is
     /// kept for the correction of errors and for what the model misses.
@@ -359,6 +365,7 @@ pub struct PaceSpec {
 impl Default for PaceSpec {
     fn default() -> Self {
         PaceSpec {
+            speed: None,
             torque_limit: Vec::new(),
             headroom: 0.8,
         }
@@ -367,18 +374,30 @@ impl Default for PaceSpec {
 
 impl PaceSpec {
     /// This pace as plain data for a controller with the settings `controller`, starting at
-    /// the energy level `level`: the limits given here, or else `[controller.passive]`'s.
-    pub fn drive_pace(&self, controller: &ControllerSpec, level: f64) -> Result<DrivePace> {
+    /// the energy level `level`, along a Cartesian path (`tool`: the speed is the tool's) or a
+    /// joint-space contour: the limits given here, or else `[controller.passive]`'s.
+    pub fn settings(
+        &self,
+        controller: &ControllerSpec,
+        level: f64,
+        tool: bool,
+    ) -> Result<PaceSettings> {
         let torque_limit = match (&self.torque_limit, &controller.passive) {
             (l, _) if !l.is_empty() => l.clone(),
-            (_, Some(p)) if !p.torque_limit.is_empty() => p.torque_limit.clone(),
-            _ => {
-                return Err(SimError::Setting(
-                    "controller.pace: no torque limits (give controller.pace.torque_limit or controller.passive.torque_limit)".into(),
-                ))
-            }
+            (_, Some(p)) => p.torque_limit.clone(),
+            _ => Vec::new(),
         };
-        Ok(DrivePace {
+        if torque_limit.is_empty() && self.speed.is_none() {
+            return Err(SimError::Setting(
+                "controller.pace: give a speed (controller.pace.speed) or torque limits (controller.pace.torque_limit or controller.passive.torque_limit)".into(),
+            ));
+        }
+        let speed = self.speed.map(|v| match tool {
+            true => PathSpeed::Tool(v),
+            false => PathSpeed::Joint(v),
+        });
+        Ok(PaceSettings {
+            speed,
             torque_limit,
             headroom: self.headroom,
             level,
@@ -848,12 +867,15 @@ impl Scenario {
         }
     }
 
-    /// The drive-limited pace of `[controller.pace]`, if any, at [`pace_level`](Self::pace_level).
-    pub fn drive_pace(&self) -> Result<Option<DrivePace>> {
+    /// The pace of `[controller.pace]`, if any, at [`pace_level`](Self::pace_level): the
+    /// speed asked for is the tool's along a Cartesian path, the joints' along any other
+    /// contour.
+    pub fn drive_pace(&self) -> Result<Option<PaceSettings>> {
+        let tool = self.contour.cartesian.is_some();
         self.controller
             .pace
             .as_ref()
-            .map(|p| p.drive_pace(&self.controller, self.pace_level()))
+            .map(|p| p.settings(&self.controller, self.pace_level(), tool))
             .transpose()
     }
 
