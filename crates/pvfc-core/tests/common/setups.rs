@@ -28,10 +28,24 @@ pub type ScaraLissajous<T> = PvfcLaw<
 
 /// The paper's setting: Pelican SCARA, Lissajous contour, eq. (17) navigation, eq. (21) pacing.
 pub fn scara_lissajous<T: Real>(p: Params) -> ScaraLissajous<T> {
+    paper_law(p, ExponentialPacing::new(cast(p.r)).unwrap())
+}
+
+/// The paper's setting with the self-pacing `pacing`.
+fn paper_law<T: Real, S: SelfPacing<T>>(
+    p: Params,
+    pacing: S,
+) -> PvfcLaw<
+    T,
+    Torus<T, 2>,
+    Scara<T>,
+    SuspendedField<T, Torus<T, 2>, Lissajous<T, 2>, TorusNavigation<T, 2>, S, 2>,
+    2,
+> {
     let field = SuspendedField::new(
         Lissajous::paper(),
         TorusNavigation::paper(vec([p.h[0], p.h[1]])).unwrap(),
-        ExponentialPacing::new(cast(p.r)).unwrap(),
+        pacing,
     );
     PvfcLaw::new(
         Scara::pelican(),
@@ -67,18 +81,10 @@ pub fn test_pace<T: Real>() -> PaceTable<T, 16> {
 
 /// [`scara_lissajous`] with the pace profile [`test_pace`].
 pub fn scara_paced<T: Real>(p: Params) -> ScaraPaced<T> {
-    let field = SuspendedField::new(
-        Lissajous::paper(),
-        TorusNavigation::paper(vec([p.h[0], p.h[1]])).unwrap(),
+    paper_law(
+        p,
         Paced::new(ExponentialPacing::new(cast(p.r)).unwrap(), test_pace()),
-    );
-    PvfcLaw::new(
-        Scara::pelican(),
-        field,
-        Flywheel::new(T::one(), cast(50.0)).unwrap(),
-        cast(p.gamma),
     )
-    .unwrap()
 }
 
 pub type ScaraSpline<T> = PvfcLaw<
