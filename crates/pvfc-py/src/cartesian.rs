@@ -18,7 +18,9 @@ use std::path::PathBuf;
 /// A closed tool path: give `points` (an `(n, 3)` polyline, corners rounded to
 /// `corner_radius`; with `orientations`, `(n, 3)` roll–pitch–yaw of the tool at each, a path
 /// in SE(3)), or `circle=(center, radius, normal)`, or `ellipse=(center, semi_major,
-/// semi_minor, normal, major_axis)`, or `csv` (a file of `x,y,z` lines).
+/// semi_minor, normal, major_axis)`, or `csv` (a file of `x,y,z` lines). `samples=0` (the
+/// default) samples it as many times as it takes for the joint contour to stay within
+/// `tolerance` (default 10 µm) of the path; a number from 4 fixes the samples.
 #[pyclass(module = "pvfc")]
 pub(crate) struct CartesianPath {
     spec: CartesianSpec,
@@ -27,7 +29,7 @@ pub(crate) struct CartesianPath {
 #[pymethods]
 impl CartesianPath {
     #[new]
-    #[pyo3(signature = (points=None, corner_radius=0.0, circle=None, csv=None, samples=24, orientations=None, ellipse=None, tolerance=None))]
+    #[pyo3(signature = (points=None, corner_radius=0.0, circle=None, csv=None, samples=0, orientations=None, ellipse=None, tolerance=None))]
     #[allow(clippy::type_complexity, clippy::too_many_arguments)]
     fn new(
         points: Option<&Bound<'_, PyAny>>,

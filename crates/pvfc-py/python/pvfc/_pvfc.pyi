@@ -89,7 +89,7 @@ class CartesianPath:
         corner_radius: float = 0.0,
         circle: Optional[Tuple[_ArrayLike, float, _ArrayLike]] = None,
         csv: Optional[_PathLike] = None,
-        samples: int = 24,
+        samples: int = 0,
         orientations: Optional[_ArrayLike] = None,
         ellipse: Optional[Tuple[_ArrayLike, float, float, _ArrayLike, _ArrayLike]] = None,
         tolerance: Optional[float] = None,
@@ -484,6 +484,7 @@ class ArmController(Controller):
         navigation: Optional[JointNavigation] = None,
         settings: Optional[ControllerSettings] = None,
         obstacles: Optional[dict[str, Any]] = None,
+        pace: Optional[dict[str, Any]] = None,
     ) -> ArmController: ...
 
 @final
