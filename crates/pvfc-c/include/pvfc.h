@@ -108,6 +108,16 @@ typedef struct pvfc_settings {
   double nominal_speed_r;
   // The contour parameter `τ` to start at.
   double tau0;
+  // The pace along the contour: the speed asked for (0: the contour's own pace), the
+  // tool's (m/s) along a Cartesian path, the joints' (rad/s, the norm of `q̇`) along a
+  // joint-space contour. With `energy = 0` the energy level is sized from it.
+  double pace_speed;
+  // The drives' torque limits bounding the pace, one per joint (N·m or N); NULL: none.
+  const double *pace_torque_limit;
+  // The number of entries at `pace_torque_limit`.
+  size_t pace_torque_limit_len;
+  // The share of each limit the motion along the contour may use, in (0, 1].
+  double pace_headroom;
 } pvfc_settings;
 
 // The numbers of one control step besides the torque.
@@ -300,7 +310,9 @@ enum pvfc_status pvfc_contour_distance(const struct pvfc_contour *contour,
 void pvfc_contour_destroy(struct pvfc_contour *contour);
 
 // The default settings: no self-pacing, `Ē = 10`, `M_F = 1`, `γ = 1`, gravity
-// compensation on, no friction compensation, no nominal-speed control, `τ₀ = 0`.
+// compensation on, no friction compensation, no nominal-speed control, `τ₀ = 0`, the
+// contour's own pace (no speed asked for, no torque limits; headroom 0.8 if limits are
+// given).
 struct pvfc_settings pvfc_settings_default(void);
 
 // Makes a controller of `robot` that follows `contour` (a Cartesian path's inverse

@@ -31,6 +31,11 @@ enum Kind {
 }
 
 impl pvfc_contour {
+    /// Whether the contour is a Cartesian tool path (its pace is the tool's speed).
+    pub(crate) fn is_cartesian(&self) -> bool {
+        matches!(self.kind, Kind::Cartesian { .. })
+    }
+
     /// The joint contour and the field `robot` follows it with (a Cartesian path's inverse
     /// kinematics solved on `robot`).
     pub(crate) fn resolve(&self, robot: &Robot) -> Result<(JointContourSpec, FieldSpec), Failure> {

@@ -6,6 +6,7 @@ use crate::contour::{pvfc_contour, pvfc_contour_destroy, pvfc_contour_waypoints}
 use crate::robot::pvfc_robot;
 use crate::status::*;
 use pvfc_sim::model::arm::{ArmController, ArmSettings};
+use pvfc_sim::model::pace::{PaceSettings, PathSpeed};
 
 /// The settings of a controller, apart from its robot, contour and navigation weights. Get
 /// them from [`pvfc_settings_default`] and change what you need: `size` lets later versions
@@ -37,10 +38,22 @@ pub struct pvfc_settings {
     pub nominal_speed_r: f64,
     /// The contour parameter `τ` to start at.
     pub tau0: f64,
+    /// The pace along the contour: the speed asked for (0: the contour's own pace), the
+    /// tool's (m/s) along a Cartesian path, the joints' (rad/s, the norm of `q̇`) along a
+    /// joint-space contour. With `energy = 0` the energy level is sized from it.
+    pub pace_speed: f64,
+    /// The drives' torque limits bounding the pace, one per joint (N·m or N); NULL: none.
+    pub pace_torque_limit: *const f64,
+    /// The number of entries at `pace_torque_limit`.
+    pub pace_torque_limit_len: usize,
+    /// The share of each limit the motion along the contour may use, in (0, 1].
+    pub pace_headroom: f64,
 }
 
 /// The default settings: no self-pacing, `Ē = 10`, `M_F = 1`, `γ = 1`, gravity
-/// compensation on, no friction compensation, no nominal-speed control, `τ₀ = 0`.
+/// compensation on, no friction compensation, no nominal-speed control, `τ₀ = 0`, the
+/// contour's own pace (no speed asked for, no torque limits; headroom 0.8 if limits are
+/// given).
 #[no_mangle]
 pub extern "C" fn pvfc_settings_default() -> pvfc_settings {
     pvfc_settings {
@@ -56,6 +69,10 @@ pub extern "C" fn pvfc_settings_default() -> pvfc_settings {
         nominal_speed_c: 0.0,
         nominal_speed_r: 1.0,
         tau0: 0.0,
+        pace_speed: 0.0,
+        pace_torque_limit: std::ptr::null(),
+        pace_torque_limit_len: 0,
+        pace_headroom: 0.8,
     }
 }
 
@@ -123,6 +140,29 @@ pub unsafe extern "C" fn pvfc_controller_new(
             )
         }?
         .map(<[f64]>::to_vec);
+        let limits = unsafe {
+            optional_joints(
+                s.pace_torque_limit,
+                s.pace_torque_limit_len,
+                n,
+                "settings.pace_torque_limit",
+            )
+        }?
+        .map(<[f64]>::to_vec);
+        let level = if s.nominal_speed_c != 0.0 {
+            s.nominal_speed_r
+        } else {
+            1.0
+        };
+        let pace = (s.pace_speed != 0.0 || limits.is_some()).then(|| PaceSettings {
+            speed: (s.pace_speed != 0.0).then(|| match contour.is_cartesian() {
+                true => PathSpeed::Tool(s.pace_speed),
+                false => PathSpeed::Joint(s.pace_speed),
+            }),
+            torque_limit: limits.unwrap_or_default(),
+            headroom: s.pace_headroom,
+            level,
+        });
         let (contour, field) = contour.resolve(robot)?;
         let settings = ArmSettings {
             contour,
@@ -139,7 +179,7 @@ pub unsafe extern "C" fn pvfc_controller_new(
                 .then_some((s.nominal_speed_c, s.nominal_speed_r)),
             tau0: s.tau0,
             obstacles: None,
-            pace: None,
+            pace,
         };
         let ctl = ArmController::new(robot, &settings)?;
         unsafe {

@@ -325,11 +325,22 @@ fn bad_pointers_and_sizes_are_codes_with_messages() {
 /// Steps the C controller and the Rust one on `urdf` (tip `tip`) through the contour
 /// `waypoints` (row-major) from `(q, v)`, moving `q` a little each step: the torques agree
 /// bit for bit.
-fn agree(urdf: &str, tip: &str, waypoints: &[f64], mut q: Vec<f64>, v: Vec<f64>) {
+fn agree(urdf: &str, tip: &str, waypoints: &[f64], q: Vec<f64>, v: Vec<f64>) {
+    agree_with(urdf, tip, waypoints, (q, v), pvfc_settings_default(), None);
+}
+
+/// [`agree`] with the settings `s`, which the Rust side reads as `pace` besides the defaults.
+fn agree_with(
+    urdf: &str,
+    tip: &str,
+    waypoints: &[f64],
+    (mut q, v): (Vec<f64>, Vec<f64>),
+    s: pvfc_settings,
+    pace: Option<pvfc_sim::model::pace::PaceSettings>,
+) {
     let n = q.len();
     let robot = open_robot(urdf, tip);
     let mut ctl = std::ptr::null_mut();
-    let s = pvfc_settings_default();
     // SAFETY: valid arrays and out pointers.
     unsafe {
         assert_eq!(
@@ -374,7 +385,7 @@ fn agree(urdf: &str, tip: &str, waypoints: &[f64], mut q: Vec<f64>, v: Vec<f64>)
         nominal_speed: None,
         tau0: 0.0,
         obstacles: None,
-        pace: None,
+        pace,
     };
     let mut rust = pvfc_sim::model::arm::ArmController::new(&r, &settings).unwrap();
     let mut torque = vec![0.0; n];
@@ -402,6 +413,67 @@ fn agree(urdf: &str, tip: &str, waypoints: &[f64], mut q: Vec<f64>, v: Vec<f64>)
         pvfc_controller_destroy(ctl);
         pvfc_robot_destroy(robot);
     }
+}
+
+/// The pace of `pvfc_settings` (a joint speed asked for, bounded by the drives' limits) is the
+/// Rust controller's `ArmSettings::pace`, step for step; a wrong number of limits or a bad
+/// speed is a named error.
+#[test]
+fn the_c_pace_is_the_rust_controllers() {
+    let limits = [60.0, 60.0, 30.0, 5.0, 5.0, 5.0];
+    let mut s = pvfc_settings_default();
+    s.pace_speed = 0.6;
+    s.pace_torque_limit = limits.as_ptr();
+    s.pace_torque_limit_len = limits.len();
+    let pace = pvfc_sim::model::pace::PaceSettings {
+        speed: Some(pvfc_sim::model::pace::PathSpeed::Joint(0.6)),
+        torque_limit: limits.to_vec(),
+        headroom: 0.8,
+        level: 1.0,
+    };
+    agree_with(
+        "ur5/ur5_robot.urdf",
+        "tool0",
+        &WAYPOINTS,
+        (
+            vec![0.1, -1.1, 1.3, -1.7, -1.5, 0.1],
+            vec![0.2, -0.1, 0.05, 0.0, 0.1, -0.2],
+        ),
+        s,
+        Some(pace),
+    );
+    let robot = open_robot("ur5/ur5_robot.urdf", "tool0");
+    let mut ctl = std::ptr::null_mut();
+    let new = |s: &pvfc_settings, ctl: &mut *mut pvfc_controller| {
+        // SAFETY: valid arrays and out pointers.
+        unsafe {
+            pvfc_controller_new_waypoints(
+                robot,
+                WAYPOINTS.as_ptr(),
+                WAYPOINTS.len() / 6,
+                6,
+                1.5,
+                std::ptr::null(),
+                0,
+                s,
+                ctl,
+            )
+        }
+    };
+    s.pace_torque_limit_len = 5;
+    assert_ne!(new(&s, &mut ctl), pvfc_status::PVFC_OK);
+    assert!(
+        last_error().contains("pace_torque_limit"),
+        "{}",
+        last_error()
+    );
+    s.pace_torque_limit_len = 6;
+    s.pace_speed = -1.0;
+    assert_ne!(new(&s, &mut ctl), pvfc_status::PVFC_OK);
+    assert!(last_error().contains("pace.speed"), "{}", last_error());
+    assert!(ctl.is_null());
+    // SAFETY: made above, freed once.
+    unsafe { pvfc_robot_destroy(robot) };
 }
 
 #[test]
