@@ -31,17 +31,17 @@ pub fn scara_lissajous<T: Real>(p: Params) -> ScaraLissajous<T> {
     paper_law(p, ExponentialPacing::new(cast(p.r)).unwrap())
 }
 
-/// The paper's setting with the self-pacing `pacing`.
-fn paper_law<T: Real, S: SelfPacing<T>>(
-    p: Params,
-    pacing: S,
-) -> PvfcLaw<
+/// The paper's SCARA, Lissajous contour and navigation function with the self-pacing `S`.
+pub type PaperLaw<T, S> = PvfcLaw<
     T,
     Torus<T, 2>,
     Scara<T>,
     SuspendedField<T, Torus<T, 2>, Lissajous<T, 2>, TorusNavigation<T, 2>, S, 2>,
     2,
-> {
+>;
+
+/// The paper's setting with the self-pacing `pacing`.
+fn paper_law<T: Real, S: SelfPacing<T>>(p: Params, pacing: S) -> PaperLaw<T, S> {
     let field = SuspendedField::new(
         Lissajous::paper(),
         TorusNavigation::paper(vec([p.h[0], p.h[1]])).unwrap(),
@@ -58,20 +58,7 @@ fn paper_law<T: Real, S: SelfPacing<T>>(
 
 /// The paper's setting with a pace profile along the contour (`pvfc_core::pace`): twelve
 /// knots between 0.3 and 1.2 over the Lissajous curve's period of 6.
-pub type ScaraPaced<T> = PvfcLaw<
-    T,
-    Torus<T, 2>,
-    Scara<T>,
-    SuspendedField<
-        T,
-        Torus<T, 2>,
-        Lissajous<T, 2>,
-        TorusNavigation<T, 2>,
-        Paced<ExponentialPacing<T>, PaceTable<T, 16>>,
-        2,
-    >,
-    2,
->;
+pub type ScaraPaced<T> = PaperLaw<T, Paced<ExponentialPacing<T>, PaceTable<T, 16>>>;
 
 /// The pace profile of [`scara_paced`].
 pub fn test_pace<T: Real>() -> PaceTable<T, 16> {
