@@ -78,7 +78,7 @@ fn environment_with(s: &Scenario, arm: &Scara<f64>) -> Result<Option<Box<dyn Env
         #[cfg(not(feature = "contact"))]
         Some(_) => {
             let _ = arm;
-            Err(SimError::Setting(
+            Err(crate::error::SimError::Setting(
                 "the scenario has a [contact] table, but pvfc-sim was built without its `contact` feature".into(),
             ))
         }
