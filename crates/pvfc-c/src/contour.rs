@@ -6,11 +6,11 @@
 
 use crate::args::*;
 use crate::status::*;
-use pvfc_sim::model::arm::JointContourSpec;
-use pvfc_sim::model::arm_field::FieldSpec;
-use pvfc_sim::model::cartesian::{CartesianSpec, CircleSpec, TaskSpec};
-use pvfc_sim::model::robot::Robot;
-use pvfc_sim::model::tool_path::ToolPath;
+use pvfc_control::model::arm::JointContourSpec;
+use pvfc_control::model::arm_field::FieldSpec;
+use pvfc_control::model::cartesian::{CartesianSpec, CircleSpec, TaskSpec};
+use pvfc_control::model::robot::Robot;
+use pvfc_control::model::tool_path::ToolPath;
 use std::ffi::c_char;
 use std::path::PathBuf;
 
@@ -235,12 +235,12 @@ pub extern "C" fn pvfc_cartesian_options_default() -> pvfc_cartesian_options {
         seed: std::ptr::null(),
         seed_len: 0,
         samples: 0,
-        tolerance: pvfc_sim::model::cartesian::DEFAULT_TOLERANCE,
+        tolerance: pvfc_control::model::cartesian::DEFAULT_TOLERANCE,
         fixed_orientation: false,
         task_field: false,
-        task_stiffness: pvfc_sim::model::cartesian::DEFAULT_TASK_STIFFNESS,
+        task_stiffness: pvfc_control::model::cartesian::DEFAULT_TASK_STIFFNESS,
         task_orientation_stiffness: 0.0,
-        task_damping: pvfc_sim::model::cartesian::DEFAULT_TASK_DAMPING,
+        task_damping: pvfc_control::model::cartesian::DEFAULT_TASK_DAMPING,
         task_rest_gain: 1.0,
         task_saturation: 0.0,
     }

@@ -5,8 +5,8 @@ use crate::args::*;
 use crate::contour::{pvfc_contour, pvfc_contour_destroy, pvfc_contour_waypoints};
 use crate::robot::pvfc_robot;
 use crate::status::*;
-use pvfc_sim::model::arm::{ArmController, ArmSettings};
-use pvfc_sim::model::pace::{PaceSettings, PathSpeed};
+use pvfc_control::model::arm::{ArmController, ArmSettings};
+use pvfc_control::model::pace::{PaceSettings, PathSpeed};
 
 /// The settings of a controller, apart from its robot, contour and navigation weights. Get
 /// them from [`pvfc_settings_default`] and change what you need: `size` lets later versions

@@ -1,7 +1,8 @@
-//! pvfc from C and C++: a C ABI over the arm controllers of `pvfc-sim`, for a robot read from
-//! URDF and a closed joint-space contour through waypoints, in the continuous-time form and
-//! in the passive digital form (`pvfc_core::passive`). The header `include/pvfc.h` is
-//! generated from this crate by cbindgen (a test checks it is fresh).
+//! pvfc from C and C++: a C ABI over the arm controllers of `pvfc-control` (no simulator is
+//! linked), for a robot read from URDF and a closed joint-space contour through waypoints, in
+//! the continuous-time form and in the passive digital form (`pvfc_core::passive`). The
+//! header `include/pvfc.h` is generated from this crate by cbindgen (a test checks it is
+//! fresh).
 //!
 //! Conventions of every function:
 //! * it returns a [`pvfc_status`]; on an error, [`pvfc_last_error`] gives the message (per

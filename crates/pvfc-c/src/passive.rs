@@ -3,7 +3,7 @@
 use crate::args::*;
 use crate::controller::pvfc_controller;
 use crate::status::*;
-use pvfc_sim::model::arm::{PassiveArm, PassiveOptions};
+use pvfc_control::model::arm::{PassiveArm, PassiveOptions};
 /// The options of the passive digital controller. Get them from
 /// [`pvfc_passive_options_default`].
 #[repr(C)]

@@ -2,8 +2,8 @@
 
 use crate::args::*;
 use crate::status::*;
-use pvfc_sim::model::robot::Robot;
-use pvfc_sim::urdf::ChainDescription;
+use pvfc_control::model::robot::Robot;
+use pvfc_control::urdf::ChainDescription;
 use std::ffi::c_char;
 use std::path::Path;
 

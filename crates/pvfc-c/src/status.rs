@@ -1,8 +1,8 @@
 //! Status codes, the thread's last error, and the guard that turns errors and panics into
 //! them.
 
+use pvfc_control::SimError;
 use pvfc_core::ErrorKind;
-use pvfc_sim::SimError;
 use std::cell::RefCell;
 use std::ffi::c_char;
 use std::fmt;

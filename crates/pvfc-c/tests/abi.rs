@@ -336,7 +336,7 @@ fn agree_with(
     waypoints: &[f64],
     (mut q, v): (Vec<f64>, Vec<f64>),
     s: pvfc_settings,
-    pace: Option<pvfc_sim::model::pace::PaceSettings>,
+    pace: Option<pvfc_control::model::pace::PaceSettings>,
 ) {
     let n = q.len();
     let robot = open_robot(urdf, tip);
@@ -360,7 +360,7 @@ fn agree_with(
             last_error()
         );
     }
-    let r = pvfc_sim::model::robot::Robot::from_urdf(
+    let r = pvfc_control::model::robot::Robot::from_urdf(
         &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../models")
             .join(urdf),
@@ -368,12 +368,12 @@ fn agree_with(
         Some(tip),
     )
     .unwrap();
-    let settings = pvfc_sim::model::arm::ArmSettings {
-        contour: pvfc_sim::model::arm::JointContourSpec::Waypoints {
+    let settings = pvfc_control::model::arm::ArmSettings {
+        contour: pvfc_control::model::arm::JointContourSpec::Waypoints {
             points: waypoints.chunks(n).map(<[f64]>::to_vec).collect(),
             spacing: 1.5,
         },
-        field: pvfc_sim::model::arm_field::FieldSpec::Joint,
+        field: pvfc_control::model::arm_field::FieldSpec::Joint,
         h: vec![1.0; n],
         self_pacing: s.self_pacing,
         energy: s.energy,
@@ -387,7 +387,7 @@ fn agree_with(
         obstacles: None,
         pace,
     };
-    let mut rust = pvfc_sim::model::arm::ArmController::new(&r, &settings).unwrap();
+    let mut rust = pvfc_control::model::arm::ArmController::new(&r, &settings).unwrap();
     let mut torque = vec![0.0; n];
     for k in 0..30 {
         let expected = rust.step(&q, &v, 1e-3).unwrap();
@@ -425,8 +425,8 @@ fn the_c_pace_is_the_rust_controllers() {
     s.pace_speed = 0.6;
     s.pace_torque_limit = limits.as_ptr();
     s.pace_torque_limit_len = limits.len();
-    let pace = pvfc_sim::model::pace::PaceSettings {
-        speed: Some(pvfc_sim::model::pace::PathSpeed::Joint(0.6)),
+    let pace = pvfc_control::model::pace::PaceSettings {
+        speed: Some(pvfc_control::model::pace::PathSpeed::Joint(0.6)),
         torque_limit: limits.to_vec(),
         headroom: 0.8,
         level: 1.0,

@@ -7,7 +7,7 @@
 
 #![allow(unsafe_code)]
 use pvfc_c::*;
-use pvfc_sim::model::cartesian::TaskSpec;
+use pvfc_control::model::cartesian::TaskSpec;
 use pvfc_sim::scenario::Scenario;
 use std::ffi::{CStr, CString};
 use std::path::{Path, PathBuf};
@@ -111,7 +111,7 @@ fn a_cartesian_path_through_the_abi_is_the_scenarios_controller() {
     let robot = ur5();
     for task in [false, true] {
         let s = scenario(task);
-        let mut rust = pvfc_sim::model::arm::ArmController::new(
+        let mut rust = pvfc_control::model::arm::ArmController::new(
             &s.robot().unwrap(),
             &s.arm_settings().unwrap(),
         )

@@ -1,8 +1,9 @@
 //! # pvfc-sim
 //!
 //! The simulation library of Passive Velocity Field Control, in layers through which the data
-//! of a run flows one way: URDF files ([`urdf`]) and robot models with a run-time number of
-//! joints ([`model`]); contact with the world ([`contact`]); scenarios as plain data, the
+//! of a run flows one way: the controllers of robots known at run time (crate
+//! `pvfc-control`, re-exported here as [`urdf`], [`model`] and [`error`]); contact with the
+//! world ([`contact`]); scenarios as plain data, the
 //! paper's presets, and the one builder that makes a scenario's system ([`scenario`]); the
 //! closed loop and its runs ([`run`]); what a run leaves and what is measured on it
 //! ([`trace`]); MCAP logs ([`log`]); studies over many runs ([`study`]).
@@ -17,14 +18,15 @@
 #![warn(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 pub mod contact;
-pub mod error;
 pub mod log;
-pub mod model;
+pub mod plant;
 pub mod run;
 pub mod scenario;
 pub mod study;
 pub mod trace;
-pub mod urdf;
+
+pub use pvfc_control::{dof_dispatch, dof_enum, on_joints, with_dof};
+pub use pvfc_control::{error, model, urdf};
 
 pub use error::{Result, SimError};
 pub use run::integrate::{ClosedLoop, Derivative, Evaluation};

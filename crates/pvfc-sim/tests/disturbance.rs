@@ -2,7 +2,7 @@
 //! work counted as the environment's in the energy audit (the SCARA and a URDF arm, continuous
 //! and sampled), and bad lists named.
 
-use pvfc_sim::model::disturbance::Disturbance;
+use pvfc_sim::plant::disturbance::Disturbance;
 use pvfc_sim::run::simulate;
 use pvfc_sim::scenario::{presets, Mode, Scenario};
 use pvfc_sim::trace::Trace;

@@ -4,7 +4,7 @@
 
 use nalgebra::Vector2;
 use pvfc_sim::error::SimError;
-use pvfc_sim::model::friction::{JointFriction, Stribeck};
+use pvfc_sim::plant::friction::{JointFriction, Stribeck};
 use pvfc_sim::run::simulate;
 use pvfc_sim::scenario::{presets, Scenario};
 use pvfc_sim::trace::metrics::energy_audit;

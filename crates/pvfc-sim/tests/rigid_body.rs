@@ -7,7 +7,7 @@ use nalgebra::{Matrix3, Vector3};
 use pvfc_core::prelude::*;
 use pvfc_sim::log::read_mcap;
 use pvfc_sim::log::scene::{Scene, BODY_FRAME, BODY_TOPIC, DESIRED_FRAME, FRAMES_TOPIC};
-use pvfc_sim::model::disturbance::Disturbance;
+use pvfc_sim::plant::disturbance::Disturbance;
 use pvfc_sim::run::integrate::ClosedLoop;
 use pvfc_sim::run::simulate;
 use pvfc_sim::scenario::{presets, Mode, Scenario};

@@ -10,8 +10,8 @@
 
 use crate::contact::ForceSchedule;
 use crate::error::{Result, SimError};
-use crate::model::disturbance::{torque_of, Disturbance};
-use crate::model::friction::JointFriction;
+use crate::plant::disturbance::{torque_of, Disturbance};
+use crate::plant::friction::JointFriction;
 use crate::run::integrate::{ClosedLoop, Derivative};
 use crate::run::path_clock::PathClock;
 use crate::run::stepper::Stepper;

@@ -4,15 +4,15 @@
 use crate::contact::ContactSpec;
 use crate::error::{Result, SimError};
 use crate::model::arm::PassiveOptions;
-use crate::model::disturbance::Disturbance;
-use crate::model::friction::JointFriction;
 use crate::model::pace::{PaceSettings, PathSpeed};
+use crate::plant::disturbance::Disturbance;
+use crate::plant::friction::JointFriction;
 use pvfc_core::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 pub mod build;
-pub mod obstacles;
+pub use pvfc_control::obstacles;
 pub mod preset_id;
 pub mod presets;
 

@@ -13,8 +13,8 @@
 //!   (36) injects at most `c·2Ē·β(r − β)` W, which must cover the friction losses (~5 W).
 
 use crate::contact::{ContactLaw, ContactSpec, ForceSchedule, Keyframe, ObstacleSpec, ShapeSpec};
-use crate::model::disturbance::Disturbance;
-use crate::model::friction::{JointFriction, Stribeck};
+use crate::plant::disturbance::Disturbance;
+use crate::plant::friction::{JointFriction, Stribeck};
 use crate::scenario::preset_id::{
     Arm3dCase, ContactCase, Digital, DigitalCase, Fig1Contour, PresetId, SaturatedPath,
     ToolPathCase,

@@ -2,16 +2,13 @@
 //! serial chain read from a URDF ([`robot`], dispatched onto `SerialChain<N>` by
 //! [`with_dof!`](crate::with_dof)), the PVFC controller of any chain and its joint-space
 //! contours ([`arm`]), the law at one state for any robot ([`evaluation`]), tool paths in Cartesian space and their inverse kinematics
-//! ([`cartesian`]), joint friction ([`friction`]), disturbance torques ([`disturbance`]) and the
-//! drive-limited pace along a contour ([`pace`]).
+//! ([`cartesian`]) and the pace along a contour ([`pace`]).
 
 pub mod arm;
 pub mod arm_field;
 pub mod cartesian;
 pub mod dispatch;
-pub mod disturbance;
 pub mod evaluation;
-pub mod friction;
 pub mod joint_contour;
 pub mod pace;
 pub mod path_orientation;
@@ -29,7 +26,7 @@ pub use crate::urdf::chain::MAX_JOINTS;
 pub const MAX_WAYPOINTS: usize = 1024;
 
 /// A per-joint list as a vector of the robot's dimension, or an error naming it.
-pub(crate) fn fixed<const N: usize>(x: &[f64], name: &str) -> Result<SVector<f64, N>> {
+pub fn fixed<const N: usize>(x: &[f64], name: &str) -> Result<SVector<f64, N>> {
     if x.len() != N {
         return Err(SimError::Setting(format!(
             "{name}: {} entries for a {N}-joint robot",

@@ -49,7 +49,7 @@ pub struct ArmSettings {
     /// The contour parameter to start at.
     pub tau0: f64,
     /// Obstacles the joint-space field keeps the arm away from (Remark 3).
-    pub obstacles: Option<crate::scenario::obstacles::ObstacleSpec>,
+    pub obstacles: Option<crate::obstacles::ObstacleSpec>,
     /// The drive-limited pace: the field slows along the contour to the fastest pace the
     /// drives allow (`pvfc_core::pace`); `None`: the paper's uniform pace.
     pub pace: Option<PaceSettings>,

@@ -1,5 +1,5 @@
 //! The `<collision>` elements of a chain's links, as geometry placed on the chain's bodies
-//! (for 3-D contact, [`crate::contact::spatial`]). Reading them never opens a mesh file: a mesh
+//! (for pvfc-sim's 3-D contact, `contact::spatial`). Reading them never opens a mesh file: a mesh
 //! is kept by name and resolved only when a contact world asks for it ([`resolve_mesh`]).
 
 use crate::error::{Result, SimError};
