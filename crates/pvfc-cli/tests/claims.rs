@@ -1,7 +1,9 @@
 //! Each claim of section V as a test with a number (the runs of `pvfc reproduce`, shared).
-//! Two claims do not come out on our plant and are reported, not asserted: U without
-//! compensation is 24–40× (not ~2×) the compensated U, and the timed tracker of Fig. 1 (with
-//! an exact model and ω_n = 20 rad/s) stays closer to the contour than PVFC. See README.
+//! Four claims do not come out on our plant and are reported, not asserted: U without
+//! compensation is 24–40× (not ~2×) the compensated U, the timed tracker of Fig. 1 (with an
+//! exact model and ω_n = 20 rad/s) stays closer to the contour than PVFC, and on the SCARA's
+//! saturating drives a speed-scaling tracker is nearer than PVFC at the lowest demanded speed
+//! (`fig1.saturated`, `fig1.saturated.lissajous`). See the manual's reproduction page.
 
 use pvfc_cli::report::{claims, Claim};
 use pvfc_cli::reproduce::run_all;
@@ -146,9 +148,58 @@ fn the_passive_controller_tracks_as_the_continuous_one() {
     assert_holds("digital.tracking");
 }
 
+/// Fig. 1 on saturating drives, the SCARA on both contours: wherever the timed tracker is at a
+/// limit in over 5 % of its samples, PVFC (with the drive-limited pace) is at most a third as
+/// far from the contour, slower than demanded, never stopping and itself at a limit in under
+/// 5 % of its samples; from `r = 1.5` on it is also nearer than the speed-scaling tracker and
+/// faster. At `r = 0.5` the speed-scaling tracker already scales (friction compensation takes
+/// 3 of the second joint's 5 N·m) and is nearer than PVFC, so the claims `fig1.saturated` and
+/// `fig1.saturated.lissajous` do not hold: reported, not asserted (issue 51, friction).
 #[test]
 fn on_saturating_drives_the_timed_tracker_leaves_the_contour_and_pvfc_slows_down() {
-    assert_holds("fig1.saturated");
+    use pvfc_cli::speed_sweep::sweep;
+    use pvfc_sim::scenario::preset_id::Fig1Contour;
+    for contour in Fig1Contour::ALL {
+        let w = sweep(&all_claims().0, contour).expect("the sweep's runs");
+        let mut saturating = 0;
+        for i in 0..w.pvfc.len() {
+            let (p, t, c) = (&w.pvfc[i], &w.timed[i], &w.scaled[i]);
+            let at = format!("{contour:?} at r = {}", p.demanded);
+            assert!(
+                p.saturated < 0.05,
+                "{at}: PVFC at a limit in {}",
+                p.saturated
+            );
+            if t.saturated > 0.05 {
+                saturating += 1;
+                assert!(
+                    p.error.0 <= t.error.0 / 3.0,
+                    "{at}: {:?} vs {:?}",
+                    p.error,
+                    t.error
+                );
+                assert!(p.tau_rate < p.demanded && p.slowest > 0.1, "{at}: {p:?}");
+            }
+            if p.demanded >= 1.5 {
+                assert!(
+                    p.error.0 <= c.error.0,
+                    "{at}: {:?} vs {:?}",
+                    p.error,
+                    c.error
+                );
+                assert!(
+                    p.tau_rate > c.tau_rate,
+                    "{at}: τ̇ {} vs {}",
+                    p.tau_rate,
+                    c.tau_rate
+                );
+            }
+        }
+        assert!(saturating >= 3, "{contour:?}: the timed tracker saturates");
+    }
+    for id in ["fig1.saturated", "fig1.saturated.lissajous"] {
+        assert!(!claim(id).holds, "{id} holds now: assert it");
+    }
 }
 
 #[test]
