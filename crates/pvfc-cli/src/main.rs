@@ -5,7 +5,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use pvfc_cli::plot;
 use pvfc_cli::reproduce::{run_all, write_logs, write_summary};
 use pvfc_sim::scenario::presets;
-use pvfc_sim::scenario::Scenario;
+use pvfc_sim::scenario::{RobotSpec, Scenario, System};
 use pvfc_sim::SimError;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -231,6 +231,9 @@ fn sweep(
 fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
     let rate = log_rate(rate)?;
     let s = Scenario::from_file(path)?;
+    for d in &s.deprecations {
+        eprintln!("warning: {}: {d}", path.display());
+    }
     mkdir(out)?;
     let runs = run_all(std::slice::from_ref(&s), bar)?;
     for f in write_logs(&runs, out, rate)? {
@@ -249,13 +252,12 @@ fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
                 .map(|u| format!("{u:.3e}"))
                 .unwrap_or_else(|| "(no complete pass)".into())
         );
-        let system = runs.arm_system(s)?;
-        let budget = match &system {
+        let system = runs.system(s)?;
+        let budget = match system.chain() {
             Some(sys) => pvfc_sim::trace::path_budget::path_budget(s, &sys.robot, t)?,
             None => None,
         };
-        let robot = system.as_ref().map(|sys| &sys.robot);
-        if let Some(c) = pvfc_sim::trace::clearance::clearance(s, robot, t)? {
+        if let Some(c) = pvfc_sim::trace::clearance::clearance(s, &system, t)? {
             println!(
                 "{name}: obstacles: smallest clearance {:.4} at t = {:.2} s (m between the robot's spheres and the world's shapes; joint units to joint-space regions)",
                 c.smallest, c.time
@@ -264,32 +266,36 @@ fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
         if let Some(b) = budget {
             println!("{name}: tool path: {b}");
         }
-        if s.is_body() {
-            let angle = pvfc_sim::trace::metrics::attitude_errors(t, &s.attitude_contour()?);
-            println!(
-                "{name}: attitude error ‖log(R_d(τ)ᵀR)‖ {:.3} → {:.2e} rad",
-                angle[0], angle[n]
-            );
-        }
-        match pvfc_sim::trace::metrics::contact_summary(t) {
-            // A rigid body touches nothing: its environment is the disturbance.
-            Some(c) if s.is_body() => println!(
-                "{name}: disturbance: energy pumped into it {:.3} J, its work {:+.3} J, audit residual {:.1e} of {:.3} J",
-                c.energy_pumped, c.work_contact, c.audit, c.energy_scale
-            ),
-            Some(c) => {
-            // With a disturbance torque, the environment is the contact and the disturbance.
-            let environment = if s.plant.disturbance.is_some() {
-                "the environment (contact and disturbance)"
-            } else {
-                "the contact"
-            };
-            println!(
-                "{name}: contact: peak force {:.1} N, energy pumped into {environment} {:.3} J, work of the environment {:+.3} J, audit residual {:.1e} of {:.3} J",
-                c.peak_force, c.energy_pumped, c.work_contact, c.audit, c.energy_scale
-            );
+        let summary = pvfc_sim::trace::metrics::contact_summary(t);
+        match (&*system, summary) {
+            (System::RigidBody(ctl), c) => {
+                let contour = ctl.law().field().contour();
+                let angle = pvfc_sim::trace::metrics::attitude_errors(t, contour);
+                println!(
+                    "{name}: attitude error ‖log(R_d(τ)ᵀR)‖ {:.3} → {:.2e} rad",
+                    angle[0], angle[n]
+                );
+                // A rigid body touches nothing: its environment is the disturbance.
+                if let Some(c) = c {
+                    println!(
+                        "{name}: disturbance: energy pumped into it {:.3} J, its work {:+.3} J, audit residual {:.1e} of {:.3} J",
+                        c.energy_pumped, c.work_contact, c.audit, c.energy_scale
+                    );
+                }
             }
-            None => {}
+            (System::Scara(_) | System::SerialChain(_), Some(c)) => {
+                // With a disturbance torque, the environment is the contact and the disturbance.
+                let environment = if s.plant.disturbance.is_some() {
+                    "the environment (contact and disturbance)"
+                } else {
+                    "the contact"
+                };
+                println!(
+                    "{name}: contact: peak force {:.1} N, energy pumped into {environment} {:.3} J, work of the environment {:+.3} J, audit residual {:.1e} of {:.3} J",
+                    c.peak_force, c.energy_pumped, c.work_contact, c.audit, c.energy_scale
+                );
+            }
+            (System::Scara(_) | System::SerialChain(_), None) => {}
         }
     }
     if s.contact.is_some() {
@@ -297,15 +303,13 @@ fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
         plot::contact_figure(&runs, &s.name, &p)?;
         println!("wrote {}", p.display());
     }
-    if s.is_chain() {
-        for p in plot::chain_figures(&runs, out)? {
-            println!("wrote {}", p.display());
-        }
-    }
-    if s.is_body() {
-        for p in plot::body_figures(&runs, out)? {
-            println!("wrote {}", p.display());
-        }
+    let figures = match s.plant.robot {
+        RobotSpec::Scara(_) => Vec::new(),
+        RobotSpec::SerialChain(_) => plot::chain_figures(&runs, out)?,
+        RobotSpec::RigidBody(_) => plot::body_figures(&runs, out)?,
+    };
+    for p in figures {
+        println!("wrote {}", p.display());
     }
     Ok(())
 }

@@ -5,7 +5,7 @@ use crate::runs::Runs;
 use pvfc_sim::contact::{ObstacleSpec, PlanarArm, ShapeSpec};
 use pvfc_sim::error::{Result, SimError};
 use pvfc_sim::scenario::preset_id::PresetId;
-use pvfc_sim::scenario::Mode;
+use pvfc_sim::scenario::{Mode, RobotSpec};
 use pvfc_sim::trace::metrics::last_pass;
 use pvfc_sim::trace::{Trace, TIMED_SUFFIX};
 use std::path::{Path, PathBuf};
@@ -318,7 +318,7 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
 pub fn body_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     for (name, (s, t)) in &runs.runs {
-        if s.is_body() {
+        if let RobotSpec::RigidBody(_) = s.plant.robot {
             let p = dir.join(format!("{name}.png"));
             crate::body_plot::body_figure(s, t, &p)?;
             files.push(p);
@@ -341,15 +341,17 @@ fn chain_figures_where(
 ) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     for (name, (s, t)) in &runs.runs {
-        if s.is_chain() && !t.is_timed() && drawn(name) {
+        let RobotSpec::SerialChain(_) = s.plant.robot else {
+            continue;
+        };
+        if !t.is_timed() && drawn(name) {
             let p = dir.join(format!("{name}.png"));
             let baseline = runs
                 .runs
                 .get(&format!("{name}{TIMED_SUFFIX}"))
                 .map(|(_, b)| b);
-            if let Some(system) = runs.arm_system(s)? {
-                crate::chain_plot::chain_figure(s, &system, t, baseline, &p)?;
-            }
+            let system = runs.chain_system(s)?;
+            crate::chain_plot::chain_figure(s, &system, t, baseline, &p)?;
             files.push(p);
         }
     }

@@ -109,9 +109,7 @@ pub(crate) fn arm_claims(
     let deburr = PresetId::Arm3d(Arm3dCase::Deburr);
     for name in [deburr.name(), deburr.timed_name()] {
         let (s, t) = r.named(&name)?;
-        let system = r
-            .arm_system(s)?
-            .ok_or_else(|| SimError::Setting(format!("run `{name}` is not a URDF arm's")))?;
+        let system = r.chain_system(s)?;
         let b = path_budget(s, &system.robot, t)?.ok_or_else(|| {
             SimError::Setting(format!(
                 "run `{name}` has no Cartesian path or no full pass"

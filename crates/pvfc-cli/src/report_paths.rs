@@ -13,9 +13,7 @@ pub(crate) const TARGET: (f64, f64, f64) = (1e-4, 3e-4, 0.05);
 
 fn budget(r: &Runs, name: &str) -> Result<PathBudget> {
     let (s, t) = r.named(name)?;
-    let system = r
-        .arm_system(s)?
-        .ok_or_else(|| SimError::Setting(format!("run `{name}` is not a URDF arm's")))?;
+    let system = r.chain_system(s)?;
     path_budget(s, &system.robot, t)?.ok_or_else(|| {
         SimError::Setting(format!(
             "run `{name}` has no Cartesian path or no full pass"

@@ -5,8 +5,8 @@ use crate::report;
 use crate::runs::Runs;
 use pvfc_sim::error::{Result, SimError};
 use pvfc_sim::run::run_scenario_with;
-use pvfc_sim::scenario::ArmSystem;
 use pvfc_sim::scenario::Scenario;
+use pvfc_sim::scenario::System;
 use std::path::{Path, PathBuf};
 
 /// Runs every scenario; `progress(name)` gives the callback for each run.
@@ -17,17 +17,11 @@ pub fn run_all(
     let mut runs = Runs::default();
     for s in scenarios {
         let mut p = progress(&s.name);
-        let system = if s.is_chain() {
-            Some(ArmSystem::build(s)?)
-        } else {
-            None
-        };
-        for t in run_scenario_with(s, system.as_ref(), &mut *p)? {
+        let system = System::build(s)?;
+        for t in run_scenario_with(s, &system, &mut *p)? {
             runs.runs.insert(t.name.clone(), (s.clone(), t));
         }
-        if let Some(sys) = system {
-            runs.arms.insert(s.name.clone(), sys);
-        }
+        runs.systems.insert(s.name.clone(), system);
     }
     Ok(runs)
 }
@@ -45,10 +39,7 @@ pub fn write_logs(runs: &Runs, dir: &Path, rate: Option<f64>) -> Result<Vec<Path
         .iter()
         .map(|(name, (s, t))| {
             let p = logs.join(format!("{name}.mcap"));
-            let scene = match runs.arm_system(s)? {
-                Some(sys) => Some(pvfc_sim::log::scene::Scene::of_run_with(s, &sys, t)?),
-                None => pvfc_sim::log::scene::Scene::of_run(s, t)?,
-            };
+            let scene = pvfc_sim::log::scene::Scene::of_system(s, &*runs.system(s)?, t)?;
             let options = pvfc_sim::log::LogOptions {
                 scene: scene.as_ref(),
                 rate,

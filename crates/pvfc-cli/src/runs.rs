@@ -4,9 +4,10 @@
 
 use pvfc_sim::error::{Result, SimError};
 use pvfc_sim::scenario::preset_id::PresetId;
-use pvfc_sim::scenario::Scenario;
+use pvfc_sim::scenario::{ArmSystem, Scenario, System};
 use pvfc_sim::trace::metrics::{contact_summary, mean_potential_over_pass, ContactSummary};
 use pvfc_sim::trace::Trace;
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 
 /// The runs of a reproduction: scenario and trace by name.
@@ -14,24 +15,31 @@ use std::collections::BTreeMap;
 pub struct Runs {
     /// Scenario and trace, by the scenario's name (the timed baseline as `NAME-timed`).
     pub runs: BTreeMap<String, (Scenario, Trace)>,
-    /// The URDF arms' systems, built once per scenario, by the scenario's name.
-    pub arms: BTreeMap<String, pvfc_sim::scenario::ArmSystem>,
+    /// The scenarios' systems, built once per scenario, by the scenario's name.
+    pub systems: BTreeMap<String, System>,
 }
 
 impl Runs {
-    /// The system of scenario `s` if it is a URDF arm: the one built for its runs, or built
-    /// now if these runs did not keep it; `None` for the SCARA.
-    pub fn arm_system(
-        &self,
-        s: &Scenario,
-    ) -> Result<Option<std::borrow::Cow<'_, pvfc_sim::scenario::ArmSystem>>> {
-        if !s.is_chain() {
-            return Ok(None);
+    /// The system of scenario `s`: the one built for its runs, or built now if these runs did
+    /// not keep it.
+    pub fn system(&self, s: &Scenario) -> Result<Cow<'_, System>> {
+        Ok(match self.systems.get(&s.name) {
+            Some(sys) => Cow::Borrowed(sys),
+            None => Cow::Owned(System::build(s)?),
+        })
+    }
+
+    /// The system of scenario `s`, a serial chain's (an error naming the run for another
+    /// kind of robot).
+    pub fn chain_system(&self, s: &Scenario) -> Result<Cow<'_, ArmSystem>> {
+        match self.systems.get(&s.name) {
+            Some(System::SerialChain(sys)) => Ok(Cow::Borrowed(&**sys)),
+            Some(_) => Err(SimError::Setting(format!(
+                "run `{}` is not a serial chain's",
+                s.name
+            ))),
+            None => Ok(Cow::Owned(ArmSystem::build(s)?)),
         }
-        Ok(Some(match self.arms.get(&s.name) {
-            Some(sys) => std::borrow::Cow::Borrowed(sys),
-            None => std::borrow::Cow::Owned(pvfc_sim::scenario::ArmSystem::build(s)?),
-        }))
     }
 
     /// The scenario and trace of a preset's run.

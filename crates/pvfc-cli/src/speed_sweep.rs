@@ -73,9 +73,7 @@ fn at_limit(t: &Trace, range: std::ops::Range<usize>, limits: &[f64]) -> f64 {
 /// and its distance to the path along the surface (m).
 pub fn ur5_point(r: &Runs, name: &str, demanded: f64) -> Result<SpeedPoint> {
     let (s, t) = r.named(name)?;
-    let system = r
-        .arm_system(s)?
-        .ok_or_else(|| SimError::Setting(format!("run `{name}` is not a URDF arm's")))?;
+    let system = r.chain_system(s)?;
     let b = path_budget(s, &system.robot, t)?
         .ok_or_else(|| SimError::Setting(format!("run `{name}` has no steady pass")))?;
     let start = t.t.iter().position(|&x| x >= b.window.0).unwrap_or(0);
@@ -169,9 +167,7 @@ pub fn ur5_minimum_lap(r: &Runs, path: SaturatedPath) -> Result<f64> {
     }
     .name();
     let (s, _) = r.named(&name)?;
-    let system = r
-        .arm_system(s)?
-        .ok_or_else(|| SimError::Setting(format!("run `{name}` is not a URDF arm's")))?;
+    let system = r.chain_system(s)?;
     let pace = s
         .drive_pace()?
         .ok_or_else(|| SimError::Setting(format!("run `{name}` has no drive-limited pace")))?;

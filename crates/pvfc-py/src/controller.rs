@@ -11,7 +11,7 @@ use numpy::{PyArray1, PyArray2};
 use pvfc_core::prelude::*;
 use pvfc_sim::model::arm::ArmController as SimArm;
 use pvfc_sim::model::evaluation::Evaluation;
-use pvfc_sim::scenario::{ArmSystem, AttitudeController, PaperController};
+use pvfc_sim::scenario::{AttitudeController, PaperController, System};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -164,16 +164,14 @@ pub(crate) fn evaluation_dict<'py>(
 #[pymethods]
 impl Controller {
     /// The controller of a scenario, at its initial internal states (`[initial]`): the
-    /// paper's SCARA, a URDF arm (`[plant] urdf`) or a rigid body (`[plant.rigid_body]`).
+    /// paper's SCARA, a serial chain from a URDF or a rigid body (`[plant] kind`).
     #[new]
     fn new(scenario: &Scenario) -> PyResult<Self> {
         let s = &scenario.s;
-        let law = if s.is_body() {
-            Law::Attitude(Box::new(s.attitude_controller().map_err(sim_err)?))
-        } else if s.is_chain() {
-            Law::Arm(Box::new(ArmSystem::build(s).map_err(sim_err)?.controller))
-        } else {
-            Law::Scara(Box::new(s.controller().map_err(sim_err)?))
+        let law = match System::build(s).map_err(sim_err)? {
+            System::Scara(arm) => Law::Scara(Box::new(s.controller_with(arm).map_err(sim_err)?)),
+            System::SerialChain(sys) => Law::Arm(Box::new(sys.controller)),
+            System::RigidBody(ctl) => Law::Attitude(ctl),
         };
         Ok(Controller::of(law))
     }

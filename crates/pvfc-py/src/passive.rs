@@ -11,8 +11,8 @@ use numpy::PyArray1;
 use pvfc_core::passive::{EnergyAccount, PassiveController as CorePassive};
 use pvfc_core::prelude::*;
 use pvfc_sim::model::arm::{ArmController as SimArm, PassiveArm, PassiveOptions};
-use pvfc_sim::scenario::ArmSystem;
 use pvfc_sim::scenario::PaperPassiveController;
+use pvfc_sim::scenario::System;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -66,24 +66,25 @@ impl PassiveController {
                 .passive
                 .get_or_insert_with(Default::default)
                 .clone();
-            if s.is_body() {
-                return Err(no_body());
-            } else if s.is_chain() {
-                let system = ArmSystem::build(&s).map_err(sim_err)?;
-                let circular: Vec<bool> = system
-                    .robot
-                    .joint_kinds()
-                    .iter()
-                    .map(|k| *k == JointKind::Circular)
-                    .collect();
-                let base = spec.options(&circular).map_err(sim_err)?;
-                Inner::Arm(Box::new(arm(&system.controller, base, &overrides)?))
-            } else {
-                let base = s
-                    .passive_controller()
-                    .map_err(sim_err)?
-                    .ok_or_else(|| PyTypeError::new_err("no passive controller"))?;
-                Inner::Scara(Box::new(scara(base, &overrides)?))
+            match System::build(&s).map_err(sim_err)? {
+                System::RigidBody(_) => return Err(no_body()),
+                System::SerialChain(system) => {
+                    let circular: Vec<bool> = system
+                        .robot
+                        .joint_kinds()
+                        .iter()
+                        .map(|k| *k == JointKind::Circular)
+                        .collect();
+                    let base = spec.options(&circular).map_err(sim_err)?;
+                    Inner::Arm(Box::new(arm(&system.controller, base, &overrides)?))
+                }
+                System::Scara(_) => {
+                    let base = s
+                        .passive_controller()
+                        .map_err(sim_err)?
+                        .ok_or_else(|| PyTypeError::new_err("no passive controller"))?;
+                    Inner::Scara(Box::new(scara(base, &overrides)?))
+                }
             }
         } else if let Ok(c) = controller.cast::<Controller>() {
             let c = c.borrow();

@@ -20,6 +20,21 @@ pub(crate) fn scenario_from_json(json: &str, base_dir: PathBuf) -> PyResult<SimS
     Ok(s)
 }
 
+/// Raises a `DeprecationWarning` (at the caller's line) for each deprecated form `s` was read
+/// in, and gives `s`.
+fn warned(py: Python<'_>, s: SimScenario) -> PyResult<Scenario> {
+    for d in &s.deprecations {
+        let message = std::ffi::CString::new(format!("scenario: {d}")).unwrap_or_default();
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyDeprecationWarning>(),
+            &message,
+            1,
+        )?;
+    }
+    Ok(Scenario { s })
+}
+
 /// Everything one run needs: plant, contour, controller, initial state, duration, rates.
 #[pyclass(module = "pvfc", frozen, from_py_object)]
 #[derive(Clone)]
@@ -31,18 +46,15 @@ pub(crate) struct Scenario {
 impl Scenario {
     /// Reads a TOML scenario file.
     #[staticmethod]
-    fn from_file(path: PathBuf) -> PyResult<Self> {
-        Ok(Scenario {
-            s: SimScenario::from_file(&path).map_err(sim_err)?,
-        })
+    fn from_file(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        warned(py, SimScenario::from_file(&path).map_err(sim_err)?)
     }
 
     /// Parses TOML text.
     #[staticmethod]
-    fn from_toml(text: &str) -> PyResult<Self> {
-        Ok(Scenario {
-            s: SimScenario::from_toml(text, std::path::Path::new("<string>")).map_err(sim_err)?,
-        })
+    fn from_toml(py: Python<'_>, text: &str) -> PyResult<Self> {
+        let s = SimScenario::from_toml(text, std::path::Path::new("<string>")).map_err(sim_err)?;
+        warned(py, s)
     }
 
     /// Builds a scenario from a dict with the layout of the TOML files (see `to_dict`).
@@ -59,9 +71,10 @@ impl Scenario {
         let mut s: SimScenario = serde_json::from_str(&text)
             .map_err(|e| crate::errors::ScenarioError::new_err(format!("scenario dict: {e}")))?;
         s.base_dir = base_dir.unwrap_or_default();
+        s.deprecations = pvfc_sim::scenario::legacy::in_json(&text);
         s.validate()
             .map_err(|e| crate::errors::ScenarioError::new_err(format!("scenario dict: {e}")))?;
-        Ok(Scenario { s })
+        warned(py, s)
     }
 
     /// A built-in scenario of the paper's section V by name (see `presets()`).

@@ -96,7 +96,7 @@ def test_bad_input_is_named():
 SATELLITE = {
     "name": "satellite_from_python",
     "duration": 8.0,
-    "plant": {"rigid_body": {"inertia": [[1.2, 0.05, 0.0], [0.05, 1.0, 0.02], [0.0, 0.02, 0.8]]}},
+    "plant": {"kind": "rigid_body", "inertia": [[1.2, 0.05, 0.0], [0.05, 1.0, 0.02], [0.0, 0.02, 0.8]]},
     "contour": {"attitude": {"start": [0.1, 0.0, 0.0], "rate": [0.2, 0.1, 0.5]}},
     "controller": {"h": [1.0, 2.0, 3.0], "self_pacing": 20.0, "energy": 20.0, "gamma": 0.1},
     "initial": {"q": [1.2, -0.8, 0.5]},
@@ -111,7 +111,7 @@ def test_a_satellite_scenario_runs_from_a_dict_with_the_controllers_law(tmp_path
     s = pvfc.Scenario.from_dict(SATELLITE)
     r = pvfc.simulate(s)
     assert r.q.shape == (8001, 3) and r.torque.shape == (8001, 3)
-    j = np.array(SATELLITE["plant"]["rigid_body"]["inertia"])
+    j = np.array(SATELLITE["plant"]["inertia"])
     ctl = pvfc.Controller.attitude(
         j,
         pvfc.So3ConstantRate(expm(np.array([0.1, 0.0, 0.0])), [0.2, 0.1, 0.5]),

@@ -25,7 +25,7 @@ UR5_WAYPOINTS = np.array(
 SATELLITE = {
     "name": "satellite",
     "duration": 3.0,
-    "plant": {"rigid_body": {"inertia": [[1.2, 0.05, 0.0], [0.05, 1.0, 0.02], [0.0, 0.02, 0.8]]}},
+    "plant": {"kind": "rigid_body", "inertia": [[1.2, 0.05, 0.0], [0.05, 1.0, 0.02], [0.0, 0.02, 0.8]]},
     "contour": {"attitude": {"rate": [0.2, 0.1, 0.5]}},
     "controller": {"h": [1.0, 2.0, 3.0], "self_pacing": 20.0, "energy": 20.0, "gamma": 0.1},
     "initial": {"q": [1.2, -0.8, 0.5]},

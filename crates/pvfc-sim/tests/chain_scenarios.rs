@@ -1,4 +1,4 @@
-//! Scenarios of URDF arms (`[plant] urdf = …`) through the generic run loop: the shipped
+//! Scenarios of URDF arms (`kind = "serial_chain"`) through the generic run loop: the shipped
 //! UR5 and Panda files parse and run, the frictionless continuous loop keeps κ_a, the
 //! sampled one converges, and bad settings are errors that name the field.
 
@@ -21,7 +21,10 @@ fn ur5() -> Scenario {
 #[test]
 fn the_shipped_arm_scenarios_parse_and_have_their_dimensions() {
     let s = ur5();
-    assert!(s.is_chain());
+    assert_eq!(
+        s.plant.robot.kind(),
+        pvfc_sim::scenario::RobotKind::SerialChain
+    );
     assert_eq!(s.dof().unwrap(), 6);
     assert_eq!(s.period(), 9.0);
     let p = Scenario::from_file(&file("panda_waypoints.toml")).unwrap();
@@ -460,7 +463,7 @@ fn a_model_error_keeps_the_audit_and_shows_in_the_force() {
     let mut nominal = ur5_on_a_table(Mode::Sampled);
     nominal.duration = 2.0;
     let mut heavy = nominal.clone();
-    heavy.plant.mass_scale = Some(vec![1.0, 1.0, 1.2, 1.0, 1.0, 1.0]);
+    chain_of(&mut heavy).mass_scale = Some(vec![1.0, 1.0, 1.2, 1.0, 1.0, 1.0]);
     heavy.validate().unwrap();
     let sys = ArmSystem::build(&heavy).unwrap();
     let (q, v) = (
@@ -497,7 +500,7 @@ fn a_model_error_keeps_the_audit_and_shows_in_the_force() {
         (vec![1.1; 6], Mode::Continuous),
     ] {
         let mut s = heavy.clone();
-        s.plant.mass_scale = Some(scale);
+        chain_of(&mut s).mass_scale = Some(scale);
         s.simulation.mode = mode;
         if mode == Mode::Continuous {
             s.controller.passive = None;
@@ -505,11 +508,21 @@ fn a_model_error_keeps_the_audit_and_shows_in_the_force() {
         let e = s.validate().unwrap_err().to_string();
         assert!(e.contains("plant.mass_scale"), "{e}");
     }
-    let mut scara = Scenario::from_file(&file("fig8_R100.toml")).unwrap();
-    scara.plant.mass_scale = Some(vec![1.1, 1.1]);
-    assert!(scara
-        .validate()
+    // The SCARA has no mass_scale key: the file is refused, naming it.
+    let text = std::fs::read_to_string(file("fig8_R100.toml"))
+        .unwrap()
+        .replace("[plant]\n", "[plant]\nmass_scale = [1.1, 1.1]\n");
+    let e = Scenario::from_toml(&text, Path::new("fig8.toml"))
         .unwrap_err()
-        .to_string()
-        .contains("plant.mass_scale"));
+        .to_string();
+    assert!(e.contains("plant.mass_scale"), "{e}");
+}
+
+/// The serial chain of a chain's scenario, to edit.
+#[cfg(feature = "contact")]
+fn chain_of(s: &mut Scenario) -> &mut pvfc_sim::scenario::ChainSpec {
+    match &mut s.plant.robot {
+        pvfc_sim::scenario::RobotSpec::SerialChain(c) => c,
+        other => panic!("not a serial chain: {other:?}"),
+    }
 }

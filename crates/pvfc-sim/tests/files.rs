@@ -35,7 +35,11 @@ fn shipped_scenarios_are_the_presets() {
     assert_eq!(c.obstacles.len(), 2);
     assert_eq!(c.obstacles[1].motion.len(), 3);
     let ex = Scenario::from_file(&repo().join("scenarios/example_satellite.toml")).unwrap();
-    assert!(ex.is_body() && ex.plant.disturbance.is_some());
+    assert_eq!(
+        ex.plant.robot.kind(),
+        pvfc_sim::scenario::RobotKind::RigidBody
+    );
+    assert!(ex.plant.disturbance.is_some());
     assert_eq!(ex.dof().unwrap(), 3);
 }
 

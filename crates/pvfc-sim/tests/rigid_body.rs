@@ -1,4 +1,4 @@
-//! A rigid body's attitude from a scenario (`[plant.rigid_body]`, section IV-B's satellite):
+//! A rigid body's attitude from a scenario (`kind = "rigid_body"`, section IV-B's satellite):
 //! the scenario's run is the core's closed loop driven by hand, it converges and keeps its
 //! energy in both modes, a disturbance's work is counted, the MCAP log carries the body's
 //! attitude for Foxglove's 3-D panel, and bad settings are named.
@@ -10,7 +10,7 @@ use pvfc_sim::log::scene::{Scene, BODY_FRAME, BODY_TOPIC, DESIRED_FRAME, FRAMES_
 use pvfc_sim::plant::disturbance::Disturbance;
 use pvfc_sim::run::integrate::ClosedLoop;
 use pvfc_sim::run::simulate;
-use pvfc_sim::scenario::{presets, Mode, Scenario};
+use pvfc_sim::scenario::{presets, Mode, RobotSpec, Scenario};
 use pvfc_sim::trace::metrics::{attitude_errors, energy_drift};
 use std::path::Path;
 
@@ -199,19 +199,19 @@ fn bad_settings_of_a_body_are_named() {
     };
     check(
         &|s| {
-            if let Some(b) = s.plant.rigid_body.as_mut() {
+            if let RobotSpec::RigidBody(b) = &mut s.plant.robot {
                 b.inertia[2][2] = -1.0;
             }
         },
-        "plant.rigid_body.inertia",
+        "plant.inertia",
     );
     check(
         &|s| {
-            if let Some(b) = s.plant.rigid_body.as_mut() {
+            if let RobotSpec::RigidBody(b) = &mut s.plant.robot {
                 b.inertia[0][1] = 0.5;
             }
         },
-        "plant.rigid_body.inertia",
+        "plant.inertia",
     );
     check(&|s| s.controller.h = vec![1.0, 1.0], "controller.h");
     check(&|s| s.controller.h = vec![1.0, 1.0, 1.0], "controller.h");
@@ -241,10 +241,6 @@ fn bad_settings_of_a_body_are_named() {
             })
         },
         "baseline",
-    );
-    check(
-        &|s| s.plant.urdf = Some("models/ur5.urdf".into()),
-        "plant.rigid_body and plant.urdf",
     );
     check(
         &|s| {

@@ -6,8 +6,8 @@
 //! schemas.
 
 use crate::error::{Result, SimError};
-use crate::scenario::ArmSystem;
 use crate::scenario::Scenario;
+use crate::scenario::{ArmSystem, RigidBodySpec, RobotSpec, System};
 use crate::trace::Trace;
 use foxglove::messages::{
     line_primitive, Color, CubePrimitive, FrameTransform, FrameTransforms, LinePrimitive, Point3,
@@ -113,13 +113,16 @@ fn scene_stride(t: &Trace) -> usize {
 impl Scene {
     /// The scene of run `t` of scenario `s`; `None` for the planar SCARA.
     pub fn of_run(s: &Scenario, t: &Trace) -> Result<Option<Self>> {
-        if s.is_body() {
-            return Ok(Some(Self::of_body(s, t)?));
-        }
-        if !s.is_chain() {
-            return Ok(None);
-        }
-        Ok(Some(Self::of_run_with(s, &ArmSystem::build(s)?, t)?))
+        Self::of_system(s, &System::build(s)?, t)
+    }
+
+    /// [`of_run`](Self::of_run) with the scenario's system already built.
+    pub fn of_system(s: &Scenario, system: &System, t: &Trace) -> Result<Option<Self>> {
+        Ok(match system {
+            System::Scara(_) => None,
+            System::SerialChain(sys) => Some(Self::of_run_with(s, sys, t)?),
+            System::RigidBody(_) => Some(Self::of_body(s, t)?),
+        })
     }
 
     /// The scene of run `t` of a rigid body's scenario `s`: the body's attitude `exp(q̂)` and
@@ -128,11 +131,11 @@ impl Scene {
     /// diagonal (the longest side 1 m).
     pub fn of_body(s: &Scenario, t: &Trace) -> Result<Self> {
         let contour = s.attitude_contour()?;
-        let inertia = s
-            .plant
-            .rigid_body
-            .ok_or_else(|| SimError::Setting("plant.rigid_body is not set".into()))?
-            .inertia;
+        let RobotSpec::RigidBody(RigidBodySpec { inertia }) = s.plant.robot else {
+            return Err(SimError::Setting(
+                "the scene of a rigid body: for kind = \"rigid_body\"".into(),
+            ));
+        };
         let at = |r: &So3<f64>| Pose {
             rotation: *r.matrix(),
             translation: nalgebra::Vector3::zeros(),

@@ -1,18 +1,23 @@
-//! Running a rigid body's attitude scenario (`[plant.rigid_body]`, section IV-B's satellite):
+//! Running a rigid body's attitude scenario (`kind = "rigid_body"`, section IV-B's satellite):
 //! the body on SO(3) in the sampled-data or continuous PVFC loop, through the same generic
 //! loops as the arms (`run/loops.rs`). The body is in free space; a disturbance torque
 //! is its only environment.
 
 use crate::error::Result;
 use crate::run::loops::{self, Surroundings};
-use crate::scenario::{joint_vector, Mode, Scenario};
+use crate::scenario::{joint_vector, AttitudeController, Mode, Scenario};
 use crate::trace::{ContactSample, ContactTrace, Trace, Work};
 use nalgebra::Vector3;
 use pvfc_core::prelude::*;
 
-/// Runs the PVFC loop of a rigid body's scenario. `progress` is called with the fraction done.
-pub fn simulate_body(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
-    let ctl = s.attitude_controller()?;
+/// Runs the PVFC loop of a rigid body's scenario from its controller `ctl` (which holds the
+/// body). `progress` is called with the fraction done.
+pub fn simulate_body_with(
+    s: &Scenario,
+    ctl: &AttitudeController,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
+    let ctl = *ctl;
     let plant = *ctl.law().system();
     let (q, v) = initial_state(s)?;
     let mut env = Space;

@@ -1,4 +1,4 @@
-//! Running a scenario of a serial arm read from a URDF (`[plant] urdf = …`): the sampled-data
+//! Running a scenario of a serial arm read from a URDF (`kind = "serial_chain"`): the sampled-data
 //! or continuous PVFC loop for any number of joints (1 to 8), with gravity in the plant,
 //! joint friction, the controller's gravity and friction compensation and the 3-D contact,
 //! through the same generic loops as the SCARA (the crate-private `run_loop`); and the timed
@@ -10,6 +10,7 @@ use crate::model::arm::{arm_controller, ArmControllerN};
 use crate::run::loops::{self, Surroundings};
 use crate::run::path_clock::{tracker_clock, PathClock};
 use crate::run::stepper::PassiveDrive;
+use crate::run::Tracker;
 use crate::scenario::ArmSystem;
 use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
 use crate::trace::{ContactSample, ContactTrace, Trace, Work};
@@ -17,12 +18,8 @@ use crate::with_dof;
 use nalgebra::SVector;
 use pvfc_core::prelude::*;
 
-/// Runs the PVFC loop of a URDF arm's scenario. `progress` is called with the fraction done.
-pub fn simulate_chain(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
-    simulate_chain_with(s, &ArmSystem::build(s)?, progress)
-}
-
-/// [`simulate_chain`] with the scenario's system already built.
+/// Runs the PVFC loop of a URDF arm's scenario on its system. `progress` is called with the
+/// fraction done.
 pub fn simulate_chain_with(
     s: &Scenario,
     system: &ArmSystem,
@@ -65,45 +62,30 @@ fn run<const N: usize>(
     }
 }
 
-/// The timed-trajectory baseline for a URDF arm: computed torque + PD tracking `x_d(τ(t))`,
+/// A tracker of the baseline for a URDF arm (`tracker`; the speed-scaling one's path time
+/// slows while a commanded torque nears its limit, its trace `NAME-scaled`). The timed one: computed torque + PD tracking `x_d(τ(t))`,
 /// `τ(t) = τ₀ + rate·t`, with gravity compensation,
 /// `T = M(q)(ẍ_d + K_d(ẋ_d − q̇) + K_p(x_d − q)) + C(q, q̇) q̇ + g(q)` (+ the scenario's
 /// friction compensation), on the same plant, friction and 3-D contact, held for each
 /// controller period.
-pub fn simulate_timed_chain(
-    s: &Scenario,
-    b: &BaselineSpec,
-    tau_rate: f64,
-    progress: &mut dyn FnMut(f64),
-) -> Result<Trace> {
-    simulate_timed_chain_with(s, &ArmSystem::build(s)?, b, tau_rate, progress)
-}
-
-/// [`simulate_timed_chain`] with the scenario's system already built.
-pub fn simulate_timed_chain_with(
+pub fn simulate_tracker(
     s: &Scenario,
     system: &ArmSystem,
     b: &BaselineSpec,
     tau_rate: f64,
+    tracker: Tracker,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    tracker(s, system, b, (tau_rate, false), progress)
+    tracker_run(
+        s,
+        system,
+        b,
+        (tau_rate, tracker == Tracker::SpeedScaling),
+        progress,
+    )
 }
 
-/// The speed-scaling tracker (`[baseline.speed_scaling]`) for a URDF arm: the timed
-/// tracker whose path time slows while a commanded torque nears its limit; its trace is
-/// `NAME-scaled`.
-pub fn simulate_scaled_chain_with(
-    s: &Scenario,
-    system: &ArmSystem,
-    b: &BaselineSpec,
-    tau_rate: f64,
-    progress: &mut dyn FnMut(f64),
-) -> Result<Trace> {
-    tracker(s, system, b, (tau_rate, true), progress)
-}
-
-fn tracker(
+fn tracker_run(
     s: &Scenario,
     system: &ArmSystem,
     b: &BaselineSpec,

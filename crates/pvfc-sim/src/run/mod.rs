@@ -13,24 +13,57 @@ pub mod planar;
 pub(crate) mod stepper;
 
 use crate::error::Result;
-use crate::scenario::{ArmSystem, BaselineSpec, Scenario};
+use crate::scenario::{BaselineSpec, Scenario, System};
 use crate::trace::Trace;
 
-pub use chain::{
-    simulate_chain, simulate_chain_with, simulate_scaled_chain_with, simulate_timed_chain,
-    simulate_timed_chain_with,
-};
-pub use planar::{environment, simulate_in, simulate_scaled, simulate_timed_in};
+pub use chain::simulate_chain_with;
+pub use planar::{environment, simulate_in, simulate_timed_in};
 
-/// Runs the PVFC loop of a scenario (with its contact world, if it has one): the SCARA's or a
-/// URDF arm's. `progress` is called with the fraction done.
+/// Runs the PVFC loop of a scenario (with its contact world, if it has one), its system built
+/// from it. `progress` is called with the fraction done.
 pub fn simulate(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
-    if s.is_body() {
-        body::simulate_body(s, progress)
-    } else if s.is_chain() {
-        chain::simulate_chain(s, progress)
-    } else {
-        planar::simulate(s, progress)
+    simulate_system(s, &System::build(s)?, progress)
+}
+
+/// [`simulate`] with the scenario's system already built: the one place a run matches on
+/// the kind of robot.
+pub fn simulate_system(
+    s: &Scenario,
+    system: &System,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
+    match system {
+        System::Scara(arm) => planar::simulate_with(s, *arm, progress),
+        System::SerialChain(sys) => chain::simulate_chain_with(s, sys, progress),
+        System::RigidBody(ctl) => body::simulate_body_with(s, ctl, progress),
+    }
+}
+
+/// The trackers a baseline compares PVFC with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tracker {
+    /// The timed trajectory (computed torque + PD on `x_d(τ₀ + rate·t)`).
+    Timed,
+    /// The timed trajectory on a path clock that slows near the drives' limits.
+    SpeedScaling,
+}
+
+/// One tracker's run on the scenario's system (the one place a tracker's run matches on
+/// the kind of robot).
+pub fn simulate_tracker(
+    s: &Scenario,
+    system: &System,
+    b: &BaselineSpec,
+    tau_rate: f64,
+    tracker: Tracker,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
+    match system {
+        System::Scara(arm) => planar::simulate_tracker(s, *arm, b, tau_rate, tracker, progress),
+        System::SerialChain(sys) => chain::simulate_tracker(s, sys, b, tau_rate, tracker, progress),
+        System::RigidBody(_) => Err(crate::SimError::Setting(
+            "baseline: the timed tracker is for arms; a rigid body runs PVFC alone".into(),
+        )),
     }
 }
 
@@ -42,40 +75,24 @@ pub fn simulate_timed(
     tau_rate: f64,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    if s.is_body() {
-        Err(crate::SimError::Setting(
-            "baseline: the timed tracker is for arms; a rigid body runs PVFC alone".into(),
-        ))
-    } else if s.is_chain() {
-        chain::simulate_timed_chain(s, b, tau_rate, progress)
-    } else {
-        planar::simulate_timed(s, b, tau_rate, progress)
-    }
+    simulate_tracker(s, &System::build(s)?, b, tau_rate, Tracker::Timed, progress)
 }
 
 /// Runs one scenario: the PVFC loop, and the timed baseline if the scenario asks for one
 /// (at PVFC's mean `τ̇` over its last 12 s unless the scenario fixes the rate), and the
 /// speed-scaling tracker after it if the baseline has `[baseline.speed_scaling]`.
 pub fn run_scenario(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Vec<Trace>> {
-    let system = if s.is_chain() {
-        Some(ArmSystem::build(s)?)
-    } else {
-        None
-    };
-    run_scenario_with(s, system.as_ref(), progress)
+    run_scenario_with(s, &System::build(s)?, progress)
 }
 
-/// [`run_scenario`] with a URDF arm's system already built (`None` for the SCARA): the URDF
-/// is read and a Cartesian path solved once for both runs.
+/// [`run_scenario`] with the scenario's system already built: a URDF is read and a Cartesian
+/// path solved once for every run.
 pub fn run_scenario_with(
     s: &Scenario,
-    system: Option<&ArmSystem>,
+    system: &System,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Vec<Trace>> {
-    let pvfc = match system {
-        Some(sys) => chain::simulate_chain_with(s, sys, progress)?,
-        None => simulate(s, progress)?,
-    };
+    let pvfc = simulate_system(s, system, progress)?;
     let mut out = vec![];
     if let Some(b) = &s.baseline {
         let rate = match b.tau_rate {
@@ -90,15 +107,23 @@ pub fn run_scenario_with(
                 (pvfc.tau[n] - pvfc.tau[from]) / (pvfc.t[n] - pvfc.t[from]).max(f64::EPSILON)
             }
         };
-        out.push(match system {
-            Some(sys) => chain::simulate_timed_chain_with(s, sys, b, rate, &mut |_| {})?,
-            None => simulate_timed(s, b, rate, &mut |_| {})?,
-        });
+        out.push(simulate_tracker(
+            s,
+            system,
+            b,
+            rate,
+            Tracker::Timed,
+            &mut |_| {},
+        )?);
         if b.speed_scaling.is_some() {
-            out.push(match system {
-                Some(sys) => chain::simulate_scaled_chain_with(s, sys, b, rate, &mut |_| {})?,
-                None => planar::simulate_scaled(s, b, rate, &mut |_| {})?,
-            });
+            out.push(simulate_tracker(
+                s,
+                system,
+                b,
+                rate,
+                Tracker::SpeedScaling,
+                &mut |_| {},
+            )?);
         }
     }
     out.insert(0, pvfc);

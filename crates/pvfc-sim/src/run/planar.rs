@@ -7,6 +7,7 @@ use crate::error::Result;
 use crate::run::loops::{self, Surroundings};
 use crate::run::path_clock::tracker_clock;
 use crate::run::stepper::Stepper;
+use crate::run::Tracker;
 use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
 use crate::trace::Work;
 use nalgebra::Vector2;
@@ -14,11 +15,13 @@ use pvfc_core::prelude::*;
 
 use crate::trace::{ContactTrace, Trace};
 
-/// Runs the PVFC loop of the SCARA's scenario (with its `[contact]` world, if it has one).
-/// `progress` is called with the fraction done.
-pub fn simulate(s: &Scenario, progress: &mut dyn FnMut(f64)) -> Result<Trace> {
-    // The arm is read once per run (a URDF arm's file included).
-    let arm = Scara::new(s.arm()?)?;
+/// Runs the PVFC loop of the SCARA's scenario on its arm's model `arm` (with its `[contact]`
+/// world, if it has one). `progress` is called with the fraction done.
+pub fn simulate_with(
+    s: &Scenario,
+    arm: Scara<f64>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
     match (s.simulation.mode, environment_with(s, &arm)?) {
         (Mode::Sampled, None) => sampled(s, arm, &mut Free, false, progress),
         (Mode::Sampled, Some(mut env)) => sampled(s, arm, &mut *env, true, progress),
@@ -185,49 +188,23 @@ fn simulate_continuous<E: Environment + ?Sized>(
     loops::continuous(s, ctl, (q, v), &mut planar, columns, progress)
 }
 
-/// The timed-trajectory baseline of Fig. 1: computed torque + PD tracking `x_d(τ(t))` with
-/// `τ(t) = τ₀ + rate·t`, on the same plant and friction (and the same friction compensation
-/// as the scenario's controller, if any):
-/// `T = M(q)(ẍ_d + K_d(ẋ_d − q̇) + K_p(x_d − q)) + C(q, q̇) q̇`.
-///
-/// With a `[contact]` table, the baseline runs against the same contact world, and its trace
-/// has the contact columns.
-pub fn simulate_timed(
+/// A tracker of the baseline (`tracker`) on the SCARA `arm` and its contact world.
+pub fn simulate_tracker(
     s: &Scenario,
+    arm: Scara<f64>,
     b: &BaselineSpec,
     tau_rate: f64,
+    tracker: Tracker,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    tracker(s, b, tau_rate, false, progress)
-}
-
-/// The speed-scaling tracker (`[baseline.speed_scaling]`): [`simulate_timed`]'s tracker
-/// whose path time slows while a commanded torque nears its limit; its trace is
-/// `NAME-scaled`.
-pub fn simulate_scaled(
-    s: &Scenario,
-    b: &BaselineSpec,
-    tau_rate: f64,
-    progress: &mut dyn FnMut(f64),
-) -> Result<Trace> {
-    tracker(s, b, tau_rate, true, progress)
-}
-
-fn tracker(
-    s: &Scenario,
-    b: &BaselineSpec,
-    tau_rate: f64,
-    scaled: bool,
-    progress: &mut dyn FnMut(f64),
-) -> Result<Trace> {
-    let arm = Scara::new(s.arm()?)?;
+    let scaled = tracker == Tracker::SpeedScaling;
     match environment_with(s, &arm)? {
         Some(mut env) => timed_in(s, arm, b, (tau_rate, scaled), Some(&mut *env), progress),
         None => timed_in(s, arm, b, (tau_rate, scaled), None, progress),
     }
 }
 
-/// [`simulate_timed`] against a given environment (or none).
+/// The timed tracker against a given environment (or none).
 pub fn simulate_timed_in(
     s: &Scenario,
     b: &BaselineSpec,

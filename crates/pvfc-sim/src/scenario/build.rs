@@ -5,8 +5,8 @@
 //! builds it with.
 
 use super::{
-    direct_drive_arm, joint_vector, run_size, ArmSpec, AttitudeController, Mode, PaperController,
-    PaperField, PaperPassiveController, Scenario,
+    direct_drive_arm, joint_vector, run_size, ArmSpec, AttitudeController, ChainSpec, Mode,
+    PaperController, PaperField, PaperPassiveController, RobotSpec, Scenario,
 };
 use crate::error::{Result, SimError};
 use crate::model::arm::{ArmController, ArmSettings, JointContourSpec};
@@ -37,7 +37,7 @@ pub struct ArmSystem {
 }
 
 impl ArmSystem {
-    /// Builds the system of a URDF arm's scenario (`[plant] urdf`), checking the scenario
+    /// Builds the system of a serial chain's scenario (`kind = "serial_chain"`), checking the scenario
     /// against the robot on the way: this is also how [`Scenario::validate`] checks a URDF
     /// arm's scenario.
     ///
@@ -54,6 +54,47 @@ impl ArmSystem {
             settings,
             controller,
         })
+    }
+}
+
+/// A scenario's system, built once from its spec: the one place a run, a log's scene, a figure
+/// or a binding matches on the kind of robot ([`RobotSpec`]).
+#[derive(Clone, Debug)]
+pub enum System {
+    /// The paper's planar SCARA: its closed-form model (a URDF arm's file read once).
+    Scara(Scara<f64>),
+    /// A serial chain from a URDF: the robot, the plant and the controller.
+    SerialChain(Box<ArmSystem>),
+    /// A rigid body's attitude: its controller (which holds the body).
+    RigidBody(Box<AttitudeController>),
+}
+
+impl System {
+    /// Builds the system of `s`, checking `s` against its robot on the way.
+    pub fn build(s: &Scenario) -> Result<Self> {
+        Ok(match &s.plant.robot {
+            RobotSpec::Scara(_) => System::Scara(Scara::new(s.arm()?)?),
+            RobotSpec::SerialChain(_) => System::SerialChain(Box::new(ArmSystem::build(s)?)),
+            RobotSpec::RigidBody(_) => System::RigidBody(Box::new(s.attitude_controller()?)),
+        })
+    }
+
+    /// The serial chain's system (`None` for another kind).
+    pub fn chain(&self) -> Option<&ArmSystem> {
+        match self {
+            System::SerialChain(a) => Some(a),
+            System::Scara(_) | System::RigidBody(_) => None,
+        }
+    }
+
+    /// The number of coordinates: the chain's joints, 2 for the SCARA, 3 for a rigid body
+    /// (its angular velocity's).
+    pub fn dof(&self) -> usize {
+        match self {
+            System::Scara(_) => 2,
+            System::SerialChain(a) => a.robot.dof(),
+            System::RigidBody(_) => 3,
+        }
     }
 }
 
@@ -105,16 +146,12 @@ impl Scenario {
                 "controller.passive: the passive digital controller runs in the sampled mode",
             );
         }
-        if self.plant.mass_scale.is_some() && !self.is_chain() {
-            return bad("plant.mass_scale: a model error of a URDF arm's links ([plant] urdf)");
-        }
-        if self.is_body() {
-            return self.check_body();
-        }
-        if self.is_chain() {
+        match &self.plant.robot {
+            RobotSpec::RigidBody(_) => return self.check_body(),
             // A URDF arm is validated by building its system: the same code path as a run's,
             // the URDF read once.
-            return ArmSystem::build(self).map(drop);
+            RobotSpec::SerialChain(_) => return ArmSystem::build(self).map(drop),
+            RobotSpec::Scara(_) => {}
         }
         if let Some(p) = &self.controller.passive {
             p.validate_for(2)?;
@@ -144,33 +181,27 @@ impl Scenario {
     /// The number of joints: the URDF's, 2 for the planar arm, 3 for a rigid body (its
     /// angular velocity's).
     pub fn dof(&self) -> Result<usize> {
-        Ok(if self.is_chain() {
-            self.robot()?.dof()
-        } else if self.is_body() {
-            3
-        } else {
-            2
+        Ok(match &self.plant.robot {
+            RobotSpec::Scara(_) => 2,
+            RobotSpec::SerialChain(_) => self.robot()?.dof(),
+            RobotSpec::RigidBody(_) => 3,
         })
     }
 
-    /// The URDF arm (`[plant] urdf`, `tip`, `base`, `gravity`).
+    /// The serial chain's robot model (`plant.urdf`, `tip`, `base`, `gravity`).
     pub fn robot(&self) -> Result<Robot> {
-        let path = self
-            .plant
-            .urdf
-            .as_ref()
-            .ok_or_else(|| SimError::Setting("plant.urdf is not set".into()))?;
+        let c = self.plant.chain("the robot model")?;
         let robot = Robot::from_urdf(
-            &self.base_dir.join(path),
-            self.plant.base.as_deref(),
-            self.plant.tip.as_deref(),
+            &self.base_dir.join(&c.urdf),
+            c.base.as_deref(),
+            c.tip.as_deref(),
         )?;
-        self.with_gravity(robot)
+        self.with_gravity(c, robot)
     }
 
     /// `robot` under the scenario's gravity (`plant.gravity`), or as it is without one.
-    fn with_gravity(&self, robot: Robot) -> Result<Robot> {
-        match self.plant.gravity {
+    fn with_gravity(&self, c: &ChainSpec, robot: Robot) -> Result<Robot> {
+        match c.gravity {
             Some(g) => robot.with_gravity(nalgebra::Vector3::from(g)),
             None => Ok(robot),
         }
@@ -180,7 +211,8 @@ impl Scenario {
     /// each link's mass and rotational inertia times `plant.mass_scale` (one factor per joint,
     /// finite and > 0; the sampled mode only), or `robot` itself without a model error.
     pub fn plant_robot(&self, robot: &Robot) -> Result<Robot> {
-        let Some(scale) = &self.plant.mass_scale else {
+        let c = self.plant.chain("plant.mass_scale")?;
+        let Some(scale) = &c.mass_scale else {
             return Ok(robot.clone());
         };
         let n = robot.dof();
@@ -201,7 +233,7 @@ impl Scenario {
             link.mass *= k;
             link.inertia *= *k;
         }
-        self.with_gravity(Robot::from_description(d)?)
+        self.with_gravity(c, Robot::from_description(d)?)
     }
 
     /// The settings of a URDF arm's controller (reads the URDF; with a robot at hand, or
@@ -329,14 +361,11 @@ impl Scenario {
         Ok(())
     }
 
-    /// The checks of a rigid body's scenario (`[plant.rigid_body]`): what a body in free
+    /// The checks of a rigid body's scenario (`kind = "rigid_body"`): what a body in free
     /// space does not have (contact, a timed baseline, the passive joint drive, an arm's
     /// contour), the lengths of its three-entry lists, and its controller built once.
     fn check_body(&self) -> Result<()> {
         let bad = |what: &str| Err(SimError::Setting(what.to_string()));
-        if self.is_chain() {
-            return bad("plant.rigid_body and plant.urdf: a scenario has one robot");
-        }
         if self.contact.is_some() || self.contact_3d.is_some() {
             return bad("contact, contact_3d: a rigid body's scenario is in free space");
         }
@@ -374,19 +403,19 @@ impl Scenario {
         self.attitude_controller().map(drop)
     }
 
-    /// The controller of a rigid body's scenario: `[plant.rigid_body]`'s inertia, the
+    /// The controller of a rigid body's scenario: `plant.inertia`, the
     /// rotation at constant rate of `[contour.attitude]`, the navigation function of SO(3)
     /// (eq. 26) with `P = diag(controller.h)`, exponential self-pacing (eq. 21), with its
     /// add-ons and initial internal states.
     pub fn attitude_controller(&self) -> Result<AttitudeController> {
         let setting = |what: String| SimError::Setting(what);
-        let body = self
-            .plant
-            .rigid_body
-            .ok_or_else(|| setting("plant.rigid_body is not set".into()))?;
+        let RobotSpec::RigidBody(body) = &self.plant.robot else {
+            return Err(setting(
+                "attitude controller: for a rigid body (kind = \"rigid_body\")".into(),
+            ));
+        };
         let j = Matrix3::from_fn(|r, c| body.inertia[r][c]);
-        let body =
-            RigidBody::new(j).map_err(|e| setting(format!("plant.rigid_body.inertia: {e}")))?;
+        let body = RigidBody::new(j).map_err(|e| setting(format!("plant.inertia: {e}")))?;
         let contour = self.attitude_contour()?;
         let h = &self.controller.h;
         if h.len() != 3 {
@@ -472,7 +501,12 @@ impl Scenario {
 
     /// The arm's parameters.
     pub fn arm(&self) -> Result<ScaraParameters<f64>> {
-        Ok(match &self.plant.arm {
+        let RobotSpec::Scara(arm) = &self.plant.robot else {
+            return Err(SimError::Setting(
+                "the SCARA's parameters: for a SCARA (kind = \"scara\")".into(),
+            ));
+        };
+        Ok(match arm {
             ArmSpec::DirectDrive => direct_drive_arm(),
             ArmSpec::Pelican => ScaraParameters::pelican(),
             ArmSpec::Urdf(p) => crate::urdf::scara_from_urdf(&self.base_dir.join(p))?,

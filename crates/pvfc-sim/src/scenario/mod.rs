@@ -5,34 +5,22 @@ use crate::contact::ContactSpec;
 use crate::error::{Result, SimError};
 use crate::model::arm::PassiveOptions;
 use crate::model::pace::{PaceSettings, PathSpeed};
-use crate::plant::disturbance::Disturbance;
-use crate::plant::friction::JointFriction;
 use pvfc_core::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 pub mod build;
+pub mod legacy;
+pub mod plant;
 pub use pvfc_control::obstacles;
 pub mod preset_id;
 pub mod presets;
 
-pub use build::ArmSystem;
-
-/// The default arm of the experiments (the numbers of `models/scara.urdf`): a direct-drive
-/// two-link SCARA heavier than the Pelican, so that at the paper's energy (50) and friction
-/// (2–3 N·m) the arm's kinetic energy on the contour is a sizeable share of the total.
-pub fn direct_drive_arm() -> ScaraParameters<f64> {
-    ScaraParameters {
-        m1: 15.0,
-        m2: 6.0,
-        l1: 0.4,
-        l2: 0.35,
-        lc1: 0.2,
-        lc2: 0.15,
-        i1: 0.4,
-        i2: 0.15,
-    }
-}
+pub use build::{ArmSystem, System};
+pub use plant::{
+    direct_drive_arm, ArmParameters, ArmSpec, ChainSpec, PlantSpec, RigidBodySpec, RobotKind,
+    RobotSpec,
+};
 
 /// The velocity field of the planar arm's scenarios (section V): the Lissajous contour, the
 /// torus navigation function of eq. (17), exponential self-pacing (eq. 21) with the
@@ -68,18 +56,6 @@ pub type AttitudeField = SuspendedField<
 /// The controller of a rigid body's attitude scenario ([`Scenario::attitude_controller`]).
 pub type AttitudeController = Controller<f64, So3<f64>, RigidBody<f64>, AttitudeField, 3>;
 
-/// `[plant.rigid_body]`: a rigid body rotating freely, `J ω̇ + ω × Jω = T` with `ω` its body
-/// angular velocity: a satellite's attitude on SO(3) (section IV-B). Its configuration is
-/// the attitude `R`; a scenario gives attitudes as rotation vectors (`R = exp(r̂)`, rad) and
-/// the trace logs them so.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RigidBodySpec {
-    /// The body's inertia `J` about its centre of mass, in body axes (kg·m², symmetric
-    /// positive definite), row by row.
-    pub inertia: [[f64; 3]; 3],
-}
-
 /// `[contour.attitude]`: a rotation at constant rate, `R_d(τ) = exp(r̂₀) exp(τ ω̂)`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -90,118 +66,6 @@ pub struct AttitudeContourSpec {
     /// The body angular velocity `ω` per unit of `τ` (rad); the contour's period is
     /// `2π/‖ω‖`.
     pub rate: [f64; 3],
-}
-
-/// Which arm to simulate.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, rename_all = "snake_case")]
-pub enum ArmSpec {
-    /// The built-in direct-drive arm ([`direct_drive_arm`], the same as `models/scara.urdf`).
-    DirectDrive,
-    /// The CICESE Pelican arm (the manual's control law, `docs/src/reference/control-law.md` §1).
-    Pelican,
-    /// An arm read from a URDF file (relative paths are relative to the scenario file).
-    Urdf(PathBuf),
-    /// An arm given by its parameters.
-    Parameters(ArmParameters),
-}
-
-impl From<ArmParameters> for ScaraParameters<f64> {
-    fn from(a: ArmParameters) -> Self {
-        ScaraParameters {
-            m1: a.m1,
-            m2: a.m2,
-            l1: a.l1,
-            l2: a.l2,
-            lc1: a.lc1,
-            lc2: a.lc2,
-            i1: a.i1,
-            i2: a.i2,
-        }
-    }
-}
-
-/// The physical parameters of a two-link arm (SI units), as in a scenario file.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ArmParameters {
-    /// Mass of link 1 (kg).
-    pub m1: f64,
-    /// Mass of link 2 (kg).
-    pub m2: f64,
-    /// Length of link 1 (m).
-    pub l1: f64,
-    /// Length of link 2 (m).
-    pub l2: f64,
-    /// Joint 1 to the centre of mass of link 1 (m).
-    pub lc1: f64,
-    /// Joint 2 to the centre of mass of link 2 (m).
-    pub lc2: f64,
-    /// Inertia of link 1 about its centre of mass (kg·m²).
-    pub i1: f64,
-    /// Inertia of link 2 about its centre of mass (kg·m²).
-    pub i2: f64,
-}
-
-/// The plant: the arm and its joint friction.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct PlantSpec {
-    /// The arm.
-    #[serde(default = "default_arm")]
-    pub arm: ArmSpec,
-    /// Joint friction of the simulated plant.
-    #[serde(default)]
-    pub friction: JointFriction,
-    /// A serial arm read from this URDF file (relative to the scenario file) instead of the
-    /// planar `arm`: any number of joints, gravity, the generic run loop.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub urdf: Option<PathBuf>,
-    /// The URDF's tip link (needed when the URDF is a tree).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tip: Option<String>,
-    /// The URDF's base link (default: its root).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub base: Option<String>,
-    /// Gravity in the base frame (m/s²; default `(0, 0, −9.80665)` for a URDF arm).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub gravity: Option<[f64; 3]>,
-    /// A model error, one positive finite factor per link of a URDF arm's chain (one per
-    /// joint): the simulated arm's link masses and rotational inertias are the URDF's times
-    /// these, while the controller (its coupling, gravity compensation and field) keeps the
-    /// URDF's model. Sampled mode only.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub mass_scale: Option<Vec<f64>>,
-    /// A disturbance torque on the joints (section II's robustness): part of the plant's
-    /// environment, unknown to the controller, its work in `work_contact`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub disturbance: Option<Disturbance>,
-    /// A rigid body's attitude (a satellite, section IV-B) instead of an arm: the
-    /// configuration is on SO(3), `initial.q` a rotation vector and `initial.v` the body
-    /// angular velocity; with `[contour.attitude]` and `controller.h` the diagonal of eq.
-    /// (26)'s `P`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub rigid_body: Option<RigidBodySpec>,
-}
-
-fn default_arm() -> ArmSpec {
-    ArmSpec::DirectDrive
-}
-
-impl Default for PlantSpec {
-    fn default() -> Self {
-        PlantSpec {
-            arm: default_arm(),
-            friction: JointFriction::default(),
-            urdf: None,
-            tip: None,
-            base: None,
-            gravity: None,
-            mass_scale: None,
-            disturbance: None,
-            rigid_body: None,
-        }
-    }
 }
 
 /// A Lissajous contour `x_i = c_i + a_i sin(2πτ/T_i + φ_i)`; the default is the paper's.
@@ -238,7 +102,7 @@ pub struct ContourSpec {
     /// `waypoints`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ellipse: Option<JointEllipseSpec>,
-    /// For a rigid body (`[plant.rigid_body]`): a rotation at constant rate
+    /// For a rigid body (`kind = "rigid_body"`): a rotation at constant rate
     /// (`[contour.attitude]`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub attitude: Option<AttitudeContourSpec>,
@@ -750,6 +614,10 @@ pub struct Scenario {
     /// Directory that relative paths in the scenario are resolved against (not in the file).
     #[serde(skip)]
     pub base_dir: PathBuf,
+    /// The deprecated forms the scenario was read in, one message each (not in the file;
+    /// see [`legacy`]).
+    #[serde(skip)]
+    pub deprecations: Vec<String>,
 }
 
 /// A per-joint list of a scenario as a vector of the robot's dimension (an empty or omitted
@@ -823,12 +691,15 @@ impl Scenario {
         Self::parse(text, path, PathBuf::new())
     }
 
-    fn parse(text: &str, path: &Path, base_dir: PathBuf) -> Result<Scenario> {
+    /// Parses and validates scenario text whose relative paths are relative to `base_dir`
+    /// (`path` only names it in errors).
+    pub fn parse(text: &str, path: &Path, base_dir: PathBuf) -> Result<Scenario> {
         let mut s: Scenario = toml::from_str(text).map_err(|e| SimError::Scenario {
             path: path.to_path_buf(),
             message: e.to_string(),
         })?;
         s.base_dir = base_dir;
+        s.deprecations = legacy::in_toml(text);
         s.validate().map_err(|e| SimError::Scenario {
             path: path.to_path_buf(),
             message: e.to_string(),
@@ -841,14 +712,9 @@ impl Scenario {
         toml::to_string(self).map_err(|e| SimError::Setting(e.to_string()))
     }
 
-    /// `true` for a serial arm read from a URDF (`[plant] urdf = …`).
-    pub fn is_chain(&self) -> bool {
-        self.plant.urdf.is_some()
-    }
-
-    /// `true` for a rigid body's attitude (`[plant.rigid_body]`, on SO(3)).
-    pub fn is_body(&self) -> bool {
-        self.plant.rigid_body.is_some()
+    /// The kind of robot (`[plant] kind`).
+    pub fn kind(&self) -> RobotKind {
+        self.plant.robot.kind()
     }
 
     /// The energy level `β` the controller runs at: the nominal speed `r` of eq. (36) if set,
@@ -886,12 +752,15 @@ impl Scenario {
     /// Cartesian path.
     pub fn period(&self) -> f64 {
         let c = &self.contour;
-        if let (true, Some(a)) = (self.is_body(), &c.attitude) {
-            let rate = nalgebra::Vector3::from(a.rate).norm();
-            return std::f64::consts::TAU / rate;
-        }
-        if !self.is_chain() {
-            return c.period;
+        match &self.plant.robot {
+            RobotSpec::RigidBody(_) => {
+                let rate = c
+                    .attitude
+                    .map_or(0.0, |a| nalgebra::Vector3::from(a.rate).norm());
+                return std::f64::consts::TAU / rate;
+            }
+            RobotSpec::Scara(_) => return c.period,
+            RobotSpec::SerialChain(_) => {}
         }
         match (
             &c.waypoints,

@@ -32,11 +32,7 @@ pub fn pelican_example() -> Scenario {
         name: "pelican_example".into(),
         description: "The Pelican arm on the paper's Lissajous contour, frictionless".into(),
         duration: 10.0,
-        plant: PlantSpec {
-            arm: ArmSpec::Pelican,
-            friction: JointFriction::default(),
-            ..PlantSpec::default()
-        },
+        plant: PlantSpec::of(RobotSpec::Scara(ArmSpec::Pelican)),
         contour: ContourSpec::default(),
         controller: ControllerSpec {
             self_pacing: 100.0,
@@ -59,6 +55,7 @@ pub fn pelican_example() -> Scenario {
         contact_3d: None,
         obstacles: None,
         base_dir: Default::default(),
+        deprecations: Vec::new(),
     }
 }
 
@@ -82,9 +79,8 @@ fn forced(id: PresetId, description: &str, r_pacing: f64, compensation: bool, r:
         description: description.into(),
         duration: 40.0,
         plant: PlantSpec {
-            arm: ArmSpec::DirectDrive,
             friction: plant_friction(),
-            ..PlantSpec::default()
+            ..PlantSpec::of(RobotSpec::Scara(ArmSpec::DirectDrive))
         },
         contour: ContourSpec::default(),
         controller: ControllerSpec {
@@ -105,6 +101,7 @@ fn forced(id: PresetId, description: &str, r_pacing: f64, compensation: bool, r:
         contact_3d: None,
         obstacles: None,
         base_dir: Default::default(),
+        deprecations: Vec::new(),
     }
 }
 
@@ -387,12 +384,9 @@ pub fn satellite() -> Scenario {
     s.name = PresetId::Satellite.name();
     s.description = "Section IV-B: a satellite's attitude on SO(3) follows a rotation at constant rate from 1.52 rad away".into();
     s.duration = 30.0;
-    s.plant = crate::scenario::PlantSpec {
-        rigid_body: Some(crate::scenario::RigidBodySpec {
-            inertia: [[1.2, 0.05, 0.0], [0.05, 1.0, 0.02], [0.0, 0.02, 0.8]],
-        }),
-        ..Default::default()
-    };
+    s.plant = PlantSpec::of(RobotSpec::RigidBody(crate::scenario::RigidBodySpec {
+        inertia: [[1.2, 0.05, 0.0], [0.05, 1.0, 0.02], [0.0, 0.02, 0.8]],
+    }));
     s.contour = crate::scenario::ContourSpec {
         attitude: Some(crate::scenario::AttitudeContourSpec {
             start: [0.0; 3],

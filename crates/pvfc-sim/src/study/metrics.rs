@@ -4,6 +4,7 @@
 
 use crate::error::{Result, SimError};
 use crate::model::robot::Robot;
+use crate::scenario::RobotSpec;
 use crate::scenario::Scenario;
 use crate::trace::path_budget::{path_budget, PathBudget};
 use crate::trace::{metrics, Trace};
@@ -121,7 +122,12 @@ fn audit(run: &RunView) -> Option<f64> {
         .friction_compensation
         .as_ref()
         .is_some_and(|f| f.iter().any(|x| *x != 0.0));
-    let plain = !s.is_chain() && !compensates && s.controller.nominal_speed.is_none();
+    // The friction-only audit does not count gravity's work, which a serial chain has.
+    let without_gravity = match s.plant.robot {
+        RobotSpec::Scara(_) | RobotSpec::RigidBody(_) => true,
+        RobotSpec::SerialChain(_) => false,
+    };
+    let plain = without_gravity && !compensates && s.controller.nominal_speed.is_none();
     plain.then(|| metrics::energy_audit(run.trace))
 }
 

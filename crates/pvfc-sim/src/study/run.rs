@@ -1,8 +1,8 @@
 //! Running a study: each run's PVFC loop and the metrics kept of it, in parallel on this
 //! machine's threads. A run that fails, or panics, is a row with its error; the study goes on.
 
-use crate::run::{chain, planar};
-use crate::scenario::ArmSystem;
+use crate::run::simulate_system;
+use crate::scenario::System;
 use crate::study::metrics::{Metric, RunView};
 use crate::study::spec::StudyRun;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -29,14 +29,9 @@ pub fn run_one(run: &StudyRun, metrics: &[&Metric]) -> StudyRow {
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(
         || -> crate::Result<Vec<Option<f64>>> {
             let s = &run.scenario;
-            if s.is_chain() {
-                let system = ArmSystem::build(s)?;
-                let trace = chain::simulate_chain_with(s, &system, &mut |_| {})?;
-                RunView::new(s, &trace, Some(&system.robot)).values(metrics)
-            } else {
-                let trace = planar::simulate(s, &mut |_| {})?;
-                RunView::new(s, &trace, None).values(metrics)
-            }
+            let system = System::build(s)?;
+            let trace = simulate_system(s, &system, &mut |_| {})?;
+            RunView::new(s, &trace, system.chain().map(|a| &a.robot)).values(metrics)
         },
     ));
     let (values, error) = match outcome {

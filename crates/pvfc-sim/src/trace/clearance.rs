@@ -1,8 +1,7 @@
 //! The clearance a run kept from the scenario's obstacles (`[obstacles]`, Remark 3).
 
 use crate::error::{Result, SimError};
-use crate::model::robot::Robot;
-use crate::scenario::Scenario;
+use crate::scenario::{Scenario, System};
 use crate::trace::Trace;
 use nalgebra::SVector;
 use pvfc_core::obstacle::ObstacleSet;
@@ -30,21 +29,21 @@ fn smallest<const N: usize>(set: &ObstacleSet<f64, N>, t: &Trace) -> Option<Clea
         })
 }
 
-/// The smallest clearance of the run `t` of `s` from its obstacles; `None` without
-/// `[obstacles]`. `robot` is the URDF arm's (for a URDF arm's scenario).
-pub fn clearance(s: &Scenario, robot: Option<&Robot>, t: &Trace) -> Result<Option<Clearance>> {
+/// The smallest clearance of the run `t` of `s` (its system built as `system`) from its
+/// obstacles; `None` without `[obstacles]`.
+pub fn clearance(s: &Scenario, system: &System, t: &Trace) -> Result<Option<Clearance>> {
     let Some(spec) = &s.obstacles else {
         return Ok(None);
     };
-    match robot {
-        None if s.is_body() => Ok(None),
-        None => Ok(smallest(s.field()?.obstacles(), t)),
-        Some(robot) => crate::with_dof!(robot.dof(), N => {
-            let set = spec.build::<N>(Some(robot.description().chain::<N>()?), 1.0)?;
+    match system {
+        System::RigidBody(_) => Ok(None),
+        System::Scara(_) => Ok(smallest(s.field()?.obstacles(), t)),
+        System::SerialChain(sys) => crate::with_dof!(sys.robot.dof(), N => {
+            let set = spec.build::<N>(Some(sys.robot.description().chain::<N>()?), 1.0)?;
             Ok(smallest(&set, t))
         }, otherwise Err(SimError::Setting(format!(
             "obstacles: a {}-joint robot (1 to 8 are supported)",
-            robot.dof()
+            sys.robot.dof()
         )))),
     }
 }
