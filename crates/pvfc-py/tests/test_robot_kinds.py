@@ -11,6 +11,7 @@ BODY = {
     "name": "sat",
     "duration": 1.0,
     "contour": {"attitude": {"rate": [0.2, 0.1, 0.5]}},
+    "initial": {"q": [0.5, 0.0, 0.0], "v": [0.0, 0.0, 0.0]},
     "controller": {"h": [1.0, 2.0, 3.0], "self_pacing": 20.0, "energy": 20.0, "gamma": 0.1},
 }
 
