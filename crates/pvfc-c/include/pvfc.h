@@ -291,6 +291,18 @@ enum pvfc_status pvfc_contour_cartesian_toml(const char *toml,
                                              double spacing,
                                              struct pvfc_contour **out);
 
+// Any contour a scenario file's `[contour]` can hold, of any kind: `toml` is the table's
+// content, one table named for its kind (`[lissajous]`, `[waypoints]`, `[ellipse]`,
+// `[cartesian]` with its `period` or `spacing`, …; the user's manual lists them), a CSV
+// file's name relative to `base_dir` (NULL: the working directory). A joint-space kind the
+// library adds reaches C through this function without a new one.
+//
+// # Safety
+// `toml` is a NUL-terminated string, `base_dir` NULL or one; `out` is writable.
+enum pvfc_status pvfc_contour_toml(const char *toml,
+                                   const char *base_dir,
+                                   struct pvfc_contour **out);
+
 // The distance (m) from `point` (3 doubles, base frame) to a Cartesian contour's exact path,
 // into `*distance`, and the closest point into `closest` (3 doubles; NULL: not wanted).
 // Allocates nothing. An error for a joint-space contour.

@@ -293,6 +293,11 @@ class Contour {
     return make(pvfc_contour_cartesian_toml, toml.c_str(),
                 base_dir.empty() ? nullptr : base_dir.c_str(), period, spacing);
   }
+  /// Any contour of a scenario file's `[contour]`, of any kind: the table's content as TOML
+  /// text (`[lissajous] …`, `[waypoints] …`, `[cartesian] …`).
+  static Contour from_toml(const std::string &toml, const std::string &base_dir = "") {
+    return make(pvfc_contour_toml, toml.c_str(), base_dir.empty() ? nullptr : base_dir.c_str());
+  }
   /// The distance (m) from `point` (3) to a Cartesian contour's exact path.
   double distance(In point) const {
     size_check(point, 3, "point");

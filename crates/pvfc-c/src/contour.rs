@@ -6,9 +6,10 @@
 
 use crate::args::*;
 use crate::status::*;
-use pvfc_control::model::arm::JointContourSpec;
+use pvfc_control::model::arm::{DynJointContour, JointContourSpec};
 use pvfc_control::model::arm_field::FieldSpec;
 use pvfc_control::model::cartesian::{CartesianSpec, CircleSpec, TaskSpec};
+use pvfc_control::model::contour::ContourSpec;
 use pvfc_control::model::robot::Robot;
 use pvfc_control::model::tool_path::ToolPath;
 use std::ffi::c_char;
@@ -25,8 +26,6 @@ enum Kind {
         spec: Box<CartesianSpec>,
         path: ToolPath,
         base_dir: PathBuf,
-        period: f64,
-        spacing: Option<f64>,
     },
 }
 
@@ -41,14 +40,8 @@ impl pvfc_contour {
     pub(crate) fn resolve(&self, robot: &Robot) -> Result<(JointContourSpec, FieldSpec), Failure> {
         match &self.kind {
             Kind::Joint(j) => Ok((j.clone(), FieldSpec::Joint)),
-            Kind::Cartesian {
-                spec,
-                base_dir,
-                period,
-                spacing,
-                ..
-            } => {
-                let contour = spec.joint_contour(robot, base_dir, *period, *spacing)?;
+            Kind::Cartesian { spec, base_dir, .. } => {
+                let contour = spec.joint_contour(robot, base_dir)?;
                 let field = spec
                     .task_field(robot, base_dir)?
                     .map_or(FieldSpec::Joint, |t| FieldSpec::Task(Box::new(t)));
@@ -286,7 +279,7 @@ unsafe fn cartesian(
 /// # Safety
 /// `out` is NULL or writable.
 unsafe fn store(
-    spec: CartesianSpec,
+    mut spec: CartesianSpec,
     base_dir: PathBuf,
     period: f64,
     spacing: Option<f64>,
@@ -297,7 +290,8 @@ unsafe fn store(
         (_, Some(s)) => Some(positive(s, "spacing")?),
         (n, None) => Some(period / n as f64),
     };
-    let period = positive(period, "period")?;
+    spec.period = Some(positive(period, "period")?);
+    spec.spacing = spacing;
     spec.tolerance()?;
     let path = spec.path(&base_dir)?;
     // SAFETY: as documented.
@@ -309,8 +303,6 @@ unsafe fn store(
                     spec: Box::new(spec),
                     path,
                     base_dir,
-                    period,
-                    spacing,
                 },
             },
         )
@@ -417,6 +409,51 @@ pub unsafe extern "C" fn pvfc_contour_cartesian_toml(
         })?;
         let spacing = (spacing != 0.0).then_some(spacing);
         unsafe { store(spec, base_dir, period, spacing, out) }
+    })
+}
+
+/// Any contour a scenario file's `[contour]` can hold, of any kind: `toml` is the table's
+/// content, one table named for its kind (`[lissajous]`, `[waypoints]`, `[ellipse]`,
+/// `[cartesian]` with its `period` or `spacing`, …; the user's manual lists them), a CSV
+/// file's name relative to `base_dir` (NULL: the working directory). A joint-space kind the
+/// library adds reaches C through this function without a new one.
+///
+/// # Safety
+/// `toml` is a NUL-terminated string, `base_dir` NULL or one; `out` is writable.
+#[no_mangle]
+pub unsafe extern "C" fn pvfc_contour_toml(
+    toml: *const c_char,
+    base_dir: *const c_char,
+    out: *mut *mut pvfc_contour,
+) -> pvfc_status {
+    guard(|| {
+        // SAFETY: as documented.
+        let table = unsafe { text(toml, "toml") }?.ok_or_else(|| null("toml"))?;
+        let base_dir = PathBuf::from(unsafe { text(base_dir, "base_dir") }?.unwrap_or(""));
+        let invalid = |e: String| Failure(PVFC_ERROR_INVALID_ARGUMENT, e.into());
+        let spec: ContourSpec = ::toml::from_str(table).map_err(|e| invalid(e.to_string()))?;
+        match spec {
+            ContourSpec::Joint(j) => {
+                // Built once to check it (its lists, its period), as a controller would.
+                DynJointContour::new(&j, None)?;
+                // SAFETY: as documented.
+                unsafe { joint(out, j) }
+            }
+            ContourSpec::Cartesian(c) => {
+                let period = c.period_in_tau().ok_or_else(|| {
+                    invalid(
+                        "contour.cartesian: give its period (adaptive sampling) or its spacing (fixed samples)"
+                            .into(),
+                    )
+                })?;
+                let spacing = c.spacing;
+                // SAFETY: as documented.
+                unsafe { store(*c, base_dir, period, spacing, out) }
+            }
+            ContourSpec::Attitude(_) => Err(invalid(
+                "contour.attitude: a rigid body's; a robot arm follows a joint-space curve or a Cartesian path".into(),
+            )),
+        }
     })
 }
 

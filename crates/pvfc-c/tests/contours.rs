@@ -41,7 +41,7 @@ fn ur5() -> *mut pvfc_robot {
 fn scenario(task: bool) -> Scenario {
     let mut s = Scenario::from_file(&repo().join("scenarios/ur5_cartesian.toml")).unwrap();
     if task {
-        s.contour.cartesian.as_mut().unwrap().task = Some(TaskSpec::default());
+        s.contour.cartesian_mut().unwrap().task = Some(TaskSpec::default());
     }
     s
 }
@@ -65,7 +65,7 @@ fn settings(s: &Scenario, friction: &[f64]) -> pvfc_settings {
 
 /// The scenario's Cartesian path through `pvfc_contour_cartesian_toml`.
 fn toml_contour(s: &Scenario) -> *mut pvfc_contour {
-    let table = toml::to_string(s.contour.cartesian.as_ref().unwrap()).unwrap();
+    let table = toml::to_string(s.contour.cartesian().unwrap()).unwrap();
     let table = CString::new(table).unwrap();
     let dir = CString::new(repo().join("scenarios").to_str().unwrap()).unwrap();
     let mut contour = null_mut();
@@ -74,7 +74,7 @@ fn toml_contour(s: &Scenario) -> *mut pvfc_contour {
         pvfc_contour_cartesian_toml(
             table.as_ptr(),
             dir.as_ptr(),
-            s.contour.period,
+            s.contour.period(),
             0.0,
             &mut contour,
         )
@@ -169,7 +169,7 @@ fn points(ctl: *const pvfc_controller, period: f64) -> Vec<[f64; 6]> {
 fn the_polygon_and_circle_constructors_give_the_paths_of_their_tables() {
     let robot = ur5();
     let s = scenario(false);
-    let period = s.contour.period;
+    let period = s.contour.period();
     let seed = [0.0, -1.2, 1.4, -1.8, -1.57, 0.0];
     let mut o = pvfc_cartesian_options_default();
     o.seed = seed.as_ptr();
@@ -561,4 +561,121 @@ fn an_arm_from_arrays_is_the_arm_of_its_urdf() {
         pvfc_robot_destroy(robot);
         pvfc_robot_destroy(urdf);
     }
+}
+
+/// `pvfc_contour_toml` reads any `[contour]` table: a joint-space curve gives the points of its
+/// typed constructor, a scenario's Cartesian path the scenario's controller; an attitude, an
+/// unknown kind and a bad list are errors that name them.
+#[test]
+fn any_contour_table_is_the_contour_of_its_kind() {
+    use pvfc_control::model::arm::JointContourSpec;
+    use pvfc_control::model::contour::ContourSpec;
+    let robot = ur5();
+    let from_toml = |text: &str, dir: Option<&CString>| {
+        let text = CString::new(text).unwrap();
+        let mut contour = null_mut();
+        // SAFETY: valid strings and out pointer.
+        let st = unsafe {
+            pvfc_contour_toml(
+                text.as_ptr(),
+                dir.map_or(null(), |d| d.as_ptr()),
+                &mut contour,
+            )
+        };
+        (st, contour)
+    };
+    let spec = JointContourSpec::Lissajous {
+        amplitude: vec![0.2, 0.1, 0.15, 0.1, 0.05, 0.3],
+        periods: vec![4.0, 2.0, 4.0, 4.0, 2.0, 4.0],
+        phase: vec![0.0, 0.5, 1.0, 0.0, 0.0, 0.2],
+        offset: vec![0.0, -1.2, 1.4, -1.8, -1.57, 0.0],
+        period: Some(4.0),
+    };
+    let text = toml::to_string(&ContourSpec::Joint(spec.clone())).unwrap();
+    assert!(text.contains("[lissajous]"), "{text}");
+    let (st, by_table) = from_toml(&text, None);
+    assert_eq!(st, OK, "{}", last_error());
+    let JointContourSpec::Lissajous {
+        amplitude: a,
+        periods: t,
+        phase: phi,
+        offset: c,
+        ..
+    } = &spec
+    else {
+        unreachable!()
+    };
+    let mut typed = null_mut();
+    // SAFETY: arrays of 6, a valid out pointer.
+    let st = unsafe {
+        pvfc_contour_lissajous(
+            a.as_ptr(),
+            t.as_ptr(),
+            phi.as_ptr(),
+            c.as_ptr(),
+            6,
+            4.0,
+            &mut typed,
+        )
+    };
+    assert_eq!(st, OK, "{}", last_error());
+    let s = pvfc_settings_default();
+    let mut pts = Vec::new();
+    for contour in [by_table, typed] {
+        let mut ctl = null_mut();
+        // SAFETY: valid handles.
+        let st = unsafe { pvfc_controller_new(robot, contour, null(), 0, &s, &mut ctl) };
+        assert_eq!(st, OK, "{}", last_error());
+        pts.push(points(ctl, 4.0));
+        // SAFETY: made above.
+        unsafe {
+            pvfc_controller_destroy(ctl);
+            pvfc_contour_destroy(contour);
+        }
+    }
+    assert_eq!(pts[0], pts[1]);
+
+    // A scenario's Cartesian path, with its period inside its table.
+    let sc = scenario(false);
+    let text = toml::to_string(&sc.contour).unwrap();
+    assert!(
+        text.contains("[cartesian]") && text.contains("period"),
+        "{text}"
+    );
+    let dir = CString::new(repo().join("scenarios").to_str().unwrap()).unwrap();
+    let (st, by_table) = from_toml(&text, Some(&dir));
+    assert_eq!(st, OK, "{}", last_error());
+    let by_arguments = toml_contour(&sc);
+    let mut pts = Vec::new();
+    for contour in [by_table, by_arguments] {
+        let ctl = controller(robot, contour, &sc);
+        pts.push(points(ctl, sc.period()));
+        // SAFETY: made above.
+        unsafe {
+            pvfc_controller_destroy(ctl);
+            pvfc_contour_destroy(contour);
+        }
+    }
+    assert_eq!(pts[0], pts[1]);
+
+    for (text, named) in [
+        ("[attitude]\nrate = [0.0, 0.0, 1.0]\n", "contour.attitude"),
+        ("[spiral]\nturns = 3\n", "unknown variant `spiral`"),
+        (
+            "[ellipse]\ncenter = [0.0, 0.0]\nu = [1.0]\nw = [0.0, 1.0]\nperiod = 2.0\n",
+            "ellipse.u",
+        ),
+        (
+            "[cartesian]\npoints = [[0.5, 0.0, 0.3], [0.6, 0.0, 0.3], [0.6, 0.1, 0.3]]\n",
+            "period",
+        ),
+    ] {
+        let (st, contour) = from_toml(text, None);
+        assert_eq!(st, pvfc_status::PVFC_ERROR_INVALID_ARGUMENT, "{text}");
+        assert!(contour.is_null());
+        let e = last_error();
+        assert!(e.contains(named), "{text}: {e}");
+    }
+    // SAFETY: made above.
+    unsafe { pvfc_robot_destroy(robot) };
 }

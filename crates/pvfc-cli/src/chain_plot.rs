@@ -68,7 +68,7 @@ pub fn chain_figure(
         .map(|k| tool(&ctl.contour_point(period * k as f64 / 400.0)))
         .collect::<Result<Vec<_>>>()?;
     // A Cartesian tool path: the path itself, and the tool's distance to it (mm).
-    let (path_points, distance) = match &s.contour.cartesian {
+    let (path_points, distance) = match s.contour.cartesian() {
         Some(c) => {
             let d = c.distances(&s.base_dir, &actual)?;
             let pts = samples

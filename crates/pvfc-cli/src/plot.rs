@@ -20,7 +20,7 @@ fn joint_space_figure(path: &Path, title: &str, series: &[Series]) -> Result<()>
 fn desired(runs: &Runs, id: PresetId) -> Result<Series> {
     let (s, _) = runs.run(id)?;
     let c = s.contour()?;
-    let period = s.contour.period;
+    let period = s.contour.period();
     Ok(Series {
         label: "desired contour".into(),
         points: (0..=600)
@@ -47,7 +47,7 @@ fn pass_figure(runs: &Runs, path: &Path, title: &str, ids: &[(PresetId, String)]
     let (mut u, mut tdot) = (Vec::new(), Vec::new());
     for (id, label) in ids {
         let (s, t) = runs.run(*id)?;
-        let period = s.contour.period;
+        let period = s.contour.period();
         let r = last_pass(t, period)
             .ok_or_else(|| SimError::Setting(format!("run `{id}` does not cover a pass")))?;
         let tau0 = (t.tau[r.start] / period).floor() * period;
@@ -410,7 +410,7 @@ pub fn contact_figure(runs: &Runs, name: &str, p: &Path) -> Result<()> {
         .ok_or_else(|| SimError::Setting(format!("run `{name}` has no contact")))?;
     let kin = PlanarArm::of(&s.arm()?)?;
     let contour = s.contour()?;
-    let period = s.contour.period;
+    let period = s.contour.period();
     let mut paths = vec![Series {
         label: "desired contour (tool)".into(),
         points: (0..=600)

@@ -330,7 +330,7 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     let (s1, pvfc) = r.run(PresetId::Fig1)?;
     let timed = r.timed(PresetId::Fig1)?;
     let contour = s1.contour()?;
-    let period = s1.contour.period;
+    let period = s1.contour.period();
     let tail_p = window(pvfc, s1.duration - 12.0, s1.duration);
     let tail_t = window(timed, s1.duration - 12.0, s1.duration);
     let (ep, mp) = contour_error(pvfc, &contour, period, tail_p);

@@ -66,7 +66,7 @@ impl Runs {
 
     pub(crate) fn mean_u(&self, id: PresetId) -> Result<f64> {
         let (s, t) = self.run(id)?;
-        mean_potential_over_pass(t, s.contour.period).ok_or_else(|| no_pass(id))
+        mean_potential_over_pass(t, s.contour.period()).ok_or_else(|| no_pass(id))
     }
 
     /// The peaks of `U` over the last pass of a preset's run
@@ -74,7 +74,7 @@ impl Runs {
     /// its largest value).
     pub(crate) fn potential_peaks(&self, id: PresetId, fraction: f64) -> Result<usize> {
         let (s, t) = self.run(id)?;
-        pvfc_sim::trace::metrics::potential_peaks(t, s.contour.period, fraction)
+        pvfc_sim::trace::metrics::potential_peaks(t, s.contour.period(), fraction)
             .ok_or_else(|| no_pass(id))
     }
 

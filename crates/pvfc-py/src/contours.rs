@@ -57,10 +57,80 @@ pub(crate) fn joint_contour_spec(contour: &Bound<'_, PyAny>) -> PyResult<JointCo
         Ok(c.get().c.spec.clone())
     } else if let Ok(c) = contour.cast::<Ellipse>() {
         Ok(c.get().c.spec.clone())
+    } else if let Ok(c) = contour.cast::<JointCurve>() {
+        Ok(c.get().c.spec.clone())
     } else {
         Err(pyo3::exceptions::PyTypeError::new_err(
-            "contour: expected a pvfc.WaypointCurve, pvfc.Lissajous or pvfc.Ellipse",
+            "contour: expected a pvfc.WaypointCurve, pvfc.Lissajous, pvfc.Ellipse or pvfc.JointCurve",
         ))
+    }
+}
+
+/// Any closed joint-space curve a scenario's `[contour]` can hold, from its dict: one key
+/// named for the kind, e.g. `pvfc.JointCurve({"ellipse": {"center": [...], "u": [...],
+/// "w": [...], "period": 8.0}})` (`lissajous`, `waypoints`, `ellipse`, and every kind the
+/// library adds). `Lissajous`, `Ellipse` and `WaypointCurve` are the typed constructors of
+/// the same curves.
+#[pyclass(module = "pvfc", frozen, from_py_object)]
+#[derive(Clone)]
+pub(crate) struct JointCurve {
+    pub(crate) c: JointSpaceContour,
+}
+
+#[pymethods]
+impl JointCurve {
+    #[new]
+    fn new(py: Python<'_>, spec: &Bound<'_, pyo3::types::PyDict>) -> PyResult<Self> {
+        let text: String = py
+            .import("json")?
+            .call_method1("dumps", (spec,))?
+            .extract()?;
+        let value: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| PyValueError::new_err(format!("spec: {e}")))?;
+        let spec = match pvfc_sim::scenario::ContourSpec::from_value(value)
+            .map_err(PyValueError::new_err)?
+        {
+            pvfc_sim::scenario::ContourSpec::Joint(j) => j,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "spec: a {} contour is not a joint-space curve (see pvfc.CartesianPath, pvfc.So3ConstantRate)",
+                    other.kind()
+                )))
+            }
+        };
+        Ok(JointCurve {
+            c: JointSpaceContour::new(spec)?,
+        })
+    }
+
+    /// The curve's dict, as `JointCurve(d)` takes it.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let text = serde_json::to_string(&self.c.spec)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        py.import("json")?.call_method1("loads", (text,))
+    }
+
+    /// The kind: `"lissajous"`, `"waypoints"`, `"ellipse"`, ….
+    #[getter]
+    fn kind(&self) -> &'static str {
+        self.c.spec.kind()
+    }
+
+    /// (x_d(τ), dx_d/dτ, d²x_d/dτ²), each of shape (n,).
+    fn sample<'py>(&self, py: Python<'py>, tau: f64) -> Sample3<'py> {
+        sample_n(py, &self.c.c, tau)
+    }
+
+    /// The period, if it has one.
+    #[getter]
+    fn period(&self) -> Option<f64> {
+        self.c.c.period()
+    }
+
+    /// The number of coordinates.
+    #[getter]
+    fn dim(&self) -> usize {
+        self.c.c.dim()
     }
 }
 

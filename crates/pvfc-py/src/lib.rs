@@ -31,6 +31,7 @@ fn _pvfc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<cartesian::TaskSpaceField>()?;
     m.add_class::<deprecated::ArmController>()?;
     m.add_class::<contours::Lissajous>()?;
+    m.add_class::<contours::JointCurve>()?;
     m.add_class::<contours::Ellipse>()?;
     m.add_class::<contours::WaypointCurve>()?;
     m.add_class::<contours::So3ConstantRate>()?;

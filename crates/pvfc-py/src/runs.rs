@@ -287,7 +287,7 @@ impl SimulationResult {
         py: Python<'py>,
         scenario: &Scenario,
     ) -> PyResult<Option<Bound<'py, PyDict>>> {
-        if scenario.s.contour.cartesian.is_none() {
+        if scenario.s.contour.cartesian().is_none() {
             return Ok(None);
         }
         let robot = scenario.s.robot().map_err(sim_err)?;

@@ -104,7 +104,10 @@ fn bad_arm_settings_name_the_field() {
     let e = parse(&text.replace("tip = \"tool0\"", "tip = \"nowhere\"")).unwrap_err();
     assert!(e.contains("link nowhere"), "{e}");
     let e = parse(&text.replace("spacing = 1.5\n", "")).unwrap_err();
-    assert!(e.contains("contour.spacing"), "{e}");
+    assert!(
+        e.contains("contour.waypoints") && e.contains("spacing"),
+        "{e}"
+    );
     let e = parse(&text.replace(
         "coulomb = [3.0, 3.0, 2.0, 0.8, 0.8, 0.8]",
         "coulomb = [3.0, 3.0]",
@@ -157,7 +160,7 @@ fn a_cartesian_tool_path_becomes_joint_waypoints_or_a_named_error() {
     s.validate().unwrap();
     assert_eq!(s.period(), 12.0);
     // The file samples adaptively; 24 fixed samples here, for a quick check.
-    let mut c = s.contour.cartesian.clone().unwrap();
+    let mut c = s.contour.cartesian().cloned().unwrap();
     assert_eq!(c.samples, 0);
     c.samples = 24;
     let robot = s.robot().unwrap();
@@ -353,7 +356,7 @@ fn the_deburring_scenario_runs_beside_its_timed_baseline() {
 fn the_path_error_says_how_far_and_where_along_the_path() {
     use nalgebra::Vector3;
     let s = Scenario::from_file(&file("ur5_cartesian.toml")).unwrap();
-    let mut c = s.contour.cartesian.clone().unwrap();
+    let mut c = s.contour.cartesian().cloned().unwrap();
     // A square 0.2 m a side, no rounding: 0.8 m around, starting at (0.4, −0.1, 0.3).
     c.points = vec![
         [0.4, -0.1, 0.3],
@@ -381,18 +384,27 @@ fn the_path_error_says_how_far_and_where_along_the_path() {
 #[test]
 fn a_urdf_arm_follows_a_joint_space_lissajous_curve_or_ellipse() {
     use pvfc_sim::model::arm::ArmController;
-    use pvfc_sim::scenario::JointEllipseSpec;
+    use pvfc_sim::model::arm::JointContourSpec;
+    use pvfc_sim::scenario::ContourSpec;
     let p = Scenario::from_file(&file("panda_lissajous.toml")).unwrap();
     assert_eq!(p.dof().unwrap(), 7);
     assert_eq!(p.period(), 9.0);
     let ctl = ArmController::new(&p.robot().unwrap(), &p.arm_settings().unwrap()).unwrap();
-    let l = p.contour.lissajous.as_ref().unwrap();
+    let ContourSpec::Joint(JointContourSpec::Lissajous {
+        amplitude,
+        periods,
+        phase,
+        offset,
+        ..
+    }) = &p.contour
+    else {
+        panic!("the Panda's contour is a Lissajous curve: {:?}", p.contour);
+    };
     for tau in [0.0, 1.3, 4.0, 8.9] {
         let x = ctl.contour_point(tau);
         for (i, xi) in x.iter().enumerate() {
-            let want = l.offset[i]
-                + l.amplitude[i]
-                    * (2.0 * std::f64::consts::PI * tau / l.periods[i] + l.phase[i]).sin();
+            let want = offset[i]
+                + amplitude[i] * (2.0 * std::f64::consts::PI * tau / periods[i] + phase[i]).sin();
             assert!((xi - want).abs() < 1e-6, "joint {i} at τ = {tau}");
         }
         assert_eq!(x.len(), 7);
@@ -402,8 +414,7 @@ fn a_urdf_arm_follows_a_joint_space_lissajous_curve_or_ellipse() {
     }
 
     let mut s = ur5();
-    s.contour.waypoints = None;
-    s.contour.ellipse = Some(JointEllipseSpec {
+    s.contour = ContourSpec::Joint(JointContourSpec::Ellipse {
         center: vec![0.0, -1.4, 1.6, -1.8, -1.57, 0.0],
         u: vec![0.5, 0.2, 0.0, 0.2, 0.0, 0.3],
         w: vec![0.0, 0.2, 0.3, 0.0, 0.3, 0.0],
@@ -429,12 +440,18 @@ fn a_urdf_arm_follows_a_joint_space_lissajous_curve_or_ellipse() {
     );
 
     // One contour, each list one entry per joint.
-    let mut both = s.clone();
-    both.contour.waypoints = ur5().contour.waypoints;
-    let e = both.validate().unwrap_err().to_string();
-    assert!(e.contains("exactly one of"), "{e}");
+    let both = format!(
+        "{}\n[contour.waypoints]\npoints = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]\nspacing = 1.0\n",
+        s.to_toml().unwrap()
+    );
+    let e = Scenario::parse(&both, Path::new("both.toml"), s.base_dir.clone())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("one kind of contour"), "{e}");
     let mut short = s.clone();
-    short.contour.ellipse.as_mut().unwrap().u = vec![0.5, 0.2];
+    if let ContourSpec::Joint(JointContourSpec::Ellipse { u, .. }) = &mut short.contour {
+        *u = vec![0.5, 0.2];
+    }
     let e = short.validate().unwrap_err().to_string();
     assert!(e.contains("ellipse.u"), "{e}");
     let text = std::fs::read_to_string(file("panda_lissajous.toml")).unwrap();

@@ -219,13 +219,16 @@ fn bad_settings_of_a_body_are_named() {
     check(&|s| s.initial.v = vec![0.0, f64::NAN, 0.0], "initial");
     check(
         &|s| {
-            if let Some(a) = s.contour.attitude.as_mut() {
+            if let pvfc_sim::scenario::ContourSpec::Attitude(a) = &mut s.contour {
                 a.rate = [0.0; 3];
             }
         },
         "contour.attitude.rate",
     );
-    check(&|s| s.contour.attitude = None, "contour.attitude");
+    check(
+        &|s| s.contour = pvfc_sim::scenario::ContourSpec::default(),
+        "contour.attitude",
+    );
     check(
         &|s| s.controller.passive = Some(Default::default()),
         "controller.passive",

@@ -264,7 +264,7 @@ fn nested_lists_shared_settings_and_metrics_by_name() {
     let runs = spec(vec![a.clone()])
         .runs(&ur5)
         .expect("a reachable corner");
-    let c = runs[0].scenario.contour.cartesian.as_ref().expect("a path");
+    let c = runs[0].scenario.contour.cartesian().expect("a path");
     assert_eq!(c.points[1], [0.66, -0.15, 0.30]);
     a.values = Some(vec![3.0]);
     let m = error(&spec(vec![a]), &ur5);

@@ -24,7 +24,7 @@ fn file(name: &str) -> PathBuf {
 /// `ur5_cartesian.toml` with the task-space field (default gains).
 fn ur5_task() -> Scenario {
     let mut s = Scenario::from_file(&file("ur5_cartesian.toml")).unwrap();
-    if let Some(c) = s.contour.cartesian.as_mut() {
+    if let Some(c) = s.contour.cartesian_mut() {
         c.task = Some(TaskSpec::default());
     }
     s.validate().unwrap();
@@ -88,7 +88,7 @@ fn the_path_contour_has_its_derivatives() {
 /// about the vertical by a different angle at each corner (up to 0.4 rad).
 fn turned_corners(s: &Scenario) -> Vec<[f64; 3]> {
     let robot = s.robot().unwrap();
-    let seed = s.contour.cartesian.as_ref().unwrap().seed.clone();
+    let seed = s.contour.cartesian().unwrap().seed.clone();
     let (r0, _) = robot.tool_pose(&seed).unwrap();
     [0.0, 0.4, -0.3, 0.2]
         .iter()
@@ -106,10 +106,10 @@ fn turned_corners(s: &Scenario) -> Vec<[f64; 3]> {
 #[test]
 fn corner_orientations_are_continuous_with_their_rate() {
     let mut s = ur5_task();
-    let c = s.contour.cartesian.as_mut().unwrap();
+    let c = s.contour.cartesian_mut().unwrap();
     c.fixed_orientation = false;
     let turned = turned_corners(&s);
-    let c = s.contour.cartesian.as_mut().unwrap();
+    let c = s.contour.cartesian_mut().unwrap();
     c.orientations = turned;
     let corners = c.corner_orientations().unwrap();
     let path = c.path(Path::new(".")).unwrap();
@@ -154,7 +154,7 @@ fn se3_run(s: &Scenario) -> (f64, pvfc_sim::trace::path_budget::PathBudget) {
     let t = simulate(s, &mut |_| {}).unwrap();
     let robot = s.robot().unwrap();
     let b = path_budget(s, &robot, &t).unwrap().unwrap();
-    let c = s.contour.cartesian.as_ref().unwrap();
+    let c = s.contour.cartesian().unwrap();
     let corners = c.corner_orientations().unwrap();
     let path = c.path(Path::new(".")).unwrap();
     let range = pvfc_sim::trace::path_budget::steady_passes(&t, s.period()).unwrap();
@@ -177,7 +177,7 @@ fn se3_run(s: &Scenario) -> (f64, pvfc_sim::trace::path_budget::PathBudget) {
 fn the_task_space_field_follows_an_se3_path() {
     let mut s = ur5_task();
     let turned = turned_corners(&s);
-    let c = s.contour.cartesian.as_mut().unwrap();
+    let c = s.contour.cartesian_mut().unwrap();
     c.fixed_orientation = false;
     c.orientations = turned;
     s.baseline = None;
@@ -185,7 +185,7 @@ fn the_task_space_field_follows_an_se3_path() {
     s.validate().unwrap();
     let (task, b) = se3_run(&s);
     let mut joint = s.clone();
-    joint.contour.cartesian.as_mut().unwrap().task = None;
+    joint.contour.cartesian_mut().unwrap().task = None;
     let (by_joint, bj) = se3_run(&joint);
     println!("task-space field: orientation {task:.2e} rad at most; {b}");
     println!("joint contour: orientation {by_joint:.2e} rad at most; {bj}");
@@ -283,7 +283,7 @@ fn the_audits_hold_with_the_task_space_field() {
 fn bad_task_settings_name_the_key() {
     let err = |f: &dyn Fn(&mut TaskSpec)| {
         let mut s = ur5_task();
-        if let Some(c) = s.contour.cartesian.as_mut() {
+        if let Some(c) = s.contour.cartesian_mut() {
             let mut t = TaskSpec::default();
             f(&mut t);
             c.task = Some(t);
@@ -299,7 +299,7 @@ fn bad_task_settings_name_the_key() {
     // Orientations along the path and a fixed orientation: one or the other.
     let mut s = ur5_task();
     let turned = turned_corners(&s);
-    if let Some(c) = s.contour.cartesian.as_mut() {
+    if let Some(c) = s.contour.cartesian_mut() {
         c.orientations = turned;
     }
     let e = s.validate().unwrap_err().to_string();
@@ -316,7 +316,7 @@ fn a_saturated_field_starts_far_from_the_path() {
         let mut s = ur5_task();
         s.duration = 12.0;
         s.baseline = None;
-        if let Some(c) = s.contour.cartesian.as_mut() {
+        if let Some(c) = s.contour.cartesian_mut() {
             c.task = Some(TaskSpec {
                 stiffness: Some(k),
                 saturation,

@@ -251,7 +251,7 @@ fn the_log_carries_the_budget() {
     let mut s = pvfc_sim::Scenario::from_file(&repo.join("scenarios/ur5_cartesian.toml")).unwrap();
     s.duration = 13.0; // one pass
     s.baseline = None;
-    if let Some(c) = s.contour.cartesian.as_mut() {
+    if let Some(c) = s.contour.cartesian_mut() {
         c.tolerance = Some(1e-4);
     }
     let t = pvfc_sim::simulate(&s, &mut |_| {}).unwrap();

@@ -84,6 +84,12 @@ pub struct CartesianSpec {
     /// the figures use them.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub task: Option<TaskSpec>,
+    /// One pass's period in `τ` with adaptive sampling (`samples = 0`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub period: Option<f64>,
+    /// `τ` between waypoints with fixed `samples` (the period is `spacing × samples`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub spacing: Option<f64>,
 }
 
 /// `[contour.cartesian.task]`: the task-space field's gains (every key has a default, so
@@ -235,32 +241,41 @@ impl CartesianSpec {
         }))
     }
 
+    /// The period of one pass in `τ`: `spacing × samples` with fixed samples, `period` with
+    /// adaptive sampling (`None` if the one it needs is not set).
+    pub fn period_in_tau(&self) -> Option<f64> {
+        match (self.samples, self.spacing) {
+            (0, _) => self.period,
+            (n, Some(h)) => Some(h * n as f64),
+            (_, None) => None,
+        }
+    }
+
     /// The joint contour of the path for `robot`: the periodic spline through its joint
     /// waypoints, one every `spacing` of `τ` with fixed `samples`, and as many as the pass's
     /// `period` holds with adaptive sampling (`samples = 0`, where `spacing` must be `None`).
-    pub fn joint_contour(
-        &self,
-        robot: &Robot,
-        base_dir: &Path,
-        period: f64,
-        spacing: Option<f64>,
-    ) -> Result<JointContourSpec> {
+    pub fn joint_contour(&self, robot: &Robot, base_dir: &Path) -> Result<JointContourSpec> {
+        let bad = |what: &str| Err(SimError::Setting(what.into()));
+        match (self.samples, self.spacing, self.period) {
+            (0, Some(_), _) => {
+                return bad(
+                    "contour.cartesian: with samples = 0 (adaptive) give the pass's period \
+                     (contour.cartesian.period), not spacing",
+                )
+            }
+            (0, None, None) => {
+                return bad(
+                    "contour.cartesian.period is needed with samples = 0 (adaptive sampling)",
+                )
+            }
+            (1.., None, _) => return bad("contour.cartesian.spacing is needed with fixed samples"),
+            _ => {}
+        }
         let points = self.joint_waypoints(robot, base_dir)?;
-        let spacing = match (self.samples, spacing) {
-            (0, None) => period / points.len() as f64,
-            (0, Some(_)) => {
-                return Err(SimError::Setting(
-                    "contour: with contour.cartesian.samples = 0 (adaptive) give the pass's \
-                     period (contour.period), not contour.spacing"
-                        .into(),
-                ))
-            }
-            (_, Some(s)) => s,
-            (_, None) => {
-                return Err(SimError::Setting(
-                    "contour.spacing is needed with waypoints".into(),
-                ))
-            }
+        let spacing = match (self.spacing, self.period) {
+            (Some(h), _) => h,
+            (None, Some(p)) => p / points.len() as f64,
+            (None, None) => return bad("contour.cartesian.period is needed"),
         };
         Ok(JointContourSpec::Waypoints { points, spacing })
     }

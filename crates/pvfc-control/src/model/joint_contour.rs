@@ -7,14 +7,18 @@ use super::{fixed, MAX_JOINTS, MAX_WAYPOINTS};
 use crate::error::{Result, SimError};
 use pvfc_core::contour::ContourSample;
 use pvfc_core::prelude::*;
+use serde::{Deserialize, Serialize};
 
 fn setting(message: String) -> SimError {
     SimError::Setting(message)
 }
 
 /// A closed joint-space contour of an arm, as plain data (one entry per joint in every list,
-/// checked against the robot when the controller is built).
-#[derive(Clone, Debug, PartialEq)]
+/// checked against the robot when the controller is built). In a scenario file it is one
+/// table named for its kind: `[contour.waypoints]`, `[contour.lissajous]`,
+/// `[contour.ellipse]` (see `model::contour`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum JointContourSpec {
     /// A periodic C² spline through 3 to [`MAX_WAYPOINTS`] waypoints, one every `spacing` of
     /// `τ` (the period is `spacing × waypoints`).
@@ -30,11 +34,14 @@ pub enum JointContourSpec {
         amplitude: Vec<f64>,
         /// Periods `T_i` in `τ`.
         periods: Vec<f64>,
-        /// Phases `φ_i` (rad).
+        /// Phases `φ_i` (rad); zeros when empty or left out.
+        #[serde(default)]
         phase: Vec<f64>,
-        /// Offsets `c_i` (rad or m).
+        /// Offsets `c_i` (rad or m); zeros when empty or left out.
+        #[serde(default)]
         offset: Vec<f64>,
         /// The common period in `τ` (a multiple of every `T_i`); `None`: not closed.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         period: Option<f64>,
     },
     /// `x_d(τ) = c + u cos(2πτ/T) + w sin(2πτ/T)`: an ellipse in joint space.
@@ -50,7 +57,49 @@ pub enum JointContourSpec {
     },
 }
 
+/// `x` as a vector of `N` entries, or zeros when empty.
+fn or_zeros<const N: usize>(x: &[f64], name: &str) -> Result<nalgebra::SVector<f64, N>> {
+    match x.is_empty() {
+        true => Ok(nalgebra::SVector::zeros()),
+        false => fixed::<N>(x, name),
+    }
+}
+
 impl JointContourSpec {
+    /// The kind's name, as its table is named (`[contour.lissajous]`).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            JointContourSpec::Waypoints { .. } => "waypoints",
+            JointContourSpec::Lissajous { .. } => "lissajous",
+            JointContourSpec::Ellipse { .. } => "ellipse",
+        }
+    }
+
+    /// The Lissajous curve of `N` coordinates, if the contour is one (closed with its
+    /// period if it has one).
+    pub fn lissajous<const N: usize>(&self) -> Result<Option<Lissajous<f64, N>>> {
+        let JointContourSpec::Lissajous {
+            amplitude,
+            periods,
+            phase,
+            offset,
+            period,
+        } = self
+        else {
+            return Ok(None);
+        };
+        let c = Lissajous::new(
+            fixed::<N>(amplitude, "lissajous.amplitude")?,
+            fixed::<N>(periods, "lissajous.periods")?,
+            or_zeros::<N>(phase, "lissajous.phase")?,
+            or_zeros::<N>(offset, "lissajous.offset")?,
+        )?;
+        Ok(Some(match period {
+            Some(p) => c.with_period(*p)?,
+            None => c,
+        }))
+    }
+
     /// The period in `τ` (`None` for a Lissajous curve declared without one).
     pub fn period(&self) -> Option<f64> {
         match self {
@@ -82,24 +131,10 @@ impl JointContourSpec {
                     .collect::<Result<Vec<_>>>()?;
                 JointContour::Spline(WaypointSpline::through(&pts, *spacing)?)
             }
-            JointContourSpec::Lissajous {
-                amplitude,
-                periods,
-                phase,
-                offset,
-                period,
-            } => {
-                let c = Lissajous::new(
-                    fixed::<N>(amplitude, "lissajous.amplitude")?,
-                    fixed::<N>(periods, "lissajous.periods")?,
-                    fixed::<N>(phase, "lissajous.phase")?,
-                    fixed::<N>(offset, "lissajous.offset")?,
-                )?;
-                JointContour::Lissajous(match period {
-                    Some(p) => c.with_period(*p)?,
-                    None => c,
-                })
-            }
+            JointContourSpec::Lissajous { .. } => match self.lissajous::<N>()? {
+                Some(c) => JointContour::Lissajous(c),
+                None => return Err(setting("lissajous: not a Lissajous curve".into())),
+            },
             JointContourSpec::Ellipse {
                 center,
                 u,

@@ -1,12 +1,13 @@
 //! Robot models with a number of joints known at run time, over the const-generic core: a
 //! serial chain read from a URDF ([`robot`], dispatched onto `SerialChain<N>` by
 //! [`with_dof!`](crate::with_dof)), the PVFC controller of any chain and its joint-space
-//! contours ([`arm`]), the law at one state for any robot ([`evaluation`]), tool paths in Cartesian space and their inverse kinematics
+//! contours ([`arm`]), the contour spec of every kind ([`contour`]), the law at one state for any robot ([`evaluation`]), tool paths in Cartesian space and their inverse kinematics
 //! ([`cartesian`]) and the pace along a contour ([`pace`]).
 
 pub mod arm;
 pub mod arm_field;
 pub mod cartesian;
+pub mod contour;
 pub mod dispatch;
 pub mod evaluation;
 pub mod joint_contour;

@@ -24,6 +24,7 @@ __all__ = [
     "InvalidNavigationMatrixError",
     "InvalidParameterError",
     "JointNavigation",
+    "JointCurve",
     "Lissajous",
     "LogError",
     "NoConvergenceError",
@@ -188,7 +189,7 @@ class Robot:
     def inverse_kinematics(self, target: _ArrayLike, seed: _ArrayLike, tolerance: float = 1e-9) -> _F64Array: ...
     def drive_limited_rates(
         self,
-        contour: Union[Lissajous, Ellipse, WaypointCurve],
+        contour: Union[Lissajous, Ellipse, WaypointCurve, JointCurve],
         torque_limit: _ArrayLike,
         *,
         headroom: float = 1.0,
@@ -211,6 +212,18 @@ class Lissajous:
     ) -> Lissajous: ...
     @staticmethod
     def paper() -> Lissajous: ...
+    def sample(self, tau: float) -> Tuple[_F64Array, _F64Array, _F64Array]: ...
+    @property
+    def period(self) -> Optional[float]: ...
+    @property
+    def dim(self) -> int: ...
+
+@final
+class JointCurve:
+    def __new__(cls, spec: Dict[str, Any]) -> JointCurve: ...
+    def to_dict(self) -> Dict[str, Any]: ...
+    @property
+    def kind(self) -> str: ...
     def sample(self, tau: float) -> Tuple[_F64Array, _F64Array, _F64Array]: ...
     @property
     def period(self) -> Optional[float]: ...
@@ -424,7 +437,7 @@ class Controller:
     @staticmethod
     def compose(
         robot: Robot,
-        contour: Union[WaypointCurve, Lissajous, Ellipse, TaskSpaceField],
+        contour: Union[WaypointCurve, Lissajous, Ellipse, JointCurve, TaskSpaceField],
         navigation: Optional[JointNavigation] = None,
         settings: Optional[ControllerSettings] = None,
         obstacles: Optional[dict[str, Any]] = None,
@@ -480,7 +493,7 @@ class ArmController(Controller):
     @staticmethod
     def compose(
         robot: Robot,
-        contour: Union[WaypointCurve, Lissajous, Ellipse, TaskSpaceField],
+        contour: Union[WaypointCurve, Lissajous, Ellipse, JointCurve, TaskSpaceField],
         navigation: Optional[JointNavigation] = None,
         settings: Optional[ControllerSettings] = None,
         obstacles: Optional[dict[str, Any]] = None,

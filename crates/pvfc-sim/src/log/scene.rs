@@ -199,7 +199,7 @@ impl Scene {
                 Ok([p.x, p.y, p.z])
             })
             .collect::<Result<Vec<_>>>()?;
-        let cartesian = match &s.contour.cartesian {
+        let cartesian = match s.contour.cartesian() {
             Some(c) => c
                 .path(&s.base_dir)?
                 .sample(512)

@@ -5,11 +5,11 @@
 //! builds it with.
 
 use super::{
-    direct_drive_arm, joint_vector, run_size, ArmSpec, AttitudeController, ChainSpec, Mode,
-    PaperController, PaperField, PaperPassiveController, RobotSpec, Scenario,
+    direct_drive_arm, joint_vector, run_size, ArmSpec, AttitudeController, ChainSpec, ContourSpec,
+    Mode, PaperController, PaperField, PaperPassiveController, RobotSpec, Scenario,
 };
 use crate::error::{Result, SimError};
-use crate::model::arm::{ArmController, ArmSettings, JointContourSpec};
+use crate::model::arm::{ArmController, ArmSettings};
 use crate::model::arm_field::FieldSpec;
 use crate::model::pace::uniform_pacing;
 use crate::model::robot::Robot;
@@ -247,52 +247,18 @@ impl Scenario {
     /// inverse kinematics is solved on it.
     pub fn arm_settings_for(&self, robot: &Robot) -> Result<ArmSettings> {
         let c = &self.controller;
-        let k = &self.contour;
-        let spacing = || {
-            k.spacing
-                .ok_or_else(|| SimError::Setting("contour.spacing is needed with waypoints".into()))
-        };
-        let n = robot.dof();
-        let or_zeros = |x: &Vec<f64>| {
-            if x.is_empty() {
-                vec![0.0; n]
-            } else {
-                x.clone()
+        let (contour, field) = match &self.contour {
+            ContourSpec::Joint(j) => (j.clone(), FieldSpec::Joint),
+            ContourSpec::Cartesian(p) => (
+                p.joint_contour(robot, &self.base_dir)?,
+                p.task_field(robot, &self.base_dir)?
+                    .map_or(FieldSpec::Joint, |t| FieldSpec::Task(Box::new(t))),
+            ),
+            ContourSpec::Attitude(_) => {
+                return Err(SimError::Setting(
+                    "contour.attitude: a rigid body's; a serial chain follows a joint curve or a Cartesian path".into(),
+                ))
             }
-        };
-        let contour =
-            match (&k.waypoints, &k.cartesian, &k.lissajous, &k.ellipse) {
-                (Some(w), None, None, None) => JointContourSpec::Waypoints {
-                    points: w.clone(),
-                    spacing: spacing()?,
-                },
-                (None, Some(p), None, None) => {
-                    p.joint_contour(robot, &self.base_dir, k.period, k.spacing)?
-                }
-                (None, None, Some(l), None) => JointContourSpec::Lissajous {
-                    amplitude: l.amplitude.clone(),
-                    periods: l.periods.clone(),
-                    phase: or_zeros(&l.phase),
-                    offset: or_zeros(&l.offset),
-                    period: Some(l.period),
-                },
-                (None, None, None, Some(e)) => JointContourSpec::Ellipse {
-                    center: e.center.clone(),
-                    u: e.u.clone(),
-                    w: e.w.clone(),
-                    period: e.period,
-                },
-                _ => return Err(SimError::Setting(
-                    "contour: a URDF arm follows exactly one of waypoints, cartesian, lissajous \
-                     or ellipse"
-                        .into(),
-                )),
-            };
-        let field = match &k.cartesian {
-            Some(p) => p
-                .task_field(robot, &self.base_dir)?
-                .map_or(FieldSpec::Joint, |t| FieldSpec::Task(Box::new(t))),
-            None => FieldSpec::Joint,
         };
         Ok(ArmSettings {
             contour,
@@ -382,12 +348,7 @@ impl Scenario {
                 "controller.passive: the passive drive measures joint positions; a rigid body's attitude is on SO(3)",
             );
         }
-        let k = &self.contour;
-        if k.waypoints.is_some()
-            || k.cartesian.is_some()
-            || k.lissajous.is_some()
-            || k.ellipse.is_some()
-        {
+        if let ContourSpec::Joint(_) | ContourSpec::Cartesian(_) = &self.contour {
             return bad("contour: a rigid body follows [contour.attitude], not an arm's contour");
         }
         for (x, field) in [
@@ -438,9 +399,11 @@ impl Scenario {
     /// A rigid body's contour (`[contour.attitude]`): `R_d(τ) = exp(r̂₀) exp(τ ω̂)`.
     pub fn attitude_contour(&self) -> Result<ConstantRate<f64, So3<f64>, 3>> {
         let setting = |what: String| SimError::Setting(what);
-        let a = self.contour.attitude.ok_or_else(|| {
-            setting("contour.attitude: a rigid body follows a rotation at constant rate".into())
-        })?;
+        let ContourSpec::Attitude(a) = self.contour else {
+            return Err(setting(
+                "contour.attitude: a rigid body follows a rotation at constant rate".into(),
+            ));
+        };
         let rate = Vector3::from(a.rate);
         if !(rate.iter().all(|x| x.is_finite()) && rate.norm() > 0.0) {
             return Err(setting(format!(
@@ -514,16 +477,18 @@ impl Scenario {
         })
     }
 
-    /// The contour.
+    /// The SCARA's contour: a Lissajous curve in its two joints (`[contour.lissajous]`).
     pub fn contour(&self) -> Result<Lissajous<f64, 2>> {
-        let c = &self.contour;
-        Ok(Lissajous::new(
-            Vector2::from(c.amplitude),
-            Vector2::from(c.periods),
-            Vector2::from(c.phase),
-            Vector2::from(c.offset),
-        )?
-        .with_period(c.period)?)
+        let not = || {
+            SimError::Setting(format!(
+                "contour.{}: the SCARA follows a Lissajous curve ([contour.lissajous])",
+                self.contour.kind()
+            ))
+        };
+        match &self.contour {
+            ContourSpec::Joint(j) => j.lissajous::<2>()?.ok_or_else(not),
+            ContourSpec::Cartesian(_) | ContourSpec::Attitude(_) => Err(not()),
+        }
     }
 
     /// The field, around the scenario's obstacles if it has any (`[obstacles]`).

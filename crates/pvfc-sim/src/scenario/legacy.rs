@@ -2,6 +2,7 @@
 //! each ([`Scenario::deprecations`](super::Scenario::deprecations)): the command prints them
 //! as warnings, the Python package raises `DeprecationWarning`s.
 
+use super::ContourSpec;
 use serde::de::IgnoredAny;
 use serde::Deserialize;
 
@@ -10,6 +11,7 @@ use serde::Deserialize;
 #[serde(default)]
 struct Probe {
     plant: Option<PlantProbe>,
+    contour: Option<serde_json::Value>,
 }
 
 #[derive(Default, Deserialize)]
@@ -40,6 +42,12 @@ impl Probe {
                         .into(),
                 );
             }
+        }
+        if self.contour.as_ref().is_some_and(ContourSpec::before_kinds) {
+            out.push(
+                "contour: keys directly under [contour] (amplitude, periods, phase, offset, period, spacing, a waypoints array) are deprecated; write one table named for the contour's kind: [contour.lissajous], [contour.waypoints] (points, spacing), [contour.ellipse], or period and spacing inside [contour.cartesian]"
+                    .into(),
+            );
         }
         out
     }

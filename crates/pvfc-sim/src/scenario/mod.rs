@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 pub mod build;
 pub mod legacy;
 pub mod plant;
+pub use pvfc_control::model::contour::{AttitudeContourSpec, ContourSpec};
 pub use pvfc_control::obstacles;
 pub mod preset_id;
 pub mod presets;
@@ -55,108 +56,6 @@ pub type AttitudeField = SuspendedField<
 
 /// The controller of a rigid body's attitude scenario ([`Scenario::attitude_controller`]).
 pub type AttitudeController = Controller<f64, So3<f64>, RigidBody<f64>, AttitudeField, 3>;
-
-/// `[contour.attitude]`: a rotation at constant rate, `R_d(τ) = exp(r̂₀) exp(τ ω̂)`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct AttitudeContourSpec {
-    /// The attitude at `τ = 0`, as a rotation vector `r₀` (rad).
-    #[serde(default)]
-    pub start: [f64; 3],
-    /// The body angular velocity `ω` per unit of `τ` (rad); the contour's period is
-    /// `2π/‖ω‖`.
-    pub rate: [f64; 3],
-}
-
-/// A Lissajous contour `x_i = c_i + a_i sin(2πτ/T_i + φ_i)`; the default is the paper's.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct ContourSpec {
-    /// Amplitudes `a_i` (rad).
-    pub amplitude: [f64; 2],
-    /// Periods `T_i` in `τ`.
-    pub periods: [f64; 2],
-    /// Phases `φ_i` (rad).
-    pub phase: [f64; 2],
-    /// Offsets `c_i` (rad).
-    #[serde(default)]
-    pub offset: [f64; 2],
-    /// The common period of the curve in `τ`.
-    pub period: f64,
-    /// For a URDF arm: the waypoints of a closed C² joint-space contour (3 to 1024, one every
-    /// `spacing` of `τ`); the Lissajous fields above are then unused.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub waypoints: Option<Vec<Vec<f64>>>,
-    /// `τ` between waypoints (the period is `spacing × waypoints`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub spacing: Option<f64>,
-    /// A tool path in Cartesian space (URDF arms), turned into the joint waypoints by
-    /// inverse kinematics (`crate::model::cartesian`); replaces `waypoints`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub cartesian: Option<crate::model::cartesian::CartesianSpec>,
-    /// For a URDF arm: a Lissajous curve in its joint space (`[contour.lissajous]`, one entry
-    /// per joint); replaces `waypoints`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub lissajous: Option<JointLissajousSpec>,
-    /// For a URDF arm: an ellipse in its joint space (`[contour.ellipse]`); replaces
-    /// `waypoints`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub ellipse: Option<JointEllipseSpec>,
-    /// For a rigid body (`kind = "rigid_body"`): a rotation at constant rate
-    /// (`[contour.attitude]`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub attitude: Option<AttitudeContourSpec>,
-}
-
-/// A URDF arm's Lissajous curve `x_i = c_i + a_i sin(2πτ/T_i + φ_i)`, one entry per joint.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct JointLissajousSpec {
-    /// Amplitudes `a_i` (rad or m).
-    pub amplitude: Vec<f64>,
-    /// Periods `T_i` in `τ`.
-    pub periods: Vec<f64>,
-    /// Phases `φ_i` (rad); zeros when left out.
-    #[serde(default)]
-    pub phase: Vec<f64>,
-    /// Offsets `c_i` (rad or m); zeros when left out.
-    #[serde(default)]
-    pub offset: Vec<f64>,
-    /// The common period in `τ` (a multiple of every `T_i`).
-    pub period: f64,
-}
-
-/// A URDF arm's ellipse `x_d(τ) = c + u cos(2πτ/T) + w sin(2πτ/T)` in joint space.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct JointEllipseSpec {
-    /// The centre `c`, one entry per joint.
-    pub center: Vec<f64>,
-    /// The conjugate semi-axis `u`.
-    pub u: Vec<f64>,
-    /// The conjugate semi-axis `w`.
-    pub w: Vec<f64>,
-    /// The period `T` in `τ`.
-    pub period: f64,
-}
-
-impl Default for ContourSpec {
-    fn default() -> Self {
-        ContourSpec {
-            amplitude: [1.0, 1.5],
-            periods: [3.0, 6.0],
-            phase: [0.0, std::f64::consts::FRAC_PI_2],
-            offset: [0.0, 0.0],
-            period: 6.0,
-            waypoints: None,
-            spacing: None,
-            cartesian: None,
-            lissajous: None,
-            ellipse: None,
-            attitude: None,
-        }
-    }
-}
 
 /// Nominal-speed control, eq. (36).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -737,7 +636,7 @@ impl Scenario {
     /// speed asked for is the tool's along a Cartesian path, the joints' along any other
     /// contour.
     pub fn drive_pace(&self) -> Result<Option<PaceSettings>> {
-        let tool = self.contour.cartesian.is_some();
+        let tool = self.contour.cartesian().is_some();
         self.controller
             .pace
             .as_ref()
@@ -745,35 +644,9 @@ impl Scenario {
             .transpose()
     }
 
-    /// The contour's period in `τ`: for a URDF arm `spacing × waypoints` (or × the Cartesian
-    /// path's fixed samples) or the joint-space Lissajous curve's or ellipse's period; for a
-    /// rigid body `2π/‖ω‖`, one turn of its attitude contour (infinite without rotation);
-    /// `contour.period` for the planar arm's Lissajous curve and an adaptively sampled
-    /// Cartesian path.
+    /// The contour's period in `τ` ([`ContourSpec::period`]): a joint curve's, a Cartesian
+    /// path's, one turn of an attitude contour; infinite where there is none.
     pub fn period(&self) -> f64 {
-        let c = &self.contour;
-        match &self.plant.robot {
-            RobotSpec::RigidBody(_) => {
-                let rate = c
-                    .attitude
-                    .map_or(0.0, |a| nalgebra::Vector3::from(a.rate).norm());
-                return std::f64::consts::TAU / rate;
-            }
-            RobotSpec::Scara(_) => return c.period,
-            RobotSpec::SerialChain(_) => {}
-        }
-        match (
-            &c.waypoints,
-            &c.cartesian,
-            c.spacing,
-            &c.lissajous,
-            &c.ellipse,
-        ) {
-            (Some(w), _, Some(h), _, _) => h * w.len() as f64,
-            (None, Some(p), Some(h), _, _) if p.samples > 0 => h * p.samples as f64,
-            (_, _, _, Some(l), _) => l.period,
-            (_, _, _, _, Some(e)) => e.period,
-            _ => c.period,
-        }
+        self.contour.period()
     }
 }

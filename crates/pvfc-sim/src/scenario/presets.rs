@@ -13,6 +13,7 @@
 //!   (36) injects at most `c·2Ē·β(r − β)` W, which must cover the friction losses (~5 W).
 
 use crate::contact::{ContactLaw, ContactSpec, ForceSchedule, Keyframe, ObstacleSpec, ShapeSpec};
+use crate::model::arm::JointContourSpec;
 use crate::plant::disturbance::Disturbance;
 use crate::plant::friction::{JointFriction, Stribeck};
 use crate::scenario::preset_id::{
@@ -387,13 +388,10 @@ pub fn satellite() -> Scenario {
     s.plant = PlantSpec::of(RobotSpec::RigidBody(crate::scenario::RigidBodySpec {
         inertia: [[1.2, 0.05, 0.0], [0.05, 1.0, 0.02], [0.0, 0.02, 0.8]],
     }));
-    s.contour = crate::scenario::ContourSpec {
-        attitude: Some(crate::scenario::AttitudeContourSpec {
-            start: [0.0; 3],
-            rate: [0.2, 0.1, 0.5],
-        }),
-        ..Default::default()
-    };
+    s.contour = ContourSpec::Attitude(crate::scenario::AttitudeContourSpec {
+        start: [0.0; 3],
+        rate: [0.2, 0.1, 0.5],
+    });
     s.controller.h = vec![1.0, 2.0, 3.0];
     s.controller.self_pacing = 20.0;
     s.controller.energy = 20.0;
@@ -464,9 +462,13 @@ pub fn fig1_saturated(contour: Fig1Contour, speed: u32) -> Scenario {
     s.name = PresetId::Fig1Saturated { contour, speed }.name();
     let shape = match contour {
         Fig1Contour::Circle => {
-            s.contour.amplitude = [1.0, 1.0];
-            s.contour.periods = [6.0, 6.0];
-            s.contour.offset = [0.0, 0.0];
+            s.contour = ContourSpec::Joint(JointContourSpec::Lissajous {
+                amplitude: vec![1.0, 1.0],
+                periods: vec![6.0, 6.0],
+                phase: vec![0.0, std::f64::consts::FRAC_PI_2],
+                offset: vec![0.0, 0.0],
+                period: Some(6.0),
+            });
             s.initial.q = vec![0.0, 1.0];
             "a circle"
         }
@@ -745,7 +747,7 @@ pub fn tool_path_task(s: &Scenario, case: ToolPathCase) -> Scenario {
     let mut t = s.clone();
     t.name = PresetId::ToolPathTask(case).name();
     t.description = format!("{} (task-space field)", s.description);
-    if let Some(c) = t.contour.cartesian.as_mut() {
+    if let Some(c) = t.contour.cartesian_mut() {
         c.task = Some(Default::default());
     }
     t.baseline = None;

@@ -96,7 +96,7 @@ pub fn steady_passes(trace: &Trace, period: f64) -> Option<std::ops::Range<usize
 /// The error budget of the run `t` of scenario `s` on `robot`; `None` for a contour not given
 /// in Cartesian space or a run shorter than a pass.
 pub fn path_budget(s: &Scenario, robot: &Robot, t: &Trace) -> Result<Option<PathBudget>> {
-    let Some(c) = &s.contour.cartesian else {
+    let Some(c) = s.contour.cartesian() else {
         return Ok(None);
     };
     let Some(range) = steady_passes(t, s.period()) else {
