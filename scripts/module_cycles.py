@@ -1,12 +1,15 @@
 #!/usr/bin/env python3
-"""Import cycles among a crate's modules.
+"""Import cycles among a crate's modules, and imports against the crate's layer order.
 
 Reads every `.rs` file under a crate's `src/`, takes the `crate::…` and `super::…` paths its
 code names (comments and doc comments left out), resolves each to the deepest module file it
 reaches, and prints the strongly connected components of that graph with more than one
-module. Exits 1 if there is any: data must flow one way through the library's layers.
+module. With `--layers a,b,c` (the crate's top-level modules, lowest layer first, as
+`docs/architecture.md` lists them) it also prints every import of a higher layer by a lower
+one, and every top-level module the list leaves out. Exits 1 if there is any cycle or upward
+import: data must flow one way through the library's layers.
 
-    python3 scripts/module_cycles.py crates/pvfc-sim/src [--graph]
+    python3 scripts/module_cycles.py crates/pvfc-sim/src [--graph] [--layers plant,contact,…]
 """
 
 import pathlib
@@ -90,7 +93,28 @@ def main() -> int:
     print(f"{len(mods)} modules, {sum(len(e) for e in edges.values())} imports, {len(cycles)} cycles")
     for c in cycles:
         print("cycle: " + " ↔ ".join(name(t) for t in c))
-    return 1 if cycles else 0
+    upward = layer_violations(mods, edges, name)
+    return 1 if cycles or upward else 0
+
+
+def layer_violations(mods, edges, name) -> int:
+    """Prints the imports against `--layers` (and the top-level modules it leaves out);
+    gives their number (0 without `--layers`)."""
+    if "--layers" not in sys.argv:
+        return 0
+    order = sys.argv[sys.argv.index("--layers") + 1].split(",")
+    rank = {layer: i for i, layer in enumerate(order)}
+    bad = 0
+    for top in sorted({m[0] for m in mods if m} - set(rank)):
+        print(f"layers: the top-level module {top} is in no layer of --layers")
+        bad += 1
+    for m in sorted(mods):
+        for t in sorted(edges[m]):
+            if m and t and m[0] != t[0] and rank.get(t[0], -1) > rank.get(m[0], -1):
+                print(f"upward import: {name(m)} (layer {m[0]}) imports {name(t)} (layer {t[0]}, higher)")
+                bad += 1
+    print(f"layers {' < '.join(order)}: {bad} violations")
+    return bad
 
 
 if __name__ == "__main__":

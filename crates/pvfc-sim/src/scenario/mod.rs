@@ -57,6 +57,12 @@ pub type AttitudeField = SuspendedField<
 /// The controller of a rigid body's attitude scenario ([`Scenario::attitude_controller`]).
 pub type AttitudeController = Controller<f64, So3<f64>, RigidBody<f64>, AttitudeField, 3>;
 
+/// The suffix of the timed baseline's trace name (`NAME-timed`).
+pub const TIMED_SUFFIX: &str = "-timed";
+
+/// The suffix of a speed-scaling tracker's trace name (`[baseline.speed_scaling]`).
+pub const SCALED_SUFFIX: &str = "-scaled";
+
 /// Nominal-speed control, eq. (36).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -344,12 +344,12 @@ impl PresetId {
 
     /// The name of its timed baseline's run (`NAME-timed`).
     pub fn timed_name(&self) -> String {
-        format!("{}{}", self.name(), crate::trace::TIMED_SUFFIX)
+        format!("{}{}", self.name(), super::TIMED_SUFFIX)
     }
 
     /// The name of the preset's speed-scaling tracker's run (`[baseline.speed_scaling]`).
     pub fn scaled_name(&self) -> String {
-        format!("{}{}", self.name(), crate::trace::SCALED_SUFFIX)
+        format!("{}{}", self.name(), super::SCALED_SUFFIX)
     }
 
     /// Every preset, in the order `pvfc reproduce` runs them (the built-in ones of

@@ -211,11 +211,8 @@ macro_rules! column_table {
     };
 }
 
-/// The suffix of the timed baseline's trace name (`NAME-timed`).
-pub const TIMED_SUFFIX: &str = "-timed";
-
-/// The suffix of a speed-scaling tracker's trace name (`[baseline.speed_scaling]`).
-pub const SCALED_SUFFIX: &str = "-scaled";
+/// The names of a baseline's runs (defined with the scenario's baseline, which names them).
+pub use crate::scenario::{SCALED_SUFFIX, TIMED_SUFFIX};
 
 macro_rules! define_traces {
     (
