@@ -32,7 +32,7 @@ fn contact_step(c: &mut Criterion) {
         tau_dot: run.tau_dot[k],
         flywheel_speed: run.flywheel_speed[k],
     };
-    let arm = s.arm().expect("arm");
+    let arm = s.scara().expect("arm");
     let sys = ClosedLoop {
         plant: Scara::new(arm).expect("arm"),
         controller: s.controller().expect("controller"),

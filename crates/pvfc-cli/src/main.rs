@@ -185,7 +185,7 @@ fn sweep(
     limit: Option<usize>,
     figures: bool,
 ) -> Result<(), SimError> {
-    let threads = threads.unwrap_or_else(pvfc_sim::study::run::default_threads);
+    let threads = threads.unwrap_or_else(pvfc_sim::study::runner::default_threads);
     let pb = ProgressBar::new(0);
     pb.set_style(
         ProgressStyle::with_template(

@@ -408,7 +408,7 @@ pub fn contact_figure(runs: &Runs, name: &str, p: &Path) -> Result<()> {
         .contact
         .as_ref()
         .ok_or_else(|| SimError::Setting(format!("run `{name}` has no contact")))?;
-    let kin = PlanarArm::of(&s.arm()?)?;
+    let kin = PlanarArm::of(&s.scara()?)?;
     let contour = s.contour()?;
     let period = s.contour.period();
     let mut paths = vec![Series {

@@ -151,7 +151,7 @@ pub fn scara_minimum_lap(r: &Runs, contour: Fig1Contour) -> Result<f64> {
         .ok_or_else(|| SimError::Setting(format!("run `{}` has no drive-limited pace", s.name)))?;
     let friction = s.controller.friction_compensation.as_deref();
     pace.minimum_lap(
-        &Scara::new(s.arm()?)?,
+        &Scara::new(s.scara()?)?,
         &s.contour()?,
         s.period(),
         friction,

@@ -3,7 +3,7 @@
 
 use crate::canvas::{figure, heat_map, histogram, panel, Series};
 use pvfc_sim::error::{Result, SimError};
-use pvfc_sim::study::run::StudyRow;
+use pvfc_sim::study::runner::StudyRow;
 use pvfc_sim::study::spec::StudySpec;
 use std::path::{Path, PathBuf};
 

@@ -3,7 +3,7 @@
 //! (`NAME.arrow`); then its figures.
 
 use pvfc_sim::error::{Result, SimError};
-use pvfc_sim::study::run::{run_study, StudyRow};
+use pvfc_sim::study::runner::{run_study, StudyRow};
 use pvfc_sim::study::spec::StudySpec;
 use pvfc_sim::study::{arrow, table};
 use std::collections::BTreeMap;

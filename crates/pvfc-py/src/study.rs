@@ -6,7 +6,7 @@ use crate::errors::sim_err;
 use crate::runs::Scenario;
 use pvfc_sim::scenario::Scenario as SimScenario;
 use pvfc_sim::study::metrics::Metric;
-use pvfc_sim::study::run::{run_study, StudyRow};
+use pvfc_sim::study::runner::{run_study, StudyRow};
 use pvfc_sim::study::spec::{StudyRun, StudySpec};
 use pvfc_sim::study::table;
 use pyo3::exceptions::PyIndexError;
@@ -158,7 +158,7 @@ impl Study {
                 })
                 .collect::<PyResult<_>>()?,
         };
-        let threads = threads.unwrap_or_else(pvfc_sim::study::run::default_threads);
+        let threads = threads.unwrap_or_else(pvfc_sim::study::runner::default_threads);
         let metrics = &self.metrics;
         let mut rows = py.detach(move || {
             let mut rows = Vec::with_capacity(todo.len());

@@ -220,7 +220,7 @@ fn analytic_wall_and_rapier_wall_give_the_same_run() {
     let rapier = simulate(&s, &mut |_| {}).unwrap();
     let spec = s.contact.clone().unwrap();
     let mut plane = HalfPlane {
-        arm: PlanarArm::of(&s.arm().unwrap()).unwrap(),
+        arm: PlanarArm::of(&s.scara().unwrap()).unwrap(),
         normal: Vector2::new(-1.0, 0.0),
         offset: -0.68,
         tool_radius: spec.tool_radius,
@@ -259,7 +259,7 @@ fn obstacle_stops_the_robot_until_release() {
 #[test]
 fn nan_state_is_a_typed_error() {
     let s = presets::contact_wall();
-    let mut world = ContactWorld::new(s.contact.as_ref().unwrap(), &s.arm().unwrap()).unwrap();
+    let mut world = ContactWorld::new(s.contact.as_ref().unwrap(), &s.scara().unwrap()).unwrap();
     let q = Torus::new(Vector2::new(f64::NAN, 0.0));
     match world.contact(0.0, &q, &Vector2::zeros()) {
         Err(SimError::Core(e)) => assert_eq!(e.kind(), ErrorKind::NonFinite),
@@ -318,7 +318,7 @@ fn sampled_controller_at_the_wall() {
     let mut s = presets::contact_wall_sampled();
     s.duration = 4.0;
     let mut plane = HalfPlane {
-        arm: PlanarArm::of(&s.arm().unwrap()).unwrap(),
+        arm: PlanarArm::of(&s.scara().unwrap()).unwrap(),
         normal: Vector2::new(-1.0, 0.0),
         offset: -0.68,
         tool_radius: 0.015,

@@ -59,7 +59,7 @@ struct Books {
 fn run(s: &Scenario, seconds: usize) -> Books {
     let spec = s.controller.passive.clone().unwrap();
     let mut ctl = s.passive_controller().unwrap().unwrap();
-    let arm = Scara::new(s.arm().unwrap()).unwrap();
+    let arm = Scara::new(s.scara().unwrap()).unwrap();
     let (mut q, mut v) = (Vector2::new(0.6, 0.4), Vector2::<f64>::zeros());
     let (dt, sub) = (1e-3, 10);
     let h = dt / sub as f64;

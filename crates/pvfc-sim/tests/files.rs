@@ -26,7 +26,7 @@ fn shipped_scenarios_are_the_presets() {
         );
     }
     let ex = Scenario::from_file(&repo().join("scenarios/example_urdf_arm.toml")).unwrap();
-    assert_eq!(ex.arm().unwrap(), direct_drive_arm());
+    assert_eq!(ex.scara().unwrap(), direct_drive_arm());
     let ex = Scenario::from_file(&repo().join("scenarios/example_contact.toml")).unwrap();
     let c = ex
         .contact

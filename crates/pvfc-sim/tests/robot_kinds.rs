@@ -2,7 +2,7 @@
 //! another kind are refused by name, and the form before `kind` still reads, as the same
 //! scenario, with a deprecation message.
 
-use pvfc_sim::scenario::{presets, ArmSpec, RobotKind, RobotSpec, Scenario};
+use pvfc_sim::scenario::{presets, ScaraSpec, RobotKind, RobotSpec, Scenario};
 use std::path::Path;
 
 fn repo() -> &'static Path {
@@ -94,7 +94,7 @@ fn the_form_before_kind_still_reads_with_a_deprecation() {
     );
     // No [plant] at all is the documented default, the direct-drive SCARA: not deprecated.
     let s = parse(HEAD).unwrap();
-    assert_eq!(s.plant.robot, RobotSpec::Scara(ArmSpec::DirectDrive));
+    assert_eq!(s.plant.robot, RobotSpec::Scara(ScaraSpec::DirectDrive));
     assert!(s.deprecations.is_empty());
 }
 

@@ -299,7 +299,7 @@ fn nested_lists_shared_settings_and_metrics_by_name() {
 
 #[test]
 fn the_arrow_table_is_an_ipc_file_of_the_rows() {
-    use pvfc_sim::study::{arrow, run::StudyRow};
+    use pvfc_sim::study::{arrow, runner::StudyRow};
     let keys = vec!["controller.energy".to_string()];
     let metrics = ["mean_u", "peak_force"];
     let rows: Vec<StudyRow> = (0..3)

@@ -38,7 +38,7 @@ pub fn simulate_in(
     env: &mut dyn Environment,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    let arm = Scara::new(s.arm()?)?;
+    let arm = Scara::new(s.scara()?)?;
     match s.simulation.mode {
         Mode::Continuous => simulate_continuous(s, arm, env, true, progress),
         Mode::Sampled => sampled(s, arm, env, true, progress),
@@ -65,7 +65,7 @@ impl Environment for Free {
 pub fn environment(s: &Scenario) -> Result<Option<Box<dyn Environment>>> {
     match &s.contact {
         None => Ok(None),
-        Some(_) => environment_with(s, &Scara::new(s.arm()?)?),
+        Some(_) => environment_with(s, &Scara::new(s.scara()?)?),
     }
 }
 
@@ -214,7 +214,7 @@ pub fn simulate_timed_in(
 ) -> Result<Trace> {
     timed_in(
         s,
-        Scara::new(s.arm()?)?,
+        Scara::new(s.scara()?)?,
         b,
         (tau_rate, false),
         env,

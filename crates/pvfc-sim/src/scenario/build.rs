@@ -5,7 +5,7 @@
 //! builds it with.
 
 use super::{
-    direct_drive_arm, joint_vector, run_size, ArmSpec, AttitudeController, ChainSpec, ContourSpec,
+    direct_drive_arm, joint_vector, run_size, ScaraSpec, AttitudeController, ChainSpec, ContourSpec,
     Mode, PaperController, PaperField, PaperPassiveController, RobotSpec, Scenario,
 };
 use crate::error::{Result, SimError};
@@ -73,7 +73,7 @@ impl System {
     /// Builds the system of `s`, checking `s` against its robot on the way.
     pub fn build(s: &Scenario) -> Result<Self> {
         Ok(match &s.plant.robot {
-            RobotSpec::Scara(_) => System::Scara(Scara::new(s.arm()?)?),
+            RobotSpec::Scara(_) => System::Scara(Scara::new(s.scara()?)?),
             RobotSpec::SerialChain(_) => System::SerialChain(Box::new(ArmSystem::build(s)?)),
             RobotSpec::RigidBody(_) => System::RigidBody(Box::new(s.attitude_controller()?)),
         })
@@ -462,18 +462,18 @@ impl Scenario {
         }
     }
 
-    /// The arm's parameters.
-    pub fn arm(&self) -> Result<ScaraParameters<f64>> {
+    /// The SCARA's parameters (`plant.arm` of `kind = "scara"`).
+    pub fn scara(&self) -> Result<ScaraParameters<f64>> {
         let RobotSpec::Scara(arm) = &self.plant.robot else {
             return Err(SimError::Setting(
                 "the SCARA's parameters: for a SCARA (kind = \"scara\")".into(),
             ));
         };
         Ok(match arm {
-            ArmSpec::DirectDrive => direct_drive_arm(),
-            ArmSpec::Pelican => ScaraParameters::pelican(),
-            ArmSpec::Urdf(p) => crate::urdf::scara_from_urdf(&self.base_dir.join(p))?,
-            ArmSpec::Parameters(a) => (*a).into(),
+            ScaraSpec::DirectDrive => direct_drive_arm(),
+            ScaraSpec::Pelican => ScaraParameters::pelican(),
+            ScaraSpec::Urdf(p) => crate::urdf::scara_from_urdf(&self.base_dir.join(p))?,
+            ScaraSpec::Parameters(a) => (*a).into(),
         })
     }
 
@@ -493,7 +493,7 @@ impl Scenario {
 
     /// The field, around the scenario's obstacles if it has any (`[obstacles]`).
     pub fn field(&self) -> Result<PaperField> {
-        self.field_for(&self.arm()?)
+        self.field_for(&self.scara()?)
     }
 
     /// [`field`](Self::field) with the arm's parameters already read (they place the
@@ -529,7 +529,7 @@ impl Scenario {
     /// The controller, with its add-ons and initial internal states. The controller's model
     /// of the arm is the plant's (no model mismatch).
     pub fn controller(&self) -> Result<PaperController> {
-        self.controller_with(Scara::new(self.arm()?)?)
+        self.controller_with(Scara::new(self.scara()?)?)
     }
 
     /// [`controller`](Self::controller) with the arm's model already built (a run reads the

@@ -19,7 +19,7 @@ pub mod presets;
 
 pub use build::{ArmSystem, System};
 pub use plant::{
-    direct_drive_arm, ArmParameters, ArmSpec, ChainSpec, PlantSpec, RigidBodySpec, RobotKind,
+    direct_drive_arm, ScaraParameterSpec, ScaraSpec, ChainSpec, PlantSpec, RigidBodySpec, RobotKind,
     RobotSpec,
 };
 

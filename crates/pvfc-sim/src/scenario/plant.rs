@@ -42,10 +42,10 @@ pub struct RigidBodySpec {
     pub inertia: [[f64; 3]; 3],
 }
 
-/// Which arm to simulate.
+/// Which SCARA (`plant.arm` of `kind = "scara"`): its parameters built in, from a URDF or given.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, rename_all = "snake_case")]
-pub enum ArmSpec {
+pub enum ScaraSpec {
     /// The built-in direct-drive arm ([`direct_drive_arm`], the same as `models/scara.urdf`).
     DirectDrive,
     /// The CICESE Pelican arm (the manual's control law, `docs/src/reference/control-law.md` §1).
@@ -53,11 +53,11 @@ pub enum ArmSpec {
     /// An arm read from a URDF file (relative paths are relative to the scenario file).
     Urdf(PathBuf),
     /// An arm given by its parameters.
-    Parameters(ArmParameters),
+    Parameters(ScaraParameterSpec),
 }
 
-impl From<ArmParameters> for ScaraParameters<f64> {
-    fn from(a: ArmParameters) -> Self {
+impl From<ScaraParameterSpec> for ScaraParameters<f64> {
+    fn from(a: ScaraParameterSpec) -> Self {
         ScaraParameters {
             m1: a.m1,
             m2: a.m2,
@@ -74,7 +74,7 @@ impl From<ArmParameters> for ScaraParameters<f64> {
 /// The physical parameters of a two-link arm (SI units), as in a scenario file.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct ArmParameters {
+pub struct ScaraParameterSpec {
     /// Mass of link 1 (kg).
     pub m1: f64,
     /// Mass of link 2 (kg).
@@ -152,7 +152,7 @@ impl ChainSpec {
 #[derive(Clone, Debug, PartialEq)]
 pub enum RobotSpec {
     /// The planar SCARA: which arm.
-    Scara(ArmSpec),
+    Scara(ScaraSpec),
     /// A serial arm from a URDF.
     SerialChain(ChainSpec),
     /// A rigid body's attitude.
@@ -186,7 +186,7 @@ pub struct PlantSpec {
 impl Default for PlantSpec {
     /// The direct-drive SCARA without friction.
     fn default() -> Self {
-        PlantSpec::of(RobotSpec::Scara(ArmSpec::DirectDrive))
+        PlantSpec::of(RobotSpec::Scara(ScaraSpec::DirectDrive))
     }
 }
 
@@ -220,7 +220,7 @@ struct PlantFile {
     #[serde(skip_serializing_if = "Option::is_none")]
     kind: Option<RobotKind>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    arm: Option<ArmSpec>,
+    arm: Option<ScaraSpec>,
     #[serde(skip_serializing_if = "Option::is_none")]
     urdf: Option<PathBuf>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -302,7 +302,7 @@ impl TryFrom<PlantFile> for PlantSpec {
         }
         let robot =
             match kind {
-                RobotKind::Scara => RobotSpec::Scara(f.arm.unwrap_or(ArmSpec::DirectDrive)),
+                RobotKind::Scara => RobotSpec::Scara(f.arm.unwrap_or(ScaraSpec::DirectDrive)),
                 RobotKind::SerialChain => RobotSpec::SerialChain(ChainSpec {
                     urdf: f
                         .urdf

@@ -33,7 +33,7 @@ pub fn pelican_example() -> Scenario {
         name: "pelican_example".into(),
         description: "The Pelican arm on the paper's Lissajous contour, frictionless".into(),
         duration: 10.0,
-        plant: PlantSpec::of(RobotSpec::Scara(ArmSpec::Pelican)),
+        plant: PlantSpec::of(RobotSpec::Scara(ScaraSpec::Pelican)),
         contour: ContourSpec::default(),
         controller: ControllerSpec {
             self_pacing: 100.0,
@@ -81,7 +81,7 @@ fn forced(id: PresetId, description: &str, r_pacing: f64, compensation: bool, r:
         duration: 40.0,
         plant: PlantSpec {
             friction: plant_friction(),
-            ..PlantSpec::of(RobotSpec::Scara(ArmSpec::DirectDrive))
+            ..PlantSpec::of(RobotSpec::Scara(ScaraSpec::DirectDrive))
         },
         contour: ContourSpec::default(),
         controller: ControllerSpec {

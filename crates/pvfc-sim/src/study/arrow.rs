@@ -13,7 +13,7 @@
 //! hundred bytes of metadata.
 
 use crate::error::{Result, SimError};
-use crate::study::run::StudyRow;
+use crate::study::runner::StudyRow;
 use crate::study::table;
 use flatbuffers::{FlatBufferBuilder, TableFinishedWIPOffset, WIPOffset};
 use std::path::Path;

@@ -4,7 +4,7 @@
 //! [`read`] gives back the rows already written (a last line cut short is dropped).
 
 use crate::error::{Result, SimError};
-use crate::study::run::StudyRow;
+use crate::study::runner::StudyRow;
 use std::path::Path;
 
 /// The table's header: `run`, the axes' keys, the metrics' names, `error`.
