@@ -2,7 +2,8 @@
 # All the tests: the Rust workspace (cargo test), the C ABI from C and C++ (GoogleTest; under
 # valgrind and the sanitizers), the CMake package, the Python wheel built into a fresh virtual
 # environment, the C++ torque loop on MuJoCo and Pinocchio's C++ beside pvfc (from the wheels),
-# the pytest suite and the stub check (mypy.stubtest).
+# the same examples in Rust, Python and C++ printing the same numbers, the pytest suite and
+# the stub check (mypy.stubtest).
 # Needs Rust (rustup), a C and a C++ compiler, CMake, and Python ≥ 3.9 with venv; installs the
 # Python packages itself. Uses valgrind, GoogleTest, Eigen and urdfdom's headers when they are
 # installed (required with PVFC_REQUIRE_VALGRIND=1, as in CI).
@@ -166,6 +167,22 @@ elif [ -n "${PVFC_REQUIRE_VALGRIND:-}" ]; then
 else
   echo "Eigen or urdfdom's headers not found: skipping the Pinocchio benchmark"
 fi
+
+stage "The same examples in Rust, Python and C++ (examples/side_by_side): the same numbers"
+rm -rf target/cmake-side
+cmake -S examples/side_by_side -B target/cmake-side -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+cmake --build target/cmake-side >/dev/null
+cargo build --locked --release --example scara_contour --example ur5_tool_path
+for example in scara_contour:models/scara.urdf ur5_tool_path:models/ur5/ur5_robot.urdf; do
+  name=${example%%:*}
+  urdf=${example#*:}
+  out=target/side-by-side-$name
+  "target/release/examples/$name" "$urdf" >"$out-rust.txt"
+  "$py" "examples/side_by_side/$name.py" "$urdf" >"$out-python.txt"
+  "target/cmake-side/$name" "$urdf" >"$out-cpp.txt"
+  python3 scripts/same_output.py "$out-rust.txt" "$out-python.txt" "$out-cpp.txt"
+  run_checked "target/cmake-side/$name" "$urdf" >/dev/null
+done
 
 stage "pytest"
 (cd crates/pvfc-py && "$py" -m pytest -q -p no:cacheprovider --durations=10)

@@ -10,6 +10,7 @@
 // Library code never unwraps: bad input is an error value.
 #![warn(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+pub use pvfc_control as control;
 pub use pvfc_core as core;
 pub use pvfc_core::prelude;
 pub use pvfc_sim as sim;

@@ -2,7 +2,7 @@
 //! another kind are refused by name, and the form before `kind` still reads, as the same
 //! scenario, with a deprecation message.
 
-use pvfc_sim::scenario::{presets, ScaraSpec, RobotKind, RobotSpec, Scenario};
+use pvfc_sim::scenario::{presets, RobotKind, RobotSpec, ScaraSpec, Scenario};
 use std::path::Path;
 
 fn repo() -> &'static Path {

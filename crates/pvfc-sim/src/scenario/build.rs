@@ -5,8 +5,8 @@
 //! builds it with.
 
 use super::{
-    direct_drive_arm, joint_vector, run_size, ScaraSpec, AttitudeController, ChainSpec, ContourSpec,
-    Mode, PaperController, PaperField, PaperPassiveController, RobotSpec, Scenario,
+    direct_drive_arm, joint_vector, run_size, AttitudeController, ChainSpec, ContourSpec, Mode,
+    PaperController, PaperField, PaperPassiveController, RobotSpec, ScaraSpec, Scenario,
 };
 use crate::error::{Result, SimError};
 use crate::model::arm::{ArmController, ArmSettings};

@@ -19,8 +19,8 @@ pub mod presets;
 
 pub use build::{ArmSystem, System};
 pub use plant::{
-    direct_drive_arm, ScaraParameterSpec, ScaraSpec, ChainSpec, PlantSpec, RigidBodySpec, RobotKind,
-    RobotSpec,
+    direct_drive_arm, ChainSpec, PlantSpec, RigidBodySpec, RobotKind, RobotSpec,
+    ScaraParameterSpec, ScaraSpec,
 };
 
 /// The velocity field of the planar arm's scenarios (section V): the Lissajous contour, the

@@ -1,7 +1,8 @@
-"""The layer check of `scripts/module_cycles.py` (run by `.ci/run` over pvfc-control and
-pvfc-sim): it passes the shipped crates in their declared order, and fails, naming the
-modules, on an import of a higher layer by a lower one, on a cycle, and on a top-level module
-the order leaves out."""
+"""The project's check scripts can fail. The layer check of `scripts/module_cycles.py` (run by
+`.ci/run` over pvfc-control and pvfc-sim) passes the shipped crates in their declared order,
+and fails, naming the modules, on an import of a higher layer by a lower one and on a
+top-level module the order leaves out; `scripts/same_output.py` (the side-by-side examples'
+check in `scripts/test.sh`) fails on another number, name or line count."""
 
 import pathlib
 import subprocess
@@ -55,3 +56,26 @@ def test_a_module_out_of_the_order_fails(tmp_path: pathlib.Path) -> None:
     src = crate(tmp_path, {"lib.rs": "pub mod a;\npub mod b;\n", "a.rs": "", "b.rs": ""})
     r = check(src, "a")
     assert r.returncode == 1 and "top-level module b is in no layer" in r.stdout
+
+
+SAME = REPO / "scripts" / "same_output.py"
+
+
+def test_the_side_by_side_check_fails_on_another_number(tmp_path: pathlib.Path) -> None:
+    """`scripts/same_output.py` (the side-by-side examples' check): Rust's exponents read as
+    C's, and a number that differs in its 7th digit, a missing line or another name fail."""
+    rust = tmp_path / "rust.txt"
+    rust.write_text("x (Rust)\nt 0.5 tau 4.846213e-1 error 8.542154e-2\n", encoding="utf-8")
+    cases = {
+        "t 0.5 tau 4.846213e-01 error 8.542154e-02\n": 0,
+        "t 0.5 tau 4.846214e-01 error 8.542154e-02\n": 1,
+        "t 0.5 tau 4.846213e-01 err 8.542154e-02\n": 1,
+        "": 1,
+    }
+    for body, code in cases.items():
+        other = tmp_path / "other.txt"
+        other.write_text("x (C++)\n" + body, encoding="utf-8")
+        r = subprocess.run(
+            [sys.executable, str(SAME), str(rust), str(other)], capture_output=True, text=True, check=False
+        )
+        assert r.returncode == code, (body, r.stdout, r.stderr)
