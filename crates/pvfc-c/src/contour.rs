@@ -12,6 +12,7 @@ use pvfc_control::model::cartesian::{CartesianSpec, CircleSpec, TaskSpec};
 use pvfc_control::model::contour::ContourSpec;
 use pvfc_control::model::robot::Robot;
 use pvfc_control::model::tool_path::ToolPath;
+use pvfc_control::model::MAX_WAYPOINTS;
 use std::ffi::c_char;
 use std::path::PathBuf;
 
@@ -85,6 +86,9 @@ unsafe fn rows(
 /// # Safety
 /// `out` is NULL or writable.
 unsafe fn joint(out: *mut *mut pvfc_contour, spec: JointContourSpec) -> Result<(), Failure> {
+    // Built once to check it where it enters (the number of waypoints, the lists, the
+    // period), as a controller would build it.
+    DynJointContour::new(&spec, None)?;
     // SAFETY: as documented.
     unsafe {
         give(
@@ -110,6 +114,12 @@ pub unsafe extern "C" fn pvfc_contour_waypoints(
     out: *mut *mut pvfc_contour,
 ) -> pvfc_status {
     guard(|| {
+        if !(3..=MAX_WAYPOINTS).contains(&n_waypoints) {
+            return Err(Failure(
+                PVFC_ERROR_INVALID_ARGUMENT,
+                format!("n_waypoints = {n_waypoints}: 3 to {MAX_WAYPOINTS} waypoints").into(),
+            ));
+        }
         // SAFETY: as documented.
         let points = unsafe { rows(waypoints, n_waypoints, dof, "waypoints") }?;
         let spacing = positive(spacing, "spacing")?;
@@ -433,12 +443,8 @@ pub unsafe extern "C" fn pvfc_contour_toml(
         let invalid = |e: String| Failure(PVFC_ERROR_INVALID_ARGUMENT, e.into());
         let spec: ContourSpec = ::toml::from_str(table).map_err(|e| invalid(e.to_string()))?;
         match spec {
-            ContourSpec::Joint(j) => {
-                // Built once to check it (its lists, its period), as a controller would.
-                DynJointContour::new(&j, None)?;
-                // SAFETY: as documented.
-                unsafe { joint(out, j) }
-            }
+            // SAFETY: as documented.
+            ContourSpec::Joint(j) => unsafe { joint(out, j) },
             ContourSpec::Cartesian(c) => {
                 let period = c.period_in_tau().ok_or_else(|| {
                     invalid(

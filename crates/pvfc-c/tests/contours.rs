@@ -679,3 +679,77 @@ fn any_contour_table_is_the_contour_of_its_kind() {
     // SAFETY: made above.
     unsafe { pvfc_robot_destroy(robot) };
 }
+
+/// Issue "Faults survived": the C inputs that were accepted and then failed every step, or
+/// that hung, are refused where they enter with a code and a message naming them: a URDF
+/// whose joints form a cycle, 2 or 1,025 waypoints, a `tau0` that is not a number, settings
+/// each finite but together beyond a double.
+#[test]
+fn inputs_that_failed_later_are_refused_where_they_enter() {
+    let cycle = CString::new(
+        "<robot name=\"r\"><link name=\"r\"/><link name=\"a\"/><link name=\"b\"/>\
+         <joint name=\"ab\" type=\"continuous\"><parent link=\"a\"/><child link=\"b\"/></joint>\
+         <joint name=\"ba\" type=\"continuous\"><parent link=\"b\"/><child link=\"a\"/></joint></robot>",
+    )
+    .unwrap();
+    let mut robot = null_mut();
+    // SAFETY: valid strings and out pointer.
+    let st = unsafe {
+        pvfc_robot_from_urdf_string(
+            cycle.as_ptr(),
+            c"cycle.urdf".as_ptr(),
+            c"a".as_ptr(),
+            c"r".as_ptr(),
+            &mut robot,
+        )
+    };
+    assert_eq!(st, pvfc_status::PVFC_ERROR_URDF);
+    assert!(last_error().contains("cycle"), "{}", last_error());
+
+    let rows = vec![0.1; 1025 * 2];
+    for n in [0, 1, 2, 1025] {
+        let mut contour = null_mut();
+        // SAFETY: `rows` holds 1,025 × 2 doubles.
+        let st = unsafe { pvfc_contour_waypoints(rows.as_ptr(), n, 2, 1.0, &mut contour) };
+        assert_eq!(
+            st,
+            pvfc_status::PVFC_ERROR_INVALID_ARGUMENT,
+            "{n} waypoints"
+        );
+        assert!(last_error().contains("n_waypoints"), "{}", last_error());
+        assert!(contour.is_null());
+    }
+
+    let robot = ur5();
+    let waypoints = [
+        0.0, -1.2, 1.4, -1.8, -1.57, 0.0, //
+        0.3, -1.0, 1.2, -1.7, -1.57, 0.2, //
+        -0.2, -1.3, 1.5, -1.9, -1.57, -0.1,
+    ];
+    let mut contour = null_mut();
+    // SAFETY: 3 × 6 doubles.
+    let st = unsafe { pvfc_contour_waypoints(waypoints.as_ptr(), 3, 6, 1.5, &mut contour) };
+    assert_eq!(st, OK, "{}", last_error());
+    type Edit = fn(&mut pvfc_settings);
+    let edits: [(Edit, &str); 4] = [
+        (|s| s.tau0 = f64::NAN, "tau0"),
+        (|s| s.energy = 1e308, "settings"),
+        (|s| s.flywheel_inertia = 1e-308, "settings"),
+        (|s| s.gamma = 1e308, "settings"),
+    ];
+    for (edit, named) in edits {
+        let mut s = pvfc_settings_default();
+        edit(&mut s);
+        let mut ctl = null_mut();
+        // SAFETY: valid handles and out pointer.
+        let st = unsafe { pvfc_controller_new(robot, contour, null(), 0, &s, &mut ctl) };
+        assert_ne!(st, OK, "{named}");
+        assert!(ctl.is_null());
+        assert!(last_error().contains(named), "{named}: {}", last_error());
+    }
+    // SAFETY: made above, freed once.
+    unsafe {
+        pvfc_contour_destroy(contour);
+        pvfc_robot_destroy(robot);
+    }
+}

@@ -1,6 +1,7 @@
 """Bad inputs raise the documented exceptions; nothing reachable raises PanicException."""
 
 import math
+import pathlib
 
 import numpy as np
 import pytest
@@ -147,3 +148,57 @@ def test_huge_dt_is_an_error_not_a_hang():
     with pytest.raises(pvfc.NonFiniteError, match="dt"):
         c.step([0.0, 1.5], [0.5, 0.5], 1e300)
     assert c.state == before
+
+
+# Issue "Faults survived": the inputs that hung, aborted or panicked are named errors.
+CYCLE = """<robot name="r">
+  <link name="r"/><link name="a"/><link name="b"/>
+  <joint name="ab" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/></joint>
+  <joint name="ba" type="continuous"><parent link="b"/><child link="a"/><axis xyz="0 0 1"/></joint>
+</robot>
+"""
+
+
+def test_a_urdf_whose_joints_form_a_cycle_is_an_error(tmp_path) -> None:
+    f = tmp_path / "cycle.urdf"
+    f.write_text(CYCLE, encoding="utf-8")
+    with pytest.raises(pvfc.UrdfError, match="cycle"):
+        pvfc.Robot.from_urdf(f, tip="a", base="r")
+
+
+def test_a_bad_number_in_a_urdf_is_named_with_its_line(tmp_path, repo) -> None:
+    text = (repo / "models" / "scara.urdf").read_text(encoding="utf-8")
+    f = tmp_path / "bad.urdf"
+    f.write_text(text.replace('<mass value="', '<mass value="x', 1), encoding="utf-8")
+    with pytest.raises(pvfc.UrdfError, match=r"<mass> of link .*line \d+.*is not a number"):
+        pvfc.Robot.from_urdf(f, tip="tool")
+
+
+@pytest.mark.parametrize(
+    "points",
+    [
+        [[1e308, 0.0, 0.0], [-1e308, 0.0, 0.0], [0.0, 1e308, 0.0]],
+        [[0.0, 0.0, 0.0], [1e308, 1e308, 0.0], [-1e308, 1e308, 0.0]],
+    ],
+)
+def test_a_path_whose_geometry_overflows_is_an_error_not_a_panic(points) -> None:
+    with pytest.raises(pvfc.PvfcError, match="overflows"):
+        pvfc.CartesianPath(points=points, corner_radius=0.01).length
+
+
+@pytest.mark.parametrize("tau0", [math.nan, math.inf])
+def test_a_contour_start_that_is_not_a_number_is_named(tau0) -> None:
+    curve = pvfc.Lissajous([1.0, 1.5], [3.0, 6.0], period=6.0)
+    settings = pvfc.ControllerSettings(energy=20.0, tau0=tau0)
+    urdf = pathlib.Path(__file__).resolve().parents[3] / "models" / "scara.urdf"
+    with pytest.raises((pvfc.PvfcError, ValueError), match="tau0"):
+        pvfc.Controller.compose(pvfc.Robot.from_urdf(urdf, tip="tool"), curve, settings=settings)
+
+
+@pytest.mark.parametrize("energy, inertia, gamma", [(1e308, 1.0, 1.0), (20.0, 1e-308, 1.0), (20.0, 1.0, 1e308)])
+def test_settings_beyond_a_double_are_refused_when_built(repo, energy, inertia, gamma) -> None:
+    curve = pvfc.Lissajous([1.0, 1.5], [3.0, 6.0], period=6.0)
+    settings = pvfc.ControllerSettings(energy=energy, flywheel_inertia=inertia, gamma=gamma)
+    robot = pvfc.Robot.from_urdf(repo / "models" / "scara.urdf", tip="tool")
+    with pytest.raises((pvfc.PvfcError, ValueError), match="settings|energy|inertia|gamma"):
+        pvfc.Controller.compose(robot, curve, settings=settings)

@@ -118,6 +118,12 @@ pub fn arm_controller<const N: usize>(
     s: &ArmSettings,
 ) -> Result<ArmControllerN<N>> {
     let kinds = chain.kinds();
+    if !s.tau0.is_finite() {
+        return Err(setting(format!(
+            "tau0 = {}: the contour parameter's start must be finite",
+            s.tau0
+        )));
+    }
     let contour = s.contour.build(kinds)?;
     let mut pacing = uniform_pacing(s.self_pacing)?;
     let mut energy = s.energy;
@@ -179,7 +185,42 @@ pub fn arm_controller<const N: usize>(
     if let Some((c, r)) = s.nominal_speed {
         ctl = ctl.with_nominal_speed(NominalSpeed::new(c, r)?);
     }
+    first_step_is_finite(&ctl, s)?;
     Ok(ctl)
+}
+
+/// Refuses, where it is built, a controller whose settings are each finite but together beyond
+/// what a double holds (an energy of 1e308, a flywheel of 1e-308 kg·m², a contour traced in
+/// 1e-300 of `τ`): its law at rest on the contour's start must be finite, or every step would
+/// fail and blame the measured state.
+fn first_step_is_finite<const N: usize>(ctl: &ArmControllerN<N>, s: &ArmSettings) -> Result<()> {
+    let st = ctl.state();
+    let start = AugmentedState {
+        q: ctl.law().field().joint_contour().point(st.tau),
+        v: SVector::zeros(),
+        tau: st.tau,
+        tau_dot: st.tau_dot,
+        flywheel_speed: st.flywheel_speed,
+    };
+    let finite = match ctl.evaluate(&start) {
+        Ok((torque, out)) => {
+            torque.robot.iter().all(|x| x.is_finite())
+                && out.beta.is_finite()
+                && out.kinetic_energy.is_finite()
+        }
+        Err(_) => false,
+    };
+    match finite && st.flywheel_speed.is_finite() {
+        true => Ok(()),
+        false => Err(setting(format!(
+            "settings: the law is not a finite number at rest on the contour's start (energy {}, flywheel_inertia {}, gamma {}, self_pacing {}, the contour's period {:?}): together they are beyond what a double holds",
+            s.energy,
+            s.flywheel_inertia,
+            s.gamma,
+            s.self_pacing,
+            s.contour.period()
+        ))),
+    }
 }
 
 /// The fastest rates `τ̇` the drives allow at `points` evenly spaced points of one period of

@@ -175,6 +175,16 @@ impl CartesianSpec {
 
     /// The path's exact geometry (m, base frame).
     pub fn path(&self, base_dir: &Path) -> Result<ToolPath> {
+        let path = self.path_unchecked(base_dir)?;
+        match path.is_finite() {
+            true => Ok(path),
+            false => Err(bad(
+                "the path's geometry overflows (its length or a point is not a finite number): coordinates, radii and axes of a tool path are metres, far below 1e150",
+            )),
+        }
+    }
+
+    fn path_unchecked(&self, base_dir: &Path) -> Result<ToolPath> {
         let corners = |p: &[[f64; 3]]| p.iter().map(|p| Vector3::from(*p)).collect::<Vec<_>>();
         match (&self.circle, &self.csv, self.points.is_empty()) {
             (Some(c), None, true) => circle(c),

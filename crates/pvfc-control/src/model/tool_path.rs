@@ -48,7 +48,8 @@ impl Piece {
             Piece::Line { a, b } => {
                 let l = (b - a).norm();
                 let t = (b - a) / l;
-                (a + t * s.clamp(0.0, l), t, Vector3::zeros())
+                // NaN-safe (a clamp panics on a NaN bound): a path is checked finite when built.
+                (a + t * s.max(0.0).min(l), t, Vector3::zeros())
             }
             Piece::Arc {
                 center,
@@ -170,7 +171,7 @@ fn ellipse_length(table: &[f64], u: &Vector3<f64>, w: &Vector3<f64>, theta: f64)
 /// The angle `θ` of an ellipse at arc length `s`: the table's interval, then Newton on
 /// `L(θ) = s` with `L' = |x'(θ)|`.
 fn ellipse_angle(table: &[f64], u: &Vector3<f64>, w: &Vector3<f64>, s: f64) -> f64 {
-    let s = s.clamp(0.0, table[TABLE]);
+    let s = s.max(0.0).min(table[TABLE]);
     let k = table.partition_point(|&x| x <= s).clamp(1, TABLE) - 1;
     let step = std::f64::consts::TAU / TABLE as f64;
     let frac = (s - table[k]) / (table[k + 1] - table[k]).max(f64::MIN_POSITIVE);
@@ -313,6 +314,31 @@ impl ToolPath {
         }])
     }
 
+    /// Whether every piece's points, directions and the length are finite numbers (a path of
+    /// finite corners can overflow: corners 1e308 apart).
+    pub fn is_finite(&self) -> bool {
+        let v = |x: &Vector3<f64>| x.iter().all(|c| c.is_finite());
+        let length = self.length();
+        length.is_finite()
+            && length > 0.0
+            && self.pieces.iter().all(|p| match p {
+                Piece::Line { a, b } => v(a) && v(b),
+                Piece::Arc {
+                    center,
+                    start,
+                    axis,
+                    angle,
+                } => v(center) && v(start) && v(axis) && angle.is_finite(),
+                Piece::Ellipse {
+                    center,
+                    u,
+                    w,
+                    table,
+                    ..
+                } => v(center) && v(u) && v(w) && table.iter().all(|x| x.is_finite()),
+            })
+    }
+
     /// The path's length (m).
     pub fn length(&self) -> f64 {
         self.starts[self.pieces.len()]
@@ -329,7 +355,8 @@ impl ToolPath {
         let k = self
             .starts
             .partition_point(|&x| x <= s)
-            .clamp(1, self.pieces.len())
+            .min(self.pieces.len())
+            .max(1)
             - 1;
         (k, s - self.starts[k])
     }

@@ -283,6 +283,18 @@ impl<'a> Reader<'a> {
         let mut at = tip;
         while at != base {
             match self.parent_joint.get(at) {
+                // A link met twice: the joints above the tip close a loop that never reaches
+                // the base (the walk would go round it for ever).
+                Some(j) if path.iter().any(|p| p.child.link == j.child.link) => {
+                    return Err(self.e(
+                        format!("joint {}", j.name),
+                        format!(
+                            "the joints above the tip {tip} form a cycle ({} → {}) that does not reach the base link {base}",
+                            path.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(" → "),
+                            j.name
+                        ),
+                    ));
+                }
                 Some(j) => {
                     path.push(j);
                     at = j.parent.link.as_str();

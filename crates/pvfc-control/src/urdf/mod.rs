@@ -3,6 +3,7 @@
 
 pub mod chain;
 pub mod collision;
+mod locate;
 pub mod scara;
 
 pub use chain::{ChainDescription, JointDescription, JointLimits};
@@ -21,12 +22,18 @@ pub(crate) fn err(path: &Path, element: impl Into<String>, message: impl Into<St
     }
 }
 
-/// Parses URDF text with urdf-rs. Empty `<texture/>` elements (no `filename`: invalid URDF,
+/// Parses URDF text with urdf-rs; when it refuses the text, the error names the element,
+/// attribute and line at fault ([`locate`]). Empty `<texture/>` elements (no `filename`: invalid URDF,
 /// and only ever visual, which pvfc never reads; iCub's and Romeo's files have them) are
 /// dropped first, since urdf-rs refuses them with a message that names no element.
 pub(crate) fn parse(text: &str, path: &Path) -> crate::error::Result<urdf_rs::Robot> {
-    urdf_rs::read_from_string(&without_empty_textures(text))
-        .map_err(|e| err(path, "robot", e.to_string()))
+    urdf_rs::read_from_string(&without_empty_textures(text)).map_err(|e| {
+        // urdf-rs names no element: find it (the element, its line, the attribute).
+        match locate::locate(text) {
+            Some((element, message)) => err(path, element, format!("{message} ({e})")),
+            None => err(path, "robot", e.to_string()),
+        }
+    })
 }
 
 /// `text` without its `<texture/>` elements that have no attribute.
