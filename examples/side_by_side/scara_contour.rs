@@ -6,7 +6,6 @@
 //! `cargo run --release --example scara_contour -- models/scara.urdf`
 
 use pvfc::control::model::arm::{ArmController, ArmSettings, JointContourSpec};
-use pvfc::control::model::arm_field::FieldSpec;
 use pvfc::control::model::robot::Robot;
 use std::path::PathBuf;
 
@@ -50,26 +49,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .into();
     let robot = Robot::from_urdf(&urdf, None, Some("tool"))?;
     let settings = ArmSettings {
-        contour: JointContourSpec::Lissajous {
-            amplitude: vec![1.0, 1.5],
-            periods: vec![3.0, 6.0],
-            phase: vec![0.0, std::f64::consts::FRAC_PI_2],
-            offset: vec![0.0, 0.0],
-            period: Some(6.0),
-        },
-        field: FieldSpec::Joint,
-        h: vec![1.0, 1.0],
         self_pacing: 5.0,
         energy: 50.0,
-        flywheel_inertia: 1.0,
         gamma: 1.0,
-        gravity_compensation: true,
-        friction_compensation: None,
-        friction_band: 0.0,
-        nominal_speed: None,
-        tau0: 0.0,
-        obstacles: None,
-        pace: None,
+        ..ArmSettings::new(
+            JointContourSpec::Lissajous {
+                amplitude: vec![1.0, 1.5],
+                periods: vec![3.0, 6.0],
+                phase: vec![0.0, std::f64::consts::FRAC_PI_2],
+                offset: vec![0.0, 0.0],
+                period: Some(6.0),
+            },
+            vec![1.0, 1.0],
+        )
     };
     let mut ctl = ArmController::new(&robot, &settings)?;
     let n = robot.dof();

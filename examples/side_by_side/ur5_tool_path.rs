@@ -7,7 +7,6 @@
 //! `cargo run --release --example ur5_tool_path -- models/ur5/ur5_robot.urdf`
 
 use pvfc::control::model::arm::{ArmController, ArmSettings};
-use pvfc::control::model::arm_field::FieldSpec;
 use pvfc::control::model::cartesian::CartesianSpec;
 use pvfc::control::model::robot::Robot;
 use std::path::PathBuf;
@@ -65,20 +64,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..CartesianSpec::default()
     };
     let settings = ArmSettings {
-        contour: path.joint_contour(&robot, std::path::Path::new(""))?,
-        field: FieldSpec::Joint,
-        h: vec![4.0; 6],
         self_pacing: 50.0,
         energy: 40.0,
-        flywheel_inertia: 1.0,
         gamma: 10.0,
-        gravity_compensation: true,
-        friction_compensation: None,
-        friction_band: 0.0,
-        nominal_speed: None,
-        tau0: 0.0,
-        obstacles: None,
-        pace: None,
+        ..ArmSettings::new(
+            path.joint_contour(&robot, std::path::Path::new(""))?,
+            vec![4.0; 6],
+        )
     };
     let mut ctl = ArmController::new(&robot, &settings)?;
     let n = robot.dof();

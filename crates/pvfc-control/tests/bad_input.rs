@@ -6,7 +6,6 @@
 
 use proptest::prelude::*;
 use pvfc_control::model::arm::{ArmController, ArmSettings, JointContourSpec};
-use pvfc_control::model::arm_field::FieldSpec;
 use pvfc_control::model::cartesian::{CartesianSpec, CircleSpec};
 use pvfc_control::model::robot::Robot;
 use pvfc_control::urdf::ChainDescription;
@@ -181,24 +180,14 @@ fn scara() -> Robot {
 }
 
 fn settings() -> ArmSettings {
+    let contour = JointContourSpec::Waypoints {
+        points: vec![vec![0.0, 0.5], vec![0.5, 0.8], vec![0.2, 1.2]],
+        spacing: 1.0,
+    };
     ArmSettings {
-        contour: JointContourSpec::Waypoints {
-            points: vec![vec![0.0, 0.5], vec![0.5, 0.8], vec![0.2, 1.2]],
-            spacing: 1.0,
-        },
-        field: FieldSpec::Joint,
-        h: vec![1.0, 1.0],
         self_pacing: 5.0,
         energy: 20.0,
-        flywheel_inertia: 1.0,
-        gamma: 1.0,
-        gravity_compensation: true,
-        friction_compensation: None,
-        friction_band: 0.0,
-        nominal_speed: None,
-        tau0: 0.0,
-        obstacles: None,
-        pace: None,
+        ..ArmSettings::new(contour, vec![1.0, 1.0])
     }
 }
 

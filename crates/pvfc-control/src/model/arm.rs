@@ -55,6 +55,32 @@ pub struct ArmSettings {
     pub pace: Option<PaceSettings>,
 }
 
+impl ArmSettings {
+    /// Settings on `contour` with navigation weights `h` (one per joint) and the defaults
+    /// every binding shares: the joint-space field, no self-pacing, `Ē = 10`, `M_F = 1`,
+    /// `γ = 1`, gravity compensation on, no friction compensation, nominal speed, obstacles or
+    /// pace, `τ₀ = 0`. Change a field with struct update syntax:
+    /// `ArmSettings { energy: 40.0, ..ArmSettings::new(contour, h) }`.
+    pub fn new(contour: JointContourSpec, h: Vec<f64>) -> Self {
+        ArmSettings {
+            contour,
+            field: FieldSpec::Joint,
+            h,
+            self_pacing: 0.0,
+            energy: 10.0,
+            flywheel_inertia: 1.0,
+            gamma: 1.0,
+            gravity_compensation: true,
+            friction_compensation: None,
+            friction_band: 0.0,
+            nominal_speed: None,
+            tau0: 0.0,
+            obstacles: None,
+            pace: None,
+        }
+    }
+}
+
 /// What one control step gives, with the numbers a log wants.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ArmStep {
