@@ -211,7 +211,7 @@ def test_the_timed_tracker_saturates_at_its_torque_limit():
     assert np.any(np.isclose(np.abs(held.torque), limits).any(axis=1))
     with pytest.raises(pvfc.PvfcError, match="torque_limit"):
         pvfc.simulate_timed(s, [400.0, 400.0], [40.0, 40.0], 2.0, torque_limit=[15.0, -1.0])
-    assert held.period == s.to_dict()["contour"]["cartesian"]["period"]
+    assert held.period == s.to_dict()["contour"]["lissajous"]["period"]
 
 
 def test_the_task_field_saturates_its_pull():
