@@ -134,8 +134,9 @@ fn bad_urdfs_name_the_element() {
     assert!(urdf_error(&one_joint).1.contains("exactly 2"));
     let no_tool = good.replacen("type=\"fixed\"", "type=\"floating\"", 1);
     assert!(urdf_error(&no_tool).1.contains("2 moving joints"));
-    let (el, _) = urdf_error("<robot name=\"x\"><link name=\"a\"/><joint");
-    assert_eq!(el, "robot");
+    let (el, message) = urdf_error("<robot name=\"x\"><link name=\"a\"/><joint");
+    assert!(el.starts_with("line 1, column "), "{el}");
+    assert!(message.contains("not well-formed XML"), "{message}");
     let off_axis = good.replacen("<origin xyz=\"0.15 0 0\"", "<origin xyz=\"0.15 0.05 0\"", 1);
     assert_eq!(urdf_error(&off_axis).0, "link forearm");
     assert!(matches!(

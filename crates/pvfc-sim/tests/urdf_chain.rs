@@ -120,8 +120,9 @@ fn bad_base_and_tip_choices_are_named() {
     let (element, message) = error("<robot name='x'><link name='a'/></robot>", None, None);
     assert_eq!(element, "robot");
     assert!(message.contains("no moving joint"), "{message}");
-    let (element, _) = error("<robot name='x'><link", None, None);
-    assert_eq!(element, "robot");
+    let (element, message) = error("<robot name='x'><link", None, None);
+    assert!(element.starts_with("line 1, column "), "{element}");
+    assert!(message.contains("not well-formed XML"), "{message}");
 }
 
 /// `models/scara.urdf` read as a serial chain gives the closed form's `M` and `C` to 1e-12.
