@@ -234,7 +234,9 @@ fn first_step_is_finite<const N: usize>(ctl: &ArmControllerN<N>, s: &ArmSettings
                 && out.beta.is_finite()
                 && out.kinetic_energy.is_finite()
         }
-        Err(_) => false,
+        // Another error (an energy level below the field's kinetic energy there, say) is the
+        // state's to report, as a step does.
+        Err(e) => e.kind() != pvfc_core::ErrorKind::NonFinite,
     };
     match finite && st.flywheel_speed.is_finite() {
         true => Ok(()),
