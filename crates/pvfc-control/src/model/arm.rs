@@ -235,8 +235,11 @@ fn first_step_is_finite<const N: usize>(ctl: &ArmControllerN<N>, s: &ArmSettings
                 && out.kinetic_energy.is_finite()
         }
         // Another error (an energy level below the field's kinetic energy there, say) is the
-        // state's to report, as a step does.
-        Err(e) => e.kind() != pvfc_core::ErrorKind::NonFinite,
+        // state's to report, as a step does, unless its number overflowed (a field traced in
+        // 1e-300 of τ has a kinetic energy of NaN).
+        Err(e) => {
+            e.kind() != pvfc_core::ErrorKind::NonFinite && e.value().is_none_or(f64::is_finite)
+        }
     };
     match finite && st.flywheel_speed.is_finite() {
         true => Ok(()),
