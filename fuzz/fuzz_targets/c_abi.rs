@@ -20,11 +20,17 @@ fuzz_target!(|data: (&str, &str, [f64; 6], f64)| {
     // destroyed once.
     unsafe {
         let mut robot = null_mut();
-        let _ = pvfc_robot_from_urdf_string(a.as_ptr(), c"f.urdf".as_ptr(), null(), null(), &mut robot);
+        let _ =
+            pvfc_robot_from_urdf_string(a.as_ptr(), c"f.urdf".as_ptr(), null(), null(), &mut robot);
         pvfc_robot_destroy(robot);
         let mut robot = null_mut();
-        if pvfc_robot_from_urdf_string(ur5.as_ptr(), c"ur5.urdf".as_ptr(), c"tool0".as_ptr(), null(), &mut robot)
-            != pvfc_status::PVFC_OK
+        if pvfc_robot_from_urdf_string(
+            ur5.as_ptr(),
+            c"ur5.urdf".as_ptr(),
+            c"tool0".as_ptr(),
+            null(),
+            &mut robot,
+        ) != pvfc_status::PVFC_OK
         {
             return;
         }
@@ -35,7 +41,16 @@ fuzz_target!(|data: (&str, &str, [f64; 6], f64)| {
             if pvfc_controller_new(robot, c, null(), 0, &s, &mut ctl) == pvfc_status::PVFC_OK {
                 let mut torque = [0.0; 6];
                 let v = [0.0; 6];
-                let _ = pvfc_controller_step(ctl, q.as_ptr(), v.as_ptr(), 6, dt, torque.as_mut_ptr(), 6, null_mut());
+                let _ = pvfc_controller_step(
+                    ctl,
+                    q.as_ptr(),
+                    v.as_ptr(),
+                    6,
+                    dt,
+                    torque.as_mut_ptr(),
+                    6,
+                    null_mut(),
+                );
                 pvfc_controller_destroy(ctl);
             }
             pvfc_contour_destroy(c);
