@@ -2,6 +2,7 @@
 //! each ([`Scenario::deprecations`](super::Scenario::deprecations)): the command prints them
 //! as warnings, the Python package raises `DeprecationWarning`s.
 
+use super::plant::inferred_kind;
 use super::ContourSpec;
 use serde::de::IgnoredAny;
 use serde::Deserialize;
@@ -27,11 +28,7 @@ impl Probe {
         let mut out = Vec::new();
         if let Some(p) = self.plant {
             if p.kind.is_none() {
-                let kind = match (&p.urdf, &p.rigid_body) {
-                    (Some(_), _) => "serial_chain",
-                    (None, Some(_)) => "rigid_body",
-                    (None, None) => "scara",
-                };
+                let kind = inferred_kind(p.urdf.is_some(), p.rigid_body.is_some()).key();
                 out.push(format!(
                     "plant: the robot's kind is inferred from which keys are set (deprecated); say it: kind = \"{kind}\""
                 ));

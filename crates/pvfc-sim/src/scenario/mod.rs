@@ -617,11 +617,6 @@ impl Scenario {
         toml::to_string(self).map_err(|e| SimError::Setting(e.to_string()))
     }
 
-    /// The kind of robot (`[plant] kind`).
-    pub fn kind(&self) -> RobotKind {
-        self.plant.robot.kind()
-    }
-
     /// The energy level `β` the controller runs at: the nominal speed `r` of eq. (36) if set,
     /// else the level its internal states start at (`√(κ_a(0)/Ē)` with the arm at rest).
     pub fn pace_level(&self) -> f64 {

@@ -212,6 +212,17 @@ impl PlantSpec {
     }
 }
 
+/// The kind the form before `kind` implies: a serial chain with a `urdf` key, a rigid body
+/// with a `[plant.rigid_body]` table, else the SCARA (the one rule, for reading that form and
+/// for naming it in its deprecation message).
+pub(crate) fn inferred_kind(urdf: bool, rigid_body: bool) -> RobotKind {
+    match (urdf, rigid_body) {
+        (true, _) => RobotKind::SerialChain,
+        (false, true) => RobotKind::RigidBody,
+        (false, false) => RobotKind::Scara,
+    }
+}
+
 /// `[plant]` as written in a file: every key of every kind, checked against the kind by
 /// `TryFrom` (the form before `kind` is read by inferring it).
 #[derive(Default, Serialize, Deserialize)]
@@ -244,12 +255,8 @@ struct PlantFile {
 impl PlantFile {
     /// The kind the file names, or the one the form before `kind` implies.
     fn kind(&self) -> RobotKind {
-        match (self.kind, &self.urdf, &self.rigid_body) {
-            (Some(k), _, _) => k,
-            (None, Some(_), _) => RobotKind::SerialChain,
-            (None, None, Some(_)) => RobotKind::RigidBody,
-            (None, None, None) => RobotKind::Scara,
-        }
+        self.kind
+            .unwrap_or_else(|| inferred_kind(self.urdf.is_some(), self.rigid_body.is_some()))
     }
 
     /// The keys set in the file that `kind` does not have.
