@@ -90,6 +90,28 @@ rm -rf target/cmake-build "$prefix"
 cmake -S crates/pvfc-c -B target/cmake-build -DCMAKE_INSTALL_PREFIX="$prefix" >/dev/null
 cmake --build target/cmake-build
 cmake --install target/cmake-build >/dev/null
+# One version: the package's version file and the shared library's soname (crates/pvfc-c/build.rs).
+version=$(sed -n '/^\[workspace.package\]/,/^\[/s/^version = "\(.*\)"/\1/p' Cargo.toml)
+grep -q "set(PACKAGE_VERSION \"$version\")" "$(find "$prefix" -name pvfcConfigVersion.cmake)" \
+  || { echo "the CMake package's version is not $version" >&2; exit 1; }
+so=$(find "$prefix" -name "libpvfc_c.so.$version")
+soname=$(objdump -p "$so" | awk '/SONAME/ {print $2}')
+test "$soname" = "libpvfc_c.so.${version%.*}" || { echo "libpvfc_c's soname is '$soname'" >&2; exit 1; }
+test "$(readlink "$(dirname "$so")/libpvfc_c.so")" = "$soname" || { echo "libpvfc_c.so is not a link to $soname" >&2; exit 1; }
+# The versioned binary package (CPack): pvfc-VERSION-Linux-ARCH.tar.gz, unpacked elsewhere and
+# used by the examples below through CMAKE_PREFIX_PATH, like the installed tree.
+(cd target/cmake-build && cpack -G TGZ >/dev/null)
+tarball=$(ls target/cmake-build/pvfc-"$version"-Linux-*.tar.gz)
+unpacked=$(mktemp -d)
+tar xzf "$tarball" -C "$unpacked"
+tar_prefix=$(ls -d "$unpacked"/pvfc-"$version"-Linux-*)
+rm -rf target/cmake-example-tarball
+cmake -S examples/cpp -B target/cmake-example-tarball -DCMAKE_PREFIX_PATH="$tar_prefix" -DPVFC_STATIC=OFF >/dev/null
+cmake --build target/cmake-example-tarball >/dev/null
+target/cmake-example-tarball/ur5_contour models/ur5/ur5_robot.urdf >/dev/null
+objdump -p target/cmake-example-tarball/ur5_contour | grep -q "NEEDED *$soname" \
+  || { echo "the example does not load the library by its soname" >&2; exit 1; }
+echo "CMake package $version: soname $soname, $(basename "$tarball")"
 for static in OFF ON; do
   rm -rf "target/cmake-example-$static"
   cmake -S examples/cpp -B "target/cmake-example-$static" -DCMAKE_PREFIX_PATH="$prefix" \
@@ -98,13 +120,29 @@ for static in OFF ON; do
   run_checked "target/cmake-example-$static/ur5_contour" models/ur5/ur5_robot.urdf
 done
 
-stage "Python: build the wheel into a fresh virtual environment"
+stage "Python: the manylinux wheel and the sdist (maturin, zig), the wheel into a fresh virtual environment"
+# The wheel users install: manylinux2014 (glibc 2.17), linked by zig's toolchain (maturin
+# --zig; the ziglang package from PyPI) so that it runs on older Linux than the building
+# machine's (built natively here, it would need glibc 2.34). maturin checks the tag's symbols.
+build_venv=target/py-build
+[ -x "$build_venv/bin/maturin" ] || { rm -rf "$build_venv"; python3 -m venv "$build_venv"; }
+"$build_venv/bin/python" -m pip install --quiet maturin==1.16.0 ziglang==0.17.1
+rm -rf target/wheels
+PATH="$PWD/$build_venv/bin:$PATH" maturin build --release --locked --zig --compatibility manylinux2014 \
+  -m crates/pvfc-py/Cargo.toml -o target/wheels
+PATH="$PWD/$build_venv/bin:$PATH" maturin sdist -m crates/pvfc-py/Cargo.toml -o target/wheels
+wheel=$(ls target/wheels/pvfc-*-cp39-abi3-manylinux*.whl)
+case "$wheel" in
+  *manylinux_2_17_x86_64.whl | *manylinux_2_17_aarch64.whl) echo "wheel: $wheel" ;;
+  *) echo "the wheel's tag is not manylinux_2_17: $wheel" >&2; exit 1 ;;
+esac
+sdist=$(ls target/wheels/pvfc-*.tar.gz)
 venv="${PVFC_VENV:-target/py-venv}"
 rm -rf "$venv"
 python3 -m venv "$venv"
 py="$(cd "$venv" && pwd)/bin/python"   # absolute: the pytest stage runs from another directory
 "$py" -m pip install --quiet --upgrade pip
-"$py" -m pip install --quiet "./crates/pvfc-py[test,reference]"
+"$py" -m pip install --quiet "$wheel[test,reference]"
 "$py" -c "import pvfc, numpy; print('pvfc', pvfc.__version__, 'numpy', numpy.__version__)"
 
 stage "MuJoCo: the C++ torque loop (examples/cpp/mujoco_ur5.cpp) on the mujoco wheel's library"
@@ -189,4 +227,42 @@ stage "pytest"
 
 stage "stubtest"
 "$py" -m mypy.stubtest pvfc
+
+stage "The wheel on the oldest and the newest CPython it claims (3.9, 3.13), with no Rust on the path"
+# pyenv's interpreters; the reference packages as binary wheels only (on 3.9 the newest
+# Pinocchio and MuJoCo with a wheel for it). The parity tests use the pvfc command built by
+# the pytest stage above (PVFC_CLI).
+for version in 3.9 3.13; do
+  base=""
+  if command -v pyenv >/dev/null; then
+    base=$(ls -d "$(pyenv root)/versions/$version".* 2>/dev/null | sort -V | tail -n 1 || true)
+  fi
+  if [ -z "$base" ] || [ ! -x "$base/bin/python3" ]; then
+    if [ -n "${PVFC_REQUIRE_VALGRIND:-}" ]; then
+      echo "CPython $version (pyenv) is needed in CI" >&2
+      exit 1
+    fi
+    echo "CPython $version not found (pyenv): skipping the wheel's tests on it"
+    continue
+  fi
+  v_env="$PWD/target/py-venv-$version"
+  rm -rf "$v_env"
+  "$base/bin/python3" -m venv "$v_env"
+  "$v_env/bin/python" -m pip install --quiet --upgrade pip
+  "$v_env/bin/python" -m pip install --quiet --only-binary=:all: "$wheel[test,reference]"
+  (cd crates/pvfc-py && env PATH="$v_env/bin:/usr/bin:/bin" PVFC_CLI="$PWD/../../target/release/pvfc" \
+    "$v_env/bin/python" -m pytest -q -p no:cacheprovider --benchmark-disable)
+done
+
+stage "The sdist builds from source (into a wheel, installed and imported)"
+# The Rust dependencies of the release build above are reused (CARGO_TARGET_DIR).
+rm -rf target/sdist-wheel target/py-venv-sdist
+CARGO_TARGET_DIR="$PWD/target" "$py" -m pip wheel --quiet --no-deps "$sdist" -w target/sdist-wheel
+python3 -m venv target/py-venv-sdist
+target/py-venv-sdist/bin/python -m pip install --quiet target/sdist-wheel/pvfc-*.whl
+repo=$PWD
+(cd "$(mktemp -d)" && "$repo/target/py-venv-sdist/bin/python" -c "
+import pvfc
+r = pvfc.Robot.from_urdf('$repo/models/ur5/ur5_robot.urdf', tip='tool0')
+print('pvfc', pvfc.__version__, 'from the sdist:', r.dof, 'joints')")
 stage "done"

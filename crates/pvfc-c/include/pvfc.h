@@ -7,6 +7,17 @@
 #include <stddef.h>
 #include <stdint.h>
 
+// The major version of the library this header belongs to (`PVFC_VERSION_MAJOR`); compare it
+// with [`pvfc_version`] at run time to check that the header and the library agree.
+#define PVFC_VERSION_MAJOR 0
+
+// The minor version of the header (`PVFC_VERSION_MINOR`). Before 1.0 a new minor version may
+// change the ABI: the shared library's soname is then `libpvfc_c.so.0.MINOR`.
+#define PVFC_VERSION_MINOR 1
+
+// The patch version of the header (`PVFC_VERSION_PATCH`).
+#define PVFC_VERSION_PATCH 0
+
 // What a function did: `PVFC_OK`, or the kind of error ([`pvfc_last_error`] has the message).
 typedef enum pvfc_status {
   // Done.
@@ -563,7 +574,8 @@ void pvfc_robot_destroy(struct pvfc_robot *robot);
 // nothing, so the real-time functions allocate nothing even when they fail.
 const char *pvfc_last_error(void);
 
-// The library's version, e.g. "0.1.0" (a static string).
+// The library's version, "MAJOR.MINOR.PATCH" (a static string): the crate's, the CMake
+// package's and the header's `PVFC_VERSION_*`.
 const char *pvfc_version(void);
 
 #ifdef __cplusplus

@@ -215,7 +215,17 @@ pub extern "C" fn pvfc_last_error() -> *const c_char {
     LAST_ERROR.with(|e| e.borrow().bytes.as_ptr().cast())
 }
 
-/// The library's version, e.g. "0.1.0" (a static string).
+/// The major version of the library this header belongs to (`PVFC_VERSION_MAJOR`); compare it
+/// with [`pvfc_version`] at run time to check that the header and the library agree.
+pub const PVFC_VERSION_MAJOR: u32 = 0;
+/// The minor version of the header (`PVFC_VERSION_MINOR`). Before 1.0 a new minor version may
+/// change the ABI: the shared library's soname is then `libpvfc_c.so.0.MINOR`.
+pub const PVFC_VERSION_MINOR: u32 = 1;
+/// The patch version of the header (`PVFC_VERSION_PATCH`).
+pub const PVFC_VERSION_PATCH: u32 = 0;
+
+/// The library's version, "MAJOR.MINOR.PATCH" (a static string): the crate's, the CMake
+/// package's and the header's `PVFC_VERSION_*`.
 #[no_mangle]
 pub extern "C" fn pvfc_version() -> *const c_char {
     concat!(env!("CARGO_PKG_VERSION"), "\0").as_ptr().cast()

@@ -504,3 +504,16 @@ fn the_c_step_agrees_with_rust_on_the_ur5_the_scara_and_the_panda() {
         vec![0.1, 0.0, -0.1, 0.2, 0.0, 0.1, 0.0],
     );
 }
+
+#[test]
+fn pvfc_version_and_the_header_constants_are_the_crate_version() {
+    // SAFETY: a static C string.
+    let v = unsafe { CStr::from_ptr(pvfc_version()) }.to_str().unwrap();
+    assert_eq!(v, env!("CARGO_PKG_VERSION"));
+    let header = format!("{PVFC_VERSION_MAJOR}.{PVFC_VERSION_MINOR}.{PVFC_VERSION_PATCH}");
+    assert_eq!(
+        header,
+        env!("CARGO_PKG_VERSION"),
+        "PVFC_VERSION_* are not the crate's version"
+    );
+}

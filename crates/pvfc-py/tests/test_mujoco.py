@@ -33,10 +33,19 @@ def plant(repo):
     return model, mujoco.MjData(model)
 
 
-def kinetic(model, data) -> float:
+def full_mass(model, data) -> np.ndarray:
+    """The joint-space inertia matrix MuJoCo holds for `data`'s state (`mj_fullM` takes the
+    data since MuJoCo 3.4, its sparse `qM` before)."""
     m = np.zeros((model.nv, model.nv))
-    mujoco.mj_fullM(model, data, m)
-    return 0.5 * data.qvel @ m @ data.qvel
+    try:
+        mujoco.mj_fullM(model, data, m)
+    except TypeError:
+        mujoco.mj_fullM(model, m, data.qM)
+    return m
+
+
+def kinetic(model, data) -> float:
+    return 0.5 * data.qvel @ full_mass(model, data) @ data.qvel
 
 
 def run(repo, rate: float, passive: bool):
@@ -73,8 +82,7 @@ def test_mujoco_inertia_is_pvfcs(repo):
     for q in ([0.0, 0.0], [0.3, 1.2], [-2.0, -0.7]):
         data.qpos[:] = q
         mujoco.mj_forward(model, data)
-        m = np.zeros((2, 2))
-        mujoco.mj_fullM(model, data, m)
+        m = full_mass(model, data)
         np.testing.assert_allclose(m, scara.inertia(q), rtol=1e-12, atol=1e-12)
 
 

@@ -35,6 +35,13 @@ int main(int argc, char **argv) {
     return 2;
   }
   CHECK(strlen(pvfc_version()) > 0);
+  /* The header and the library are the same version. */
+  {
+    char header_version[32];
+    snprintf(header_version, sizeof header_version, "%d.%d.%d", PVFC_VERSION_MAJOR,
+             PVFC_VERSION_MINOR, PVFC_VERSION_PATCH);
+    CHECK(strcmp(header_version, pvfc_version()) == 0);
+  }
 
   /* The robot, and the errors of reading one. */
   pvfc_robot *robot = NULL;

@@ -694,12 +694,24 @@ fn contact_case(case: ContactCase) -> Scenario {
     }
 }
 
-/// The 3-D contact scenarios of a UR5, read from the workspace's `scenarios/`
+/// The folder the file-based presets ([`arms_3d`], [`tool_paths`]) are read from: the
+/// environment variable `PVFC_DATA`'s `scenarios/` when it is set, otherwise pvfc-sim's own
+/// `scenarios/` (shipped in the crate with the `models/` their URDF paths point to; in the
+/// repository both are links to the workspace's folders). A missing file is an I/O error
+/// that names its path.
+pub fn scenario_dir() -> std::path::PathBuf {
+    match std::env::var_os("PVFC_DATA") {
+        Some(root) if !root.is_empty() => std::path::PathBuf::from(root).join("scenarios"),
+        _ => std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios"),
+    }
+}
+
+/// The 3-D contact scenarios of a UR5, read from [`scenario_dir`]
 /// (`ur5_deburr.toml`, `ur5_wall.toml`, `ur5_push.toml`; their URDF is `models/ur5`), each
 /// beside its timed baseline, and the deburring run again in continuous time
 /// (`ur5_deburr_continuous`: the closed loop's own audit, without sampling).
 pub fn arms_3d() -> crate::error::Result<Vec<Scenario>> {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let dir = scenario_dir();
     let mut v = Arm3dCase::FILES
         .iter()
         .map(|&case| {
@@ -716,12 +728,12 @@ pub fn arms_3d() -> crate::error::Result<Vec<Scenario>> {
     Ok(v)
 }
 
-/// The UR5's tool paths at machining accuracy, read from the workspace's `scenarios/`
+/// The UR5's tool paths at machining accuracy, read from [`scenario_dir`]
 /// (`ur5_cartesian.toml`, `ur5_deburr_fine.toml`), each beside its timed baseline, then the
 /// same paths with the task-space field ([`tool_path_task`]), then the rectangle and the
 /// circle (`ur5_circle.toml`) on saturating drives ([`ur5_saturated`]).
 pub fn tool_paths() -> crate::error::Result<Vec<Scenario>> {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let dir = scenario_dir();
     let read = |name: &str| Scenario::from_file(&dir.join(format!("{name}.toml")));
     let mut v = ToolPathCase::ALL
         .iter()
