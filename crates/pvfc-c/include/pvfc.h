@@ -562,6 +562,19 @@ enum pvfc_status pvfc_robot_tool_pose(const struct pvfc_robot *robot,
                                       double *rotation_out,
                                       double *position_out);
 
+// Sets the robot's tool centre point (TCP): its position `xyz` (m) and orientation `rpy`
+// (roll, pitch, yaw in rad about the fixed axes, URDF's convention) in the tip link's frame
+// (NULL: zeros), replacing the one it had; gravity is kept. Tool poses, contours and
+// controllers made from the robot afterwards use the TCP; those made before keep the tool
+// they were made with. On an error (a non-finite number: `PVFC_ERROR_NON_FINITE`) the robot is unchanged.
+//
+// # Safety
+// `robot` is NULL or a live handle not used by another thread meanwhile; `xyz`, `rpy` are
+// NULL or hold 3 doubles.
+enum pvfc_status pvfc_robot_set_tool(struct pvfc_robot *robot,
+                                     const double *xyz,
+                                     const double *rpy);
+
 // Frees a robot (NULL: nothing).
 //
 // # Safety

@@ -207,6 +207,13 @@ class Robot {
                                rotation.size() ? rotation.data() : nullptr,
                                position.size() ? position.data() : nullptr));
   }
+  /// Sets the tool centre point: `xyz` (m) and `rpy` (rad) in the tip link's frame (3 each;
+  /// `rpy` may be empty: zeros). Contours and controllers made afterwards use it.
+  void set_tool(In xyz, In rpy = {}) {
+    size_check(xyz, 3, "xyz");
+    if (rpy.size()) size_check(rpy, 3, "rpy");
+    check(pvfc_robot_set_tool(h_.get(), xyz.data(), rpy.size() ? rpy.data() : nullptr));
+  }
   const pvfc_robot *get() const noexcept { return h_.get(); }
 
  private:

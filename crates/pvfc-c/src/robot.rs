@@ -392,6 +392,34 @@ pub unsafe extern "C" fn pvfc_robot_tool_pose(
     })
 }
 
+/// Sets the robot's tool centre point (TCP): its position `xyz` (m) and orientation `rpy`
+/// (roll, pitch, yaw in rad about the fixed axes, URDF's convention) in the tip link's frame
+/// (NULL: zeros), replacing the one it had; gravity is kept. Tool poses, contours and
+/// controllers made from the robot afterwards use the TCP; those made before keep the tool
+/// they were made with. On an error (a non-finite number: `PVFC_ERROR_NON_FINITE`) the robot is unchanged.
+///
+/// # Safety
+/// `robot` is NULL or a live handle not used by another thread meanwhile; `xyz`, `rpy` are
+/// NULL or hold 3 doubles.
+#[no_mangle]
+pub unsafe extern "C" fn pvfc_robot_set_tool(
+    robot: *mut pvfc_robot,
+    xyz: *const f64,
+    rpy: *const f64,
+) -> pvfc_status {
+    guard(|| {
+        // SAFETY: as documented.
+        let r = unsafe { object_mut(robot, "robot") }?;
+        let spec = pvfc_control::model::pose::PoseSpec {
+            xyz: unsafe { triple(xyz, "xyz") }?.unwrap_or([0.0; 3]),
+            rpy: unsafe { triple(rpy, "rpy") }?.unwrap_or([0.0; 3]),
+        };
+        let tcp = spec.pose("tool")?;
+        r.robot = r.robot.clone().with_tool(tcp)?;
+        Ok(())
+    })
+}
+
 /// Frees a robot (NULL: nothing).
 ///
 /// # Safety

@@ -46,6 +46,18 @@ pub enum SimError {
         /// What went wrong.
         message: String,
     },
+    /// A part program (G-code) cannot be followed; names the line and the column.
+    #[error("part program {path}: line {line}, column {column}: {message}")]
+    PartProgram {
+        /// The file.
+        path: PathBuf,
+        /// The line (1-based).
+        line: usize,
+        /// The column of the word (1-based).
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
     /// A simulation setting is invalid.
     #[error("invalid setting: {0}")]
     Setting(String),

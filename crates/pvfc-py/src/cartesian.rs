@@ -1,6 +1,7 @@
-//! `pvfc.CartesianPath`: a closed tool path in the robot's base frame (a polyline with
-//! rounded corners, a circle, or a CSV file of points), sampled and turned into the joint
-//! waypoints of a contour by inverse kinematics (`pvfc_sim::model::cartesian`).
+//! `pvfc.CartesianPath`: a closed tool path in the robot's base frame or a part's frame (a
+//! polyline with rounded corners, a circle or ellipse, a CSV file of points, or a part
+//! program's cutting moves), sampled and turned into the joint waypoints of a contour by
+//! inverse kinematics (`pvfc_sim::model::cartesian`).
 
 use crate::convert::{array, out1};
 use crate::errors::sim_err;
@@ -9,7 +10,7 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2};
 use pvfc_sim::model::arm::JointContourSpec;
 use pvfc_sim::model::arm_field::FieldSpec;
-use pvfc_sim::model::cartesian::{CartesianSpec, CircleSpec, ContourGeometry, TaskSpec};
+use pvfc_sim::model::cartesian::{CartesianSpec, CircleSpec, ContourGeometry, PoseSpec, TaskSpec};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -29,7 +30,7 @@ pub(crate) struct CartesianPath {
 #[pymethods]
 impl CartesianPath {
     #[new]
-    #[pyo3(signature = (points=None, corner_radius=0.0, circle=None, csv=None, samples=0, orientations=None, ellipse=None, tolerance=None))]
+    #[pyo3(signature = (points=None, corner_radius=0.0, circle=None, csv=None, samples=0, orientations=None, ellipse=None, tolerance=None, gcode=None, part=None))]
     #[allow(clippy::type_complexity, clippy::too_many_arguments)]
     fn new(
         points: Option<&Bound<'_, PyAny>>,
@@ -46,6 +47,8 @@ impl CartesianPath {
             Bound<'_, PyAny>,
         )>,
         tolerance: Option<f64>,
+        gcode: Option<PathBuf>,
+        part: Option<(Bound<'_, PyAny>, Bound<'_, PyAny>)>,
     ) -> PyResult<Self> {
         let triples = |p: Option<&Bound<'_, PyAny>>, name: &str| -> PyResult<Vec<[f64; 3]>> {
             match p {
@@ -91,6 +94,17 @@ impl CartesianPath {
         if circle.is_some() && ellipse.is_some() {
             return Err(PyValueError::new_err("give circle or ellipse, not both"));
         }
+        let part = match part {
+            Some((xyz, rpy)) => {
+                let xyz = array(&xyz, "part xyz", &[3])?;
+                let rpy = array(&rpy, "part rpy", &[3])?;
+                Some(PoseSpec {
+                    xyz: [xyz[0], xyz[1], xyz[2]],
+                    rpy: [rpy[0], rpy[1], rpy[2]],
+                })
+            }
+            None => None,
+        };
         let spec = CartesianSpec {
             points,
             corner_radius,
@@ -99,6 +113,8 @@ impl CartesianPath {
             samples,
             tolerance,
             orientations,
+            gcode,
+            part,
             ..CartesianSpec::default()
         };
         spec.tolerance().map_err(sim_err)?;

@@ -104,6 +104,7 @@ pub fn sim_err(e: SimError) -> PyErr {
         SimError::Mcap(_) => LogError::new_err(e.to_string()),
         SimError::Setting(_) => InvalidParameterError::new_err(e.to_string()),
         SimError::Waypoint { .. } => InvalidParameterError::new_err(e.to_string()),
+        SimError::PartProgram { .. } => InvalidParameterError::new_err(e.to_string()),
         _ => PvfcError::new_err(e.to_string()),
     }
 }

@@ -70,6 +70,41 @@ impl Robot {
         })
     }
 
+    /// The same robot with its tool centre point (TCP) at `xyz` (m) and `rpy` (roll, pitch,
+    /// yaw in rad, about the fixed axes, URDF's convention) in the tip link's frame, replacing
+    /// the one it had; gravity is kept. Tool poses, Jacobians, inverse kinematics and
+    /// Cartesian paths then use the TCP.
+    #[pyo3(signature = (xyz, rpy=None))]
+    fn with_tool(&self, xyz: &Bound<'_, PyAny>, rpy: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+        let xyz = array(xyz, "xyz", &[3])?;
+        let rpy = match rpy {
+            Some(r) => array(r, "rpy", &[3])?,
+            None => vec![0.0; 3],
+        };
+        let spec = pvfc_sim::model::pose::PoseSpec {
+            xyz: [xyz[0], xyz[1], xyz[2]],
+            rpy: [rpy[0], rpy[1], rpy[2]],
+        };
+        let tcp = spec.pose("with_tool").map_err(sim_err)?;
+        Ok(Robot {
+            robot: self.robot.clone().with_tool(tcp).map_err(sim_err)?,
+        })
+    }
+
+    /// The tool centre point in the tip link's frame, a `(4, 4)` homogeneous transform
+    /// (identity unless set by `with_tool`).
+    #[getter]
+    fn tcp<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let flat: Vec<f64> = homogeneous(self.robot.tcp())
+            .iter()
+            .flatten()
+            .copied()
+            .collect();
+        Ok(numpy::ndarray::Array2::from_shape_vec((4, 4), flat)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?
+            .into_pyarray(py))
+    }
+
     /// The number of joints.
     #[getter]
     fn dof(&self) -> usize {

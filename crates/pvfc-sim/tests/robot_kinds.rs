@@ -105,6 +105,7 @@ fn keys_of_another_kind_are_refused_by_name() {
     let cases = [
         ("kind = \"scara\"\nurdf = \"models/ur5/ur5_robot.urdf\"", "plant.urdf"),
         ("kind = \"scara\"\nmass_scale = [1.0, 1.0]", "plant.mass_scale"),
+        ("kind = \"scara\"\ntcp = { xyz = [0.0, 0.0, 0.1] }", "plant.tcp"),
         ("kind = \"serial_chain\"\narm = \"pelican\"", "plant.arm"),
         ("kind = \"serial_chain\"", "plant.urdf"),
         ("kind = \"rigid_body\"", "plant.inertia"),
@@ -144,4 +145,38 @@ fn the_kind_decides_the_system() {
         assert_eq!(s.dof().unwrap(), dof);
         assert_eq!(system.chain().is_some(), kind == RobotKind::SerialChain);
     }
+}
+
+/// `plant.tcp` puts the tool centre point on the path: every joint waypoint of the part
+/// program's contour puts the TCP (a cone 120 mm out of the flange, tilted) on the placed
+/// path, and the flange itself 120 mm away from it; a TCP that is not finite is refused by
+/// its key.
+#[test]
+fn the_tcp_is_the_point_on_the_path() {
+    let s = Scenario::from_file(&repo().join("scenarios/ur5_gcode.toml")).unwrap();
+    let robot = s.robot().unwrap();
+    let pvfc_sim::model::contour::ContourSpec::Cartesian(spec) = &s.contour else {
+        panic!("ur5_gcode has a Cartesian contour");
+    };
+    let path = spec.path(&s.base_dir).unwrap();
+    let bare = robot
+        .clone()
+        .with_tool(pvfc_core::mechanics::Pose::identity())
+        .unwrap();
+    let waypoints = spec.joint_waypoints(&robot, &s.base_dir).unwrap();
+    assert!(waypoints.len() > 100, "{}", waypoints.len());
+    for q in &waypoints {
+        let (_, tcp) = robot.tool_pose(q).unwrap();
+        let (_, flange) = bare.tool_pose(q).unwrap();
+        assert!(path.closest(&tcp).distance < 1e-5);
+        assert!(((flange - tcp).norm() - 0.12).abs() < 1e-12);
+    }
+    let text = std::fs::read_to_string(repo().join("scenarios/ur5_gcode.toml"))
+        .unwrap()
+        .replace("xyz = [0.0, 0.0, 0.12]", "xyz = [0.0, nan, 0.12]");
+    let e = Scenario::parse(&text, Path::new("tcp.toml"), repo().join("scenarios"))
+        .and_then(|s| s.robot())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("plant.tcp: xyz and rpy must be finite"), "{e}");
 }

@@ -218,6 +218,34 @@ int main(int argc, char **argv) {
   pvfc_contour_destroy(circle);
   pvfc_contour_destroy(NULL);
 
+  /* The tool centre point: a cone 12 cm along the flange's z, tilted; the tool pose moves by
+     R·(0, 0, 0.12) and turns by the tilt; bad input leaves the robot as it was. */
+  {
+    pvfc_robot *cone = NULL;
+    CHECK(pvfc_robot_from_urdf_file(argv[1], NULL, "tool0", &cone) == PVFC_OK);
+    double r0[9], p0[3], r1[9], p1[3];
+    CHECK(pvfc_robot_tool_pose(cone, seed, DOF, r0, p0) == PVFC_OK);
+    const double xyz[3] = {0.0, 0.0, 0.12}, rpy[3] = {0.0, 0.35, 0.0};
+    CHECK(pvfc_robot_set_tool(cone, xyz, rpy) == PVFC_OK);
+    CHECK(pvfc_robot_tool_pose(cone, seed, DOF, r1, p1) == PVFC_OK);
+    for (int i = 0; i < 3; i++) {
+      CHECK(fabs(p1[i] - (p0[i] + 0.12 * r0[3 * i + 2])) < 1e-12);
+      /* The new x axis is R0·(cos 0.35, 0, −sin 0.35). */
+      CHECK(fabs(r1[3 * i] - (cos(0.35) * r0[3 * i] - sin(0.35) * r0[3 * i + 2])) < 1e-12);
+    }
+    const double bad[3] = {0.0, NAN, 0.12};
+    CHECK_ERROR(pvfc_robot_set_tool(cone, bad, NULL), PVFC_ERROR_NON_FINITE, "xyz[1] is NaN");
+    CHECK_ERROR(pvfc_robot_set_tool(NULL, xyz, NULL), PVFC_ERROR_NULL_POINTER, "robot");
+    double p2[3];
+    CHECK(pvfc_robot_tool_pose(cone, seed, DOF, NULL, p2) == PVFC_OK);
+    CHECK(p2[0] == p1[0] && p2[1] == p1[1] && p2[2] == p1[2]);
+    /* NULL for both: back to the flange. */
+    CHECK(pvfc_robot_set_tool(cone, NULL, NULL) == PVFC_OK);
+    CHECK(pvfc_robot_tool_pose(cone, seed, DOF, NULL, p2) == PVFC_OK);
+    CHECK(p2[0] == p0[0] && p2[1] == p0[1] && p2[2] == p0[2]);
+    pvfc_robot_destroy(cone);
+  }
+
   pvfc_passive_destroy(passive);
   pvfc_controller_destroy(ctl);
   pvfc_robot_destroy(robot);

@@ -232,6 +232,22 @@ TEST(Contour, ACartesianCircleWithTheTaskFieldFromEigenFreeViews) {
   }
 }
 
+TEST(Robot, TheToolCentrePointMovesTheToolPose) {
+  pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
+  const std::array<double, 6> q = {0.2, -1.1, 1.2, -0.5, 1.0, 0.3};
+  std::array<double, 9> r0{};
+  std::array<double, 3> p0{}, p1{};
+  robot.tool_pose(q, r0, p0);
+  robot.set_tool(std::vector<double>{0.0, 0.0, 0.12});
+  robot.tool_pose(q, pvfc::Out(nullptr, 0), p1);
+  for (int i = 0; i < 3; i++) EXPECT_NEAR(p1[i], p0[i] + 0.12 * r0[3 * i + 2], 1e-12);
+  EXPECT_THROW(robot.set_tool(std::vector<double>{0.0, 0.12}), pvfc::WrongSizeError);
+  EXPECT_THROW(robot.set_tool(std::vector<double>{0.0, NAN, 0.12}), pvfc::NonFiniteError);
+  std::array<double, 3> p2{};
+  robot.tool_pose(q, pvfc::Out(nullptr, 0), p2);
+  EXPECT_EQ(p1, p2);
+}
+
 TEST(Contour, JointCurvesAreTheirFormulas) {
   const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
   const std::vector<double> c = {0.0, -1.2, 1.4, -1.8, -1.57, 0.0};

@@ -1,6 +1,7 @@
 //! Tool paths given in Cartesian space (`[contour.cartesian]`): a closed curve of the tool's
-//! position in the robot's base frame (a polyline with rounded corners, a circle or ellipse in any
-//! plane, or the points of a CSV file), turned into joint waypoints by inverse kinematics
+//! position in the robot's base frame or a part's frame (a polyline with rounded corners, a
+//! circle or ellipse in any plane, the points of a CSV file, or a part program's cutting
+//! moves), turned into joint waypoints by inverse kinematics
 //! along the path. The joint contour is then the periodic spline through those waypoints
 //! (`[contour] spacing`), as for a contour given in joint space.
 //!
@@ -17,6 +18,7 @@ use crate::error::{Result, SimError, WaypointProblem};
 use crate::model::arm::JointContourSpec;
 use crate::model::arm_field::{TaskFieldSpec, TaskOrientation};
 use crate::model::path_orientation::CornerOrientations;
+pub use crate::model::pose::PoseSpec;
 use crate::model::robot::Robot;
 use crate::model::tool_path::{Closest, ToolPath};
 use crate::with_dof;
@@ -44,6 +46,16 @@ pub struct CartesianSpec {
     /// relative to the scenario file.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub csv: Option<PathBuf>,
+    /// A part program (G-code) whose cutting moves are the path (lines and arcs, exactly;
+    /// see [`gcode`](crate::model::gcode) for what it reads), relative to the scenario file,
+    /// instead of `points`, `circle` or `csv`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gcode: Option<PathBuf>,
+    /// The workpiece's pose in the base frame, when the path is given in the part's frame:
+    /// `points`, `circle`, `csv` or `gcode`, and the corners' `orientations`, are then
+    /// placed by it. Default: the base frame.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub part: Option<PoseSpec>,
     /// How many joint waypoints the path is sampled into (equal arc length; 4 to
     /// [`MAX_SAMPLES`]); 0: as many as it takes for the joint contour to stay within
     /// `tolerance` of the path.
@@ -186,16 +198,28 @@ impl CartesianSpec {
 
     fn path_unchecked(&self, base_dir: &Path) -> Result<ToolPath> {
         let corners = |p: &[[f64; 3]]| p.iter().map(|p| Vector3::from(*p)).collect::<Vec<_>>();
-        match (&self.circle, &self.csv, self.points.is_empty()) {
-            (Some(c), None, true) => circle(c),
-            (None, Some(f), true) => {
-                ToolPath::rounded_polygon(&read_csv(&base_dir.join(f))?, self.corner_radius)
-                    .map_err(bad)
-            }
-            (None, None, false) => {
-                ToolPath::rounded_polygon(&corners(&self.points), self.corner_radius).map_err(bad)
-            }
-            _ => Err(bad("give exactly one of points, circle or csv")),
+        let given = [
+            !self.points.is_empty(),
+            self.circle.is_some(),
+            self.csv.is_some(),
+            self.gcode.is_some(),
+        ];
+        if given.iter().filter(|&&g| g).count() != 1 {
+            return Err(bad("give exactly one of points, circle, csv or gcode"));
+        }
+        let in_part = if let Some(c) = &self.circle {
+            circle(c)?
+        } else if let Some(f) = &self.csv {
+            ToolPath::rounded_polygon(&read_csv(&base_dir.join(f))?, self.corner_radius)
+                .map_err(bad)?
+        } else if let Some(f) = &self.gcode {
+            part_program(&base_dir.join(f))?
+        } else {
+            ToolPath::rounded_polygon(&corners(&self.points), self.corner_radius).map_err(bad)?
+        };
+        match &self.part {
+            Some(part) => Ok(in_part.transformed(&part.isometry("contour.cartesian.part")?)),
+            None => Ok(in_part),
         }
     }
 
@@ -631,14 +655,43 @@ impl CartesianSpec {
         if !self.orientations.iter().flatten().all(|x| x.is_finite()) {
             return Err(bad("orientations must be finite"));
         }
-        let corners: Vec<Vector3<f64>> = self.points.iter().map(|p| Vector3::from(*p)).collect();
+        // Given in the part's frame: placed in the base frame as the path is.
+        let part = match &self.part {
+            Some(part) => part.isometry("contour.cartesian.part")?,
+            None => nalgebra::Isometry3::identity(),
+        };
+        let corners: Vec<Vector3<f64>> = self
+            .points
+            .iter()
+            .map(|p| part.transform_point(&(*p).into()).coords)
+            .collect();
         let rotations: Vec<_> = self
             .orientations
             .iter()
-            .map(|[r, p, y]| nalgebra::UnitQuaternion::from_euler_angles(*r, *p, *y))
+            .map(|[r, p, y]| {
+                part.rotation * nalgebra::UnitQuaternion::from_euler_angles(*r, *p, *y)
+            })
             .collect();
         CornerOrientations::new(path, &corners, &rotations).map_err(bad)
     }
+}
+
+/// The closed path of a part program's cutting moves (in the part's frame).
+fn part_program(file: &Path) -> Result<ToolPath> {
+    let text = std::fs::read_to_string(file).map_err(|e| SimError::Io {
+        path: file.to_path_buf(),
+        source: e,
+    })?;
+    let named = |e: crate::model::gcode::ProgramError| SimError::PartProgram {
+        path: file.to_path_buf(),
+        line: e.line,
+        column: e.column,
+        message: e.message,
+    };
+    crate::model::gcode::PartProgram::parse(&text)
+        .map_err(named)?
+        .tool_path()
+        .map_err(named)
 }
 
 /// The circle or ellipse.

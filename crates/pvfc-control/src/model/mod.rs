@@ -2,7 +2,7 @@
 //! serial chain read from a URDF ([`robot`], dispatched onto `SerialChain<N>` by
 //! [`with_dof!`](crate::with_dof)), the PVFC controller of any chain and its joint-space
 //! contours ([`arm`]), the contour spec of every kind ([`contour`]), the law at one state for any robot ([`evaluation`]), tool paths in Cartesian space and their inverse kinematics
-//! ([`cartesian`]) and the pace along a contour ([`pace`]).
+//! ([`cartesian`]), part programs read into tool paths ([`gcode`]) and the pace along a contour ([`pace`]).
 
 pub mod arm;
 pub mod arm_field;
@@ -10,9 +10,11 @@ pub mod cartesian;
 pub mod contour;
 pub mod dispatch;
 pub mod evaluation;
+pub mod gcode;
 pub mod joint_contour;
 pub mod pace;
 pub mod path_orientation;
+pub mod pose;
 pub mod robot;
 pub mod tool_path;
 pub mod waypoint_spline;

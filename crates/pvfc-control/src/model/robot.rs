@@ -54,6 +54,22 @@ impl Robot {
         Ok(self)
     }
 
+    /// The same robot with its tool centre point (TCP) at `tcp` in the tip link's frame
+    /// (identity: the tip link's origin), replacing the one it had; gravity is kept. Every
+    /// tool pose, Jacobian, inverse kinematics, tool-path measure and contact then uses the
+    /// TCP. Errors when `tcp` is not a finite rigid transform.
+    pub fn with_tool(mut self, tcp: Pose<f64>) -> Result<Self> {
+        let g = on_chain!(&self.model, c, N => *c.gravity_vector());
+        self.description.tcp = tcp;
+        let rebuilt = Self::from_description(self.description)?;
+        rebuilt.with_gravity(g)
+    }
+
+    /// The tool centre point in the tip link's frame.
+    pub fn tcp(&self) -> &Pose<f64> {
+        &self.description.tcp
+    }
+
     /// The URDF description.
     pub fn description(&self) -> &ChainDescription {
         &self.description

@@ -4,7 +4,37 @@
 //! any point (what the tool's error is measured against), so that neither the samples nor the
 //! measured distances carry a chord's error.
 
-use nalgebra::{Unit, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Unit, UnitQuaternion, Vector3};
+
+/// One move of a path given move by move ([`ToolPath::from_segments`]), from where the move
+/// before ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Segment {
+    /// A straight move to `to`.
+    Line {
+        /// Where it ends (m).
+        to: Vector3<f64>,
+    },
+    /// A circular arc to `to` about `center`, turning right-handed about `axis` (a clockwise
+    /// arc seen from the plane's normal turns about the negative normal).
+    Arc {
+        /// Where it ends (m).
+        to: Vector3<f64>,
+        /// The arc's centre (m).
+        center: Vector3<f64>,
+        /// The axis it turns about (right-handed).
+        axis: Unit<Vector3<f64>>,
+    },
+}
+
+/// Why a path given move by move cannot be built: the move (its index) and what is wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SegmentError {
+    /// The move's index in the list.
+    pub index: usize,
+    /// What is wrong with it.
+    pub what: String,
+}
 
 /// One piece of a closed path.
 #[derive(Clone, Debug, PartialEq)]
@@ -312,6 +342,136 @@ impl ToolPath {
             w,
             table,
         }])
+    }
+
+    /// A closed path given move by move from `start` (a part program's cutting moves, see
+    /// [`gcode`](super::gcode)): each segment starts where the one before ended. An arc's
+    /// radius at its end may differ from its radius at its start by `tolerance` (m; a part
+    /// program's rounded centre); it is then drawn with its start radius, and the next move
+    /// starts where it ends. The last move must end within `tolerance` of `start`.
+    pub fn from_segments(
+        start: Vector3<f64>,
+        segments: &[Segment],
+        tolerance: f64,
+    ) -> Result<Self, SegmentError> {
+        if segments.is_empty() {
+            return Err(SegmentError {
+                index: 0,
+                what: "no move".into(),
+            });
+        }
+        let mut pieces = Vec::with_capacity(segments.len());
+        let mut at = start;
+        for (index, segment) in segments.iter().enumerate() {
+            let err = |what: String| SegmentError { index, what };
+            match *segment {
+                Segment::Line { to } => {
+                    // The last line closes the path exactly.
+                    let to = if index + 1 == segments.len() && (to - start).norm() <= tolerance {
+                        start
+                    } else {
+                        to
+                    };
+                    if (to - at).norm() <= tolerance {
+                        return Err(err("a straight move of zero length".into()));
+                    }
+                    pieces.push(Piece::Line { a: at, b: to });
+                    at = to;
+                }
+                Segment::Arc { to, center, axis } => {
+                    let (s, e) = (at - center, to - center);
+                    let climb = (to - at).dot(&axis);
+                    if climb.abs() > tolerance {
+                        return Err(err(format!(
+                            "a helical arc (it climbs {climb:.3e} m along its axis): only arcs in their plane are supported"
+                        )));
+                    }
+                    if s.dot(&axis).abs() > tolerance {
+                        return Err(err("the arc's centre is not in its plane".into()));
+                    }
+                    let (rs, re) = (s.norm(), e.norm());
+                    if rs <= tolerance {
+                        return Err(err("an arc of zero radius".into()));
+                    }
+                    if (rs - re).abs() > tolerance {
+                        return Err(err(format!(
+                            "the arc's radius is {rs:.6} m at its start and {re:.6} m at its end"
+                        )));
+                    }
+                    let turn = s.cross(&e).dot(&axis).atan2(s.dot(&e));
+                    // Right-handed about `axis`, in (0, 2π]: a move back to its start is a circle.
+                    let angle = if (to - at).norm() <= tolerance {
+                        std::f64::consts::TAU
+                    } else if turn <= 0.0 {
+                        turn + std::f64::consts::TAU
+                    } else {
+                        turn
+                    };
+                    let piece = Piece::Arc {
+                        center,
+                        start: s,
+                        axis,
+                        angle,
+                    };
+                    at = piece.at(piece.length()).0;
+                    pieces.push(piece);
+                }
+            }
+        }
+        let gap = (at - start).norm();
+        if gap > tolerance {
+            return Err(SegmentError {
+                index: segments.len() - 1,
+                what: format!("the path does not close: its last move ends {gap:.6} m from where the first starts"),
+            });
+        }
+        let path = Self::from_pieces(pieces);
+        match path.is_finite() {
+            true => Ok(path),
+            false => Err(SegmentError {
+                index: 0,
+                what: "the path's geometry overflows (not finite)".into(),
+            }),
+        }
+    }
+
+    /// The same path moved rigidly by `pose` (a part's path given in the part's frame, placed
+    /// in the base frame).
+    pub fn transformed(&self, pose: &Isometry3<f64>) -> Self {
+        let (p, r) = (
+            |x: &Vector3<f64>| pose.transform_point(&(*x).into()).coords,
+            pose.rotation,
+        );
+        let pieces = self
+            .pieces
+            .iter()
+            .map(|piece| match piece {
+                Piece::Line { a, b } => Piece::Line { a: p(a), b: p(b) },
+                Piece::Arc {
+                    center,
+                    start,
+                    axis,
+                    angle,
+                } => Piece::Arc {
+                    center: p(center),
+                    start: r * start,
+                    axis: Unit::new_unchecked(r * axis.into_inner()),
+                    angle: *angle,
+                },
+                Piece::Ellipse {
+                    center,
+                    u,
+                    w,
+                    table,
+                } => Piece::Ellipse {
+                    center: p(center),
+                    u: r * u,
+                    w: r * w,
+                    table: table.clone(),
+                },
+            })
+            .collect();
+        Self::from_pieces(pieces)
     }
 
     /// Whether every piece's points, directions and the length are finite numbers (a path of

@@ -66,6 +66,11 @@ pub struct ChainDescription {
     pub links: Vec<RigidInertia<f64>>,
     /// The tip link's frame in the last body's frame.
     pub tool: Pose<f64>,
+    /// The tool centre point (TCP) in the tip link's frame: the tool's working point and
+    /// orientation (a spindle's tip, a deburring cone's), identity for the tip link's own
+    /// frame. The model's tool frame is `tool ∘ tcp`: every tool pose, Jacobian, tool-path
+    /// measure, task-space field and contact uses it.
+    pub tcp: Pose<f64>,
     /// Movable joints of side branches locked at 0 and folded into the chain.
     pub locked_joints: Vec<String>,
     /// The `<collision>` elements of the moving bodies (with what is folded into them).
@@ -135,6 +140,7 @@ impl ChainDescription {
                 .collect(),
             links,
             tool,
+            tcp: Pose::identity(),
             locked_joints: vec![],
             collisions: vec![],
             urdf_dir: std::path::PathBuf::from("."),
@@ -169,7 +175,7 @@ impl ChainDescription {
         }
         let joints: [ChainJoint<f64>; N] = std::array::from_fn(|i| self.joints[i].joint);
         let links: [RigidInertia<f64>; N] = std::array::from_fn(|i| self.links[i]);
-        Ok(SerialChain::new(joints, links)?.with_tool(self.tool)?)
+        Ok(SerialChain::new(joints, links)?.with_tool(self.tool.compose(&self.tcp))?)
     }
 }
 
@@ -426,6 +432,7 @@ impl<'a> Reader<'a> {
             joints,
             links: bodies,
             tool,
+            tcp: Pose::identity(),
             locked_joints: locked,
             collisions,
             urdf_dir: self

@@ -94,6 +94,8 @@ class CartesianPath:
         orientations: Optional[_ArrayLike] = None,
         ellipse: Optional[Tuple[_ArrayLike, float, float, _ArrayLike, _ArrayLike]] = None,
         tolerance: Optional[float] = None,
+        gcode: Optional[_PathLike] = None,
+        part: Optional[Tuple[_ArrayLike, _ArrayLike]] = None,
     ) -> CartesianPath: ...
     def sample(self) -> _F64Array: ...
     @property
@@ -163,6 +165,14 @@ class Robot:
         name: str = "robot",
     ) -> Robot: ...
     def with_gravity(self, g: _ArrayLike) -> Robot: ...
+    def with_tool(self, xyz: _ArrayLike, rpy: Optional[_ArrayLike] = None) -> Robot:
+        """The same robot with its tool centre point at `xyz` (m), `rpy` (rad) in the tip
+        link's frame, replacing the one it had."""
+        ...
+    @property
+    def tcp(self) -> _F64Array:
+        """The tool centre point in the tip link's frame, `(4, 4)`."""
+        ...
     @property
     def dof(self) -> int: ...
     @property

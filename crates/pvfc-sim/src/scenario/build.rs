@@ -188,14 +188,17 @@ impl Scenario {
         })
     }
 
-    /// The serial chain's robot model (`plant.urdf`, `tip`, `base`, `gravity`).
+    /// The serial chain's robot model (`plant.urdf`, `tip`, `base`, `tcp`, `gravity`).
     pub fn robot(&self) -> Result<Robot> {
         let c = self.plant.chain("the robot model")?;
-        let robot = Robot::from_urdf(
+        let mut robot = Robot::from_urdf(
             &self.base_dir.join(&c.urdf),
             c.base.as_deref(),
             c.tip.as_deref(),
         )?;
+        if let Some(tcp) = &c.tcp {
+            robot = robot.with_tool(tcp.pose("plant.tcp")?)?;
+        }
         self.with_gravity(c, robot)
     }
 

@@ -8,6 +8,7 @@
 //! deprecation message.
 
 use crate::error::SimError;
+use crate::model::pose::PoseSpec;
 use crate::plant::disturbance::Disturbance;
 use crate::plant::friction::JointFriction;
 use pvfc_core::prelude::*;
@@ -132,6 +133,9 @@ pub struct ChainSpec {
     /// the controller (its coupling, gravity compensation and field) keeps the URDF's model.
     /// Sampled mode only.
     pub mass_scale: Option<Vec<f64>>,
+    /// The tool centre point in the tip link's frame (`tcp = { xyz = [...], rpy = [...] }`;
+    /// default: the tip link's origin): the point and frame that follow the path.
+    pub tcp: Option<PoseSpec>,
 }
 
 impl ChainSpec {
@@ -144,6 +148,7 @@ impl ChainSpec {
             base: None,
             gravity: None,
             mass_scale: None,
+            tcp: None,
         }
     }
 }
@@ -243,6 +248,8 @@ struct PlantFile {
     #[serde(skip_serializing_if = "Option::is_none")]
     mass_scale: Option<Vec<f64>>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    tcp: Option<PoseSpec>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     inertia: Option<[[f64; 3]; 3]>,
     /// The rigid body's table before `kind` (`[plant.rigid_body] inertia`).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -272,6 +279,7 @@ impl PlantFile {
                 self.mass_scale.is_some(),
                 RobotKind::SerialChain,
             ),
+            ("tcp", self.tcp.is_some(), RobotKind::SerialChain),
             ("inertia", self.inertia.is_some(), RobotKind::RigidBody),
             (
                 "rigid_body",
@@ -318,6 +326,7 @@ impl TryFrom<PlantFile> for PlantSpec {
                     base: f.base,
                     gravity: f.gravity,
                     mass_scale: f.mass_scale,
+                    tcp: f.tcp,
                 }),
                 RobotKind::RigidBody => RobotSpec::RigidBody(match (f.inertia, f.rigid_body) {
                     (Some(inertia), None) => RigidBodySpec { inertia },
@@ -355,6 +364,7 @@ impl From<PlantSpec> for PlantFile {
                 f.base = c.base;
                 f.gravity = c.gravity;
                 f.mass_scale = c.mass_scale;
+                f.tcp = c.tcp;
             }
             RobotSpec::RigidBody(b) => f.inertia = Some(b.inertia),
         }

@@ -1,0 +1,287 @@
+//! Part programs (G-code) read into tool paths: the geometry against paths built another way
+//! (the rounded polygon, the circle, points transformed by hand), the modal words (planes,
+//! units, incremental coordinates and centres, R arcs), the feed, and every refusal with its
+//! line and column.
+
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use pvfc_control::error::SimError;
+use pvfc_control::model::cartesian::{CartesianSpec, PoseSpec};
+use pvfc_control::model::gcode::{PartProgram, ProgramError};
+use pvfc_control::model::tool_path::ToolPath;
+use std::f64::consts::{PI, TAU};
+use std::path::Path;
+
+fn path(text: &str) -> ToolPath {
+    PartProgram::parse(text)
+        .and_then(|p| p.tool_path())
+        .unwrap_or_else(|e| panic!("{e:?}\n{text}"))
+}
+
+fn error(text: &str) -> ProgramError {
+    match PartProgram::parse(text).and_then(|p| p.tool_path()) {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+/// The largest distance from `m` points of `a` to the path `b`.
+fn farthest(a: &ToolPath, b: &ToolPath, m: usize) -> f64 {
+    (0..m)
+        .map(|k| {
+            b.closest(&a.point(a.length() * k as f64 / m as f64))
+                .distance
+        })
+        .fold(0.0, f64::max)
+}
+
+const RECTANGLE: &str = "G21 G90 G17\nG0 X5 Y0\nG1 X35 F600\nG3 X40 Y5 I0 J5\nG1 Y15\nG3 X35 Y20 I-5 J0\nG1 X5\nG3 X0 Y15 I0 J-5\nG1 Y5\nG3 X5 Y0 I5 J0\nG0 Z10\nM30\n";
+
+#[test]
+fn a_rounded_rectangle_is_the_rounded_polygon_of_its_corners() {
+    let program = path(RECTANGLE);
+    let corners =
+        [[0.0, 0.0], [0.04, 0.0], [0.04, 0.02], [0.0, 0.02]].map(|[x, y]| Vector3::new(x, y, 0.0));
+    let polygon = ToolPath::rounded_polygon(&corners, 0.005).unwrap();
+    assert!((program.length() - polygon.length()).abs() < 1e-15);
+    assert!(farthest(&program, &polygon, 4000) < 1e-15);
+    assert!(farthest(&polygon, &program, 4000) < 1e-15);
+    // Counter-clockwise (G3 corners): the same direction as the polygon.
+    assert!((program.tangent(0.001) - Vector3::x()).norm() < 1e-15);
+}
+
+#[test]
+fn centres_by_r_incremental_moves_absolute_centres_and_inches_give_the_same_path() {
+    let reference = path(RECTANGLE);
+    let by_r = RECTANGLE
+        .replace("I0 J5", "R5")
+        .replace("I-5 J0", "R5")
+        .replace("I0 J-5", "R5")
+        .replace("I5 J0", "R5");
+    let incremental = "G21 G91\nG0 X5 Y0\nG1 X30 F600\nG3 X5 Y5 I0 J5\nG1 Y10\nG3 X-5 Y5 I-5 J0\nG1 X-30\nG3 X-5 Y-5 I0 J-5\nG1 Y-10\nG3 X5 Y-5 I5 J0\n";
+    let absolute_centres = "G21 G90 G90.1\nG0 X5 Y0\nG1 X35 F600\nG3 X40 Y5 I35 J5\nG1 Y15\nG3 X35 Y20 I35 J15\nG1 X5\nG3 X0 Y15 I5 J15\nG1 Y5\nG3 X5 Y0 I5 J5\n";
+    let scale = |x: f64| format!("{}", x / 25.4);
+    let inches = format!(
+        "G20 G90\nG0 X{a} Y0\nG1 X{b} F{f}\nG3 X{c} Y{a} I0 J{a}\nG1 Y{d}\nG3 X{b} Y{e} I-{a} J0\nG1 X{a}\nG3 X0 Y{d} I0 J-{a}\nG1 Y{a}\nG3 X{a} Y0 I{a} J0\n",
+        a = scale(5.0),
+        b = scale(35.0),
+        c = scale(40.0),
+        d = scale(15.0),
+        e = scale(20.0),
+        f = scale(600.0),
+    );
+    for text in [
+        by_r.as_str(),
+        incremental,
+        absolute_centres,
+        inches.as_str(),
+    ] {
+        let p = path(text);
+        assert!((p.length() - reference.length()).abs() < 1e-12, "{text}");
+        assert!(farthest(&p, &reference, 2000) < 1e-12, "{text}");
+        let program = PartProgram::parse(text).unwrap();
+        let feed = program.moves[0].feed.unwrap();
+        assert!(
+            (feed - 0.01).abs() < 1e-15,
+            "600 mm/min is 0.01 m/s, got {feed}"
+        );
+    }
+}
+
+#[test]
+fn clockwise_circles_in_each_plane_turn_the_right_way() {
+    // A full circle of radius 10 mm from (10, 0, 0) about the origin: G2 clockwise seen
+    // from the plane's normal; ends where it starts.
+    let cases = [
+        ("G17", "G2 X10 Y0 I-10 J0", Vector3::z()),
+        ("G18", "G2 X10 Z0 I-10 K0", Vector3::y()),
+        ("G19", "G2 Y10 Z0 J-10 K0", Vector3::x()),
+    ];
+    for (plane, arc, normal) in cases {
+        let start = if plane == "G19" { "G0 Y10" } else { "G0 X10" };
+        let p = path(&format!("{plane}\n{start}\n{arc}\n"));
+        assert!((p.length() - TAU * 0.01).abs() < 1e-15, "{plane}");
+        let x0 = p.point(0.0);
+        let t0 = p.tangent(0.0);
+        // Clockwise about the normal: the tangent is −normal × (x0 − centre).
+        let expected = -normal.cross(&x0).normalize();
+        assert!(
+            (t0 - expected).norm() < 1e-12,
+            "{plane}: {t0:?} against {expected:?}"
+        );
+        // Every point on the circle, in the plane.
+        for k in 0..100 {
+            let x = p.point(p.length() * k as f64 / 100.0);
+            assert!((x.norm() - 0.01).abs() < 1e-15 && x.dot(&normal).abs() < 1e-18);
+        }
+    }
+}
+
+#[test]
+fn a_negative_radius_takes_the_longer_arc() {
+    // A half-disc closed by its diameter: R ±10 between (−10, 0) and (10, 0).
+    let short = path("G0 X-10 Y0\nG2 X10 Y0 R10\nG1 X-10\n");
+    assert!((short.length() - (PI * 0.01 + 0.02)).abs() < 1e-15);
+    // A three-quarter turn: from (10, 0) to (0, 10) counter-clockwise the long way.
+    let long = path("G0 X10 Y0\nG3 X0 Y10 R-10\nG1 X10 Y0\n");
+    let chord = 0.01 * 2f64.sqrt();
+    assert!((long.length() - (1.5 * PI * 0.01 + chord)).abs() < 1e-15);
+    // The long way round is about the other centre, (10, 10): its midpoint is 135° on from
+    // the start, at (10, 10) + (10, 10)/√2.
+    let mid = long.point(0.75 * PI * 0.01);
+    let expected = Vector3::new(0.01, 0.01, 0.0) * (1.0 + 1.0 / 2f64.sqrt());
+    assert!((mid - expected).norm() < 1e-15, "{mid:?}");
+}
+
+#[test]
+fn coordinates_keep_their_digits() {
+    // 123.4567891 mm is not an f32 (the parser's literal): the path keeps the written digits.
+    let p = PartProgram::parse("G0 X0 Y0\nG1 X123.4567891\nG1 Y1\nG1 X0 Y0\n").unwrap();
+    let pvfc_control::model::tool_path::Segment::Line { to } = p.moves[0].segment else {
+        panic!("a line");
+    };
+    assert!((to.x - 0.1234567891).abs() < 3e-17, "{}", to.x);
+    assert!((f64::from(123.456_79_f32) * 1e-3 - to.x).abs() > 1e-9);
+}
+
+#[test]
+fn every_refusal_names_its_line_and_column() {
+    let cases: &[(&str, usize, usize, &str)] = &[
+        ("G0 X0 Y0\nG1 X10\nG5 X3\n", 3, 1, "G5: not supported"),
+        (
+            "G0 X0\nG1 X10 A5\nG1 X0\n",
+            2,
+            8,
+            "the word A is not supported",
+        ),
+        (
+            "G0 X0\nG1 X10\nG1 Y10\nG1 X0 Y0 Z1\n",
+            4,
+            1,
+            "does not close",
+        ),
+        (
+            "G0 X0\nG1 X10\nG0 X20\nG1 X0\n",
+            4,
+            1,
+            "rapid move (G0) between cutting moves",
+        ),
+        ("G0 X10 Y0\nG3 X10 Y0 Z5 I-10 J0\n", 2, 1, "helical"),
+        ("G0 X10 Y0\nG3 X0 Y10 I-10 J1\nG1 X10 Y0\n", 2, 1, "radius"),
+        (
+            "G0 X10 Y0\nG3 X0 Y10\nG1 X10 Y0\n",
+            2,
+            1,
+            "needs its centre",
+        ),
+        (
+            "G0 X10 Y0\nG3 X0 Y10 R1\nG1 X10 Y0\n",
+            2,
+            1,
+            "shorter than half the chord",
+        ),
+        ("G0 X10 Y0\nG3 X0 Y10 I-10 R10\n", 2, 1, "not both"),
+        (
+            "G0 X10 Y0\nG3 X0 Y10 I-10 K1\n",
+            2,
+            1,
+            "along the plane's normal",
+        ),
+        ("G0 X0\nG1 X#1\n", 2, 4, "expected: number"),
+        ("G0 X0\n  G1 X10 X20\n", 2, 10, "X given twice"),
+        ("G0 X0\nG1 G2 X10\n", 2, 4, "two motion codes"),
+        ("G0 X0\nM98 P100\n", 2, 1, "M98: not supported"),
+        ("G0 X1\nG0 X2\n", 1, 1, "no cutting move"),
+        ("G0 X0\nG1 X10 I5\n", 2, 1, "on a straight move"),
+        // Found by fuzzing (fuzz/fuzz_targets/gcode.rs): the parser's code number overflows.
+        (
+            "G0 X0\nG1 X10\n (G1) G2000000000000 X0\n",
+            3,
+            7,
+            "code number this large",
+        ),
+        (
+            "G0 X0\nG1 X10\nM 4294967302\n",
+            3,
+            1,
+            "code number this large",
+        ),
+    ];
+    for &(text, line, column, fragment) in cases {
+        let e = error(text);
+        assert!(
+            e.line == line && e.column == column && e.message.contains(fragment),
+            "{text:?}: got line {}, column {}: {}; expected {line}:{column} with {fragment:?}",
+            e.line,
+            e.column,
+            e.message
+        );
+    }
+}
+
+#[test]
+fn a_parse_error_is_named_where_it_is() {
+    let e = error("G0 X0\nG1 X10 Y\nG1 X0\n");
+    assert_eq!(e.line, 2, "{e:?}");
+}
+
+#[test]
+fn rapid_moves_only_place_the_start_and_retract() {
+    let p = PartProgram::parse(
+        "G0 X5 Y5 Z20\nG0 Z0\nG1 X15\nG1 Y15\nG1 X5\nG1 Y5\nG0 Z20\nG0 X0 Y0\nM30\n",
+    )
+    .unwrap();
+    assert_eq!(p.start, Vector3::new(0.005, 0.005, 0.0));
+    assert_eq!(p.moves.len(), 4);
+    assert!((p.tool_path().unwrap().length() - 0.04).abs() < 1e-15);
+}
+
+#[test]
+fn a_scenario_reads_its_part_program_in_the_parts_frame() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let part = PoseSpec {
+        xyz: [0.45, -0.15, 0.30],
+        rpy: [0.0, 0.0, 0.1],
+    };
+    let spec = CartesianSpec {
+        gcode: Some("parts/bracket.nc".into()),
+        part: Some(part),
+        ..Default::default()
+    };
+    let placed = spec.path(&dir).unwrap();
+    let in_part = path(&std::fs::read_to_string(dir.join("parts/bracket.nc")).unwrap());
+    // The exact length: straight 820 mm, four 30 mm and four 10 mm quarter circles.
+    let exact = 0.820 + 2.0 * PI * 0.030 + 2.0 * PI * 0.010;
+    assert!(
+        (in_part.length() - exact).abs() < 1e-12,
+        "{}",
+        in_part.length()
+    );
+    assert!((placed.length() - exact).abs() < 1e-12);
+    let pose = Isometry3::from_parts(
+        Translation3::new(0.45, -0.15, 0.30),
+        UnitQuaternion::from_euler_angles(0.0, 0.0, 0.1),
+    );
+    for k in 0..500 {
+        let s = exact * k as f64 / 500.0;
+        let by_hand = pose.transform_point(&in_part.point(s).into()).coords;
+        assert!((placed.point(s) - by_hand).norm() < 1e-15);
+    }
+    // A missing file names its path; a bad program names the file, line and column.
+    let missing = CartesianSpec {
+        gcode: Some("parts/none.nc".into()),
+        ..Default::default()
+    };
+    assert!(
+        matches!(missing.path(&dir), Err(SimError::Io { path, .. }) if path.ends_with("parts/none.nc"))
+    );
+    let both = CartesianSpec {
+        gcode: Some("parts/bracket.nc".into()),
+        points: vec![[0.0; 3]; 3],
+        ..Default::default()
+    };
+    assert!(both
+        .path(&dir)
+        .unwrap_err()
+        .to_string()
+        .contains("exactly one of"));
+}

@@ -1,0 +1,47 @@
+"""pvfc.CartesianPath(gcode=..., part=...): a part program's cutting moves as the tool path,
+placed by the part's frame; the tool lands on it; a bad program names its line and column."""
+
+import math
+
+import numpy as np
+import pytest
+
+import pvfc
+
+SEED = [0.0, -1.2, 1.4, -1.8, -1.57, 0.0]
+PART = ([0.45, -0.15, 0.30], [0.0, 0.0, 0.1])
+
+
+@pytest.fixture(scope="module")
+def ur5(repo):
+    return pvfc.Robot.from_urdf(repo / "models" / "ur5" / "ur5_robot.urdf", tip="tool0")
+
+
+def test_the_bracket_program_is_its_exact_outline_placed_on_the_table(repo, ur5):
+    program = repo / "scenarios" / "parts" / "bracket.nc"
+    in_part = pvfc.CartesianPath(gcode=program, samples=64)
+    placed = pvfc.CartesianPath(gcode=program, part=PART, samples=64)
+    # Straight 820 mm, four 30 mm and four 10 mm quarter circles.
+    exact = 0.820 + 2 * math.pi * (0.030 + 0.010)
+    assert in_part.length == pytest.approx(exact, rel=1e-13)
+    assert placed.length == pytest.approx(exact, rel=1e-13)
+    # The placed samples are the part's, moved by the pose (yaw 0.1 rad, then the offset).
+    c, s = math.cos(0.1), math.sin(0.1)
+    rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    by_hand = in_part.sample() @ rotation.T + np.array(PART[0])
+    np.testing.assert_allclose(placed.sample(), by_hand, atol=1e-15)
+    # The UR5 reaches it with the tool pointing down, every waypoint on the path.
+    q = placed.joint_waypoints(ur5, SEED, fixed_orientation=True)
+    tool = np.array([ur5.tool_pose(qk)[:3, 3] for qk in q])
+    assert np.max(placed.distances(tool)) < 1e-6
+
+
+def test_a_bad_program_names_its_line_and_column(tmp_path):
+    bad = tmp_path / "bad.nc"
+    bad.write_text("G21 G90\nG0 X0 Y0\nG1 X10 F100\nG1 Y10 A3\nG1 X0 Y0\n")
+    with pytest.raises(pvfc.InvalidParameterError, match=r"bad\.nc: line 4, column 8: A3"):
+        pvfc.CartesianPath(gcode=bad)
+    with pytest.raises(pvfc.InvalidParameterError, match="exactly one of"):
+        pvfc.CartesianPath(gcode=bad, points=[[0, 0, 0], [1, 0, 0], [1, 1, 0]])
+    with pytest.raises(pvfc.InvalidParameterError, match="contour.cartesian.part: xyz and rpy must be finite"):
+        pvfc.CartesianPath(points=[[0, 0, 0], [1, 0, 0], [1, 1, 0]], part=([0, 0, math.nan], [0, 0, 0]))
