@@ -121,7 +121,8 @@ typedef struct pvfc_settings {
   double tau0;
   // The pace along the contour: the speed asked for (0: the contour's own pace), the
   // tool's (m/s) along a Cartesian path, the joints' (rad/s, the norm of `q̇`) along a
-  // joint-space contour. With `energy = 0` the energy level is sized from it.
+  // joint-space contour. Along a part program with feeds (F) the feeds are the speed asked
+  // for, this one on moves without F. With `energy = 0` the energy level is sized from it.
   double pace_speed;
   // The drives' torque limits bounding the pace, one per joint (N·m or N); NULL: none.
   const double *pace_torque_limit;
@@ -289,9 +290,10 @@ enum pvfc_status pvfc_contour_cartesian_circle(const double *center,
                                                struct pvfc_contour **out);
 
 // Any Cartesian tool path a scenario file can give: `toml` holds the keys of its
-// `[contour.cartesian]` table (points, circle, csv, orientations, rest, `[task]`, …; the
-// user's manual lists them), a CSV file's name relative to `base_dir` (NULL: the working
-// directory). Traced once every `period` of `τ` with adaptive sampling; with fixed
+// `[contour.cartesian]` table (points, circle, csv, gcode, part, orientations, rest,
+// `[task]`, …; the user's manual lists them), a CSV file's or part program's name relative
+// to `base_dir` (NULL: the working directory). A part program's feeds (F) are the pace of a
+// controller made on it ([`pvfc_settings`]'s `pace_speed` on moves without F). Traced once every `period` of `τ` with adaptive sampling; with fixed
 // `samples`, `spacing` is the `τ` between waypoints (0: `period / samples`).
 //
 // # Safety

@@ -10,6 +10,7 @@ use pvfc_control::model::arm::{DynJointContour, JointContourSpec};
 use pvfc_control::model::arm_field::FieldSpec;
 use pvfc_control::model::cartesian::{CartesianSpec, CircleSpec, TaskSpec};
 use pvfc_control::model::contour::ContourSpec;
+use pvfc_control::model::feeds::FeedProfile;
 use pvfc_control::model::robot::Robot;
 use pvfc_control::model::tool_path::ToolPath;
 use pvfc_control::model::MAX_WAYPOINTS;
@@ -34,6 +35,15 @@ impl pvfc_contour {
     /// Whether the contour is a Cartesian tool path (its pace is the tool's speed).
     pub(crate) fn is_cartesian(&self) -> bool {
         matches!(self.kind, Kind::Cartesian { .. })
+    }
+
+    /// A part program's feeds along the path (moves without F at `fallback`), `None` for a
+    /// contour without them.
+    pub(crate) fn feeds(&self, fallback: Option<f64>) -> Result<Option<FeedProfile>, Failure> {
+        match &self.kind {
+            Kind::Joint(_) => Ok(None),
+            Kind::Cartesian { spec, base_dir, .. } => Ok(spec.feeds(base_dir, fallback)?),
+        }
     }
 
     /// The joint contour and the field `robot` follows it with (a Cartesian path's inverse
@@ -392,9 +402,10 @@ pub unsafe extern "C" fn pvfc_contour_cartesian_circle(
 }
 
 /// Any Cartesian tool path a scenario file can give: `toml` holds the keys of its
-/// `[contour.cartesian]` table (points, circle, csv, orientations, rest, `[task]`, …; the
-/// user's manual lists them), a CSV file's name relative to `base_dir` (NULL: the working
-/// directory). Traced once every `period` of `τ` with adaptive sampling; with fixed
+/// `[contour.cartesian]` table (points, circle, csv, gcode, part, orientations, rest,
+/// `[task]`, …; the user's manual lists them), a CSV file's or part program's name relative
+/// to `base_dir` (NULL: the working directory). A part program's feeds (F) are the pace of a
+/// controller made on it ([`pvfc_settings`]'s `pace_speed` on moves without F). Traced once every `period` of `τ` with adaptive sampling; with fixed
 /// `samples`, `spacing` is the `τ` between waypoints (0: `period / samples`).
 ///
 /// # Safety

@@ -40,7 +40,8 @@ pub struct pvfc_settings {
     pub tau0: f64,
     /// The pace along the contour: the speed asked for (0: the contour's own pace), the
     /// tool's (m/s) along a Cartesian path, the joints' (rad/s, the norm of `q̇`) along a
-    /// joint-space contour. With `energy = 0` the energy level is sized from it.
+    /// joint-space contour. Along a part program with feeds (F) the feeds are the speed asked
+    /// for, this one on moves without F. With `energy = 0` the energy level is sized from it.
     pub pace_speed: f64,
     /// The drives' torque limits bounding the pace, one per joint (N·m or N); NULL: none.
     pub pace_torque_limit: *const f64,
@@ -154,11 +155,17 @@ pub unsafe extern "C" fn pvfc_controller_new(
         } else {
             1.0
         };
-        let pace = (s.pace_speed != 0.0 || limits.is_some()).then(|| PaceSettings {
-            speed: (s.pace_speed != 0.0).then(|| match contour.is_cartesian() {
-                true => PathSpeed::Tool(s.pace_speed),
-                false => PathSpeed::Joint(s.pace_speed),
+        let asked = (s.pace_speed != 0.0).then_some(s.pace_speed);
+        // A part program's feeds are the speed asked for (pace_speed on moves without F).
+        let speed = match contour.feeds(asked)? {
+            Some(f) => Some(PathSpeed::Feeds(f)),
+            None => asked.map(|v| match contour.is_cartesian() {
+                true => PathSpeed::Tool(v),
+                false => PathSpeed::Joint(v),
             }),
+        };
+        let pace = (speed.is_some() || limits.is_some()).then(|| PaceSettings {
+            speed,
             torque_limit: limits.unwrap_or_default(),
             headroom: s.pace_headroom,
             level,

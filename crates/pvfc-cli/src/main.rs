@@ -266,6 +266,26 @@ fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
         if let Some(b) = budget {
             println!("{name}: tool path: {b}");
         }
+        if let Some(sys) = system.chain() {
+            if let Some(speeds) = pvfc_sim::trace::feed_speeds::feed_speeds(s, &sys.robot, t)? {
+                let each: Vec<String> = speeds
+                    .iter()
+                    .map(|x| {
+                        format!(
+                            "{:.0}–{:.0} mm: {:.1} ({:+.1} %)",
+                            x.span.0 * 1e3,
+                            x.span.1 * 1e3,
+                            x.median * 1e3,
+                            100.0 * x.error()
+                        )
+                    })
+                    .collect();
+                println!(
+                    "{name}: speed on each stretch against its feed (median mm/s): {}",
+                    each.join(", ")
+                );
+            }
+        }
         let summary = pvfc_sim::trace::metrics::contact_summary(t);
         match (&*system, summary) {
             (System::RigidBody(ctl), c) => {

@@ -285,3 +285,46 @@ fn a_scenario_reads_its_part_program_in_the_parts_frame() {
         .to_string()
         .contains("exactly one of"));
 }
+
+/// The feeds along the path: one stretch per cutting move, end to end over the path's
+/// length, each at its move's F (units per minute to m/s), a move before the first F at the
+/// fallback, looked up by arc length (wrapped) and by the closest point.
+#[test]
+fn feeds_are_the_speeds_of_their_stretches() {
+    use pvfc_control::model::feeds::FeedProfile;
+    let text = RECTANGLE
+        .replace("G1 X35 F600", "G1 X35")
+        .replace("G1 Y15\n", "G1 Y15 F1200\n");
+    let program = PartProgram::parse(&text).unwrap();
+    let tool_path = program.tool_path().unwrap();
+    assert!(FeedProfile::from_program(&program, tool_path.clone(), None).is_err());
+    let feeds = FeedProfile::from_program(&program, tool_path.clone(), Some(0.5))
+        .unwrap()
+        .expect("F words");
+    let stretches: Vec<_> = feeds.stretches().collect();
+    assert_eq!(stretches.len(), 8);
+    assert_eq!(stretches[0].0, 0.0);
+    assert!((stretches[7].1 - tool_path.length()).abs() < 1e-15);
+    for w in stretches.windows(2) {
+        assert_eq!(w[0].1, w[1].0);
+    }
+    let speeds: Vec<f64> = stretches.iter().map(|s| s.2).collect();
+    assert_eq!(speeds[..2], [0.5, 0.5]);
+    assert!(
+        speeds[2..].iter().all(|v| (v - 0.02).abs() < 1e-15),
+        "{speeds:?}"
+    );
+    // The first line is 30 mm: 29 mm in, and one pass later, it is at the fallback.
+    assert_eq!(feeds.speed_along(0.029), 0.5);
+    assert_eq!(feeds.speed_along(0.029 + tool_path.length()), 0.5);
+    assert!((feeds.speed_along(0.031 + 0.5 * PI * 0.005 + 0.001) - 0.02).abs() < 1e-15);
+    assert!((feeds.speed_at(&Vector3::new(0.040 + 1e-4, 0.010, 0.0)) - 0.02).abs() < 1e-15);
+    assert_eq!(feeds.speed_at(&Vector3::new(0.020, -1e-4, 0.0)), 0.5);
+    // A program without F has no feeds.
+    let bare = PartProgram::parse(&RECTANGLE.replace(" F600", "")).unwrap();
+    assert!(
+        FeedProfile::from_program(&bare, bare.tool_path().unwrap(), Some(0.5))
+            .unwrap()
+            .is_none()
+    );
+}

@@ -124,8 +124,10 @@ fn obstacle_spec(py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<ObstacleSpec
     serde_json::from_str(&text).map_err(|e| PyValueError::new_err(format!("obstacles: {e}")))
 }
 
-/// `Controller.compose`'s `pace`: `tool_speed` (m/s) or `joint_speed` (rad/s), and/or the
-/// drives' `torque_limit` with its `headroom` (default 0.8), at the energy level `level`.
+/// `Controller.compose`'s `pace`: `tool_speed` (m/s) or `joint_speed` (rad/s), or `feeds`
+/// (a `pvfc.CartesianPath` read from a part program: its moves' F, `tool_speed` on moves
+/// without), and/or the drives' `torque_limit` with its `headroom` (default 0.8), at the
+/// energy level `level`.
 fn pace_settings(d: &Bound<'_, PyDict>, level: f64) -> PyResult<PaceSettings> {
     let mut pace = PaceSettings {
         speed: None,
@@ -133,16 +135,18 @@ fn pace_settings(d: &Bound<'_, PyDict>, level: f64) -> PyResult<PaceSettings> {
         headroom: 0.8,
         level,
     };
+    let mut feeds = None;
     for (key, value) in d.iter() {
         let key: String = key.extract()?;
         match key.as_str() {
             "tool_speed" => pace.speed = Some(PathSpeed::Tool(value.extract()?)),
             "joint_speed" => pace.speed = Some(PathSpeed::Joint(value.extract()?)),
+            "feeds" => feeds = Some(value),
             "torque_limit" => pace.torque_limit = value.extract()?,
             "headroom" => pace.headroom = value.extract()?,
             other => {
                 return Err(PyValueError::new_err(format!(
-                    "pace: unknown key {other:?} (tool_speed, joint_speed, torque_limit, headroom)"
+                    "pace: unknown key {other:?} (tool_speed, joint_speed, feeds, torque_limit, headroom)"
                 )))
             }
         }
@@ -152,9 +156,29 @@ fn pace_settings(d: &Bound<'_, PyDict>, level: f64) -> PyResult<PaceSettings> {
             "pace: give tool_speed or joint_speed, not both",
         ));
     }
+    if let Some(f) = feeds {
+        let path = f.cast::<crate::cartesian::CartesianPath>().map_err(|_| {
+            PyTypeError::new_err(
+                "pace: feeds is a pvfc.CartesianPath read from a part program (gcode=)",
+            )
+        })?;
+        let fallback = match pace.speed {
+            Some(PathSpeed::Tool(v)) => Some(v),
+            None => None,
+            Some(_) => {
+                return Err(PyValueError::new_err(
+                    "pace: feeds are the tool's speeds; give tool_speed for moves without F, not joint_speed",
+                ))
+            }
+        };
+        let profile = path.borrow().feeds(fallback)?.ok_or_else(|| {
+            PyValueError::new_err("pace: feeds: the path is not a part program with F words")
+        })?;
+        pace.speed = Some(PathSpeed::Feeds(profile));
+    }
     if pace.speed.is_none() && pace.torque_limit.is_empty() {
         return Err(PyValueError::new_err(
-            "pace: give a speed (tool_speed or joint_speed) or the drives' torque_limit",
+            "pace: give a speed (tool_speed, joint_speed or feeds) or the drives' torque_limit",
         ));
     }
     Ok(pace)

@@ -27,6 +27,19 @@ pub(crate) struct CartesianPath {
     spec: CartesianSpec,
 }
 
+impl CartesianPath {
+    /// The part program's feeds along the path (moves without F at `fallback`), `None` for a
+    /// path without them.
+    pub(crate) fn feeds(
+        &self,
+        fallback: Option<f64>,
+    ) -> PyResult<Option<pvfc_sim::model::feeds::FeedProfile>> {
+        self.spec
+            .feeds(std::path::Path::new("."), fallback)
+            .map_err(sim_err)
+    }
+}
+
 #[pymethods]
 impl CartesianPath {
     #[new]

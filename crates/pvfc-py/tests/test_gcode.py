@@ -45,3 +45,38 @@ def test_a_bad_program_names_its_line_and_column(tmp_path):
         pvfc.CartesianPath(gcode=bad, points=[[0, 0, 0], [1, 0, 0], [1, 1, 0]])
     with pytest.raises(pvfc.InvalidParameterError, match="contour.cartesian.part: xyz and rpy must be finite"):
         pvfc.CartesianPath(points=[[0, 0, 0], [1, 0, 0], [1, 1, 0]], part=([0, 0, math.nan], [0, 0, 0]))
+
+
+def test_a_part_programs_feeds_pace_the_field(repo, ur5):
+    """``Controller.compose(..., pace={"feeds": path})``: on the contour the tool centre point's
+    field velocity is the feed of the stretch it is on (the bracket's outline at F6000, its
+    relief at F1800) away from the changes of speed, and never faster than the feed."""
+    cone = ur5.with_tool([0.0, 0.0, 0.12], [0.0, 0.35, 0.0])
+    path = pvfc.CartesianPath(
+        gcode=repo / "scenarios" / "parts" / "bracket.nc", part=PART, tolerance=1e-5
+    )
+    q = path.joint_waypoints(cone, SEED, fixed_orientation=True)
+    contour = pvfc.WaypointCurve(q, 12.0 / len(q))
+    settings = pvfc.ControllerSettings(self_pacing=0.0, energy=0.0, gamma=1.0)
+    ctl = pvfc.Controller.compose(cone, contour, settings=settings, pace={"feeds": path})
+    taus = np.linspace(0.0, contour.period, 600, endpoint=False)
+    speed, tool = [], []
+    for tau in taus:
+        qk = contour.sample(float(tau))[0]
+        e = ctl.evaluate(qk, np.zeros(6), float(tau), 0.0, 1.0)
+        speed.append(np.linalg.norm(cone.jacobian(qk)[:3] @ e["field_velocity"][:6]))
+        tool.append(cone.tool_pose(qk)[:3, 3])
+    speed = np.array(speed)
+    along = path.closest(np.array(tool))["along"]
+    outline = (along > 0.03) & (along < 0.11)  # inside the first straight edge (0–140 mm)
+    relief = (along > 0.315) & (along < 0.372)  # inside the relief (307–380 mm)
+    assert outline.sum() > 20 and relief.sum() > 10
+    np.testing.assert_allclose(speed[outline], 0.1, rtol=0.01)
+    np.testing.assert_allclose(speed[relief], 0.03, rtol=0.05)
+    assert np.all(speed <= 0.1 * (1 + 1e-6))
+    # feeds take a CartesianPath with F words; tool_speed covers moves without F.
+    with pytest.raises(TypeError, match="feeds"):
+        pvfc.Controller.compose(cone, contour, pace={"feeds": 0.1})
+    circle = pvfc.CartesianPath(circle=([0.5, 0.0, 0.3], 0.1, [0.0, 0.0, 1.0]))
+    with pytest.raises(ValueError, match="not a part program with F"):
+        pvfc.Controller.compose(cone, contour, pace={"feeds": circle})

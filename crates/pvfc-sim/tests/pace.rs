@@ -110,3 +110,96 @@ fn a_pace_needs_a_speed_or_limits_and_energy_zero_needs_a_pace() {
     let e = ArmSystem::build(&s).unwrap_err().to_string();
     assert!(e.contains("pace.speed"), "{e}");
 }
+
+/// A part program's feeds are the pace (`scenarios/ur5_gcode.toml`: the bracket's outline at
+/// F6000, its relief at F1800, with a tilted cone as the TCP): on every stretch the tool holds
+/// the feed within 5 % (its median speed there), and it stays on the path (0.1 mm mean along
+/// the part's surface, 0.3 mm at most in 3-D). A program without F takes `controller.pace.speed`, and without
+/// either a move's speed is an error naming its line.
+#[test]
+fn a_part_programs_feeds_are_the_pace() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let mut s = Scenario::from_file(&dir.join("ur5_gcode.toml")).expect("the scenario");
+    s.baseline = None;
+    let system = ArmSystem::build(&s).expect("the system");
+    let t = simulate_chain_with(&s, &system, &mut |_| {}).expect("the run");
+    let speeds = pvfc_sim::trace::feed_speeds::feed_speeds(&s, &system.robot, &t)
+        .expect("the speeds")
+        .expect("a program with feeds");
+    assert_eq!(speeds.len(), 14, "{speeds:?}");
+    let asked: Vec<f64> = speeds.iter().map(|x| (x.asked * 1e3).round()).collect();
+    assert!(asked.contains(&30.0) && asked.contains(&100.0), "{asked:?}");
+    for x in &speeds {
+        assert!(x.error().abs() < 0.05, "{x:?}");
+    }
+    // On the path: 0.1 mm mean along the part's surface, 0.3 mm at most in 3-D (the 3-D mean
+    // is 0.11 mm: the offset normal to the part, ±0.13 mm, is the friction the compensation
+    // leaves).
+    let b = path_budget(&s, &system.robot, &t).unwrap().unwrap();
+    let surface = b.surface.expect("a planar path");
+    assert!(surface.mean < 1e-4, "{surface:?}");
+    assert!(b.spread.max < 3e-4, "{:?}", b.spread);
+
+    // The same program without feeds: the scenario's speed, or an error naming the line.
+    let text = std::fs::read_to_string(dir.join("parts/bracket.nc"))
+        .unwrap()
+        .replace(" F6000", "")
+        .replace(" F1800", "");
+    let tmp = std::env::temp_dir().join(format!("pvfc-feeds-{}", std::process::id()));
+    std::fs::create_dir_all(tmp.join("parts")).unwrap();
+    std::fs::write(tmp.join("parts/bracket.nc"), &text).unwrap();
+    // Feeds from line 15 on only; and a feed of zero on line 15.
+    std::fs::write(
+        tmp.join("parts/half.nc"),
+        text.replace("N120 G1 Y320", "N120 G1 Y320 F6000"),
+    )
+    .unwrap();
+    std::fs::write(
+        tmp.join("parts/zero.nc"),
+        text.replace("N120 G1 Y320", "N120 G1 Y320 F0"),
+    )
+    .unwrap();
+    s.base_dir = tmp.clone();
+    s.plant = Scenario::from_file(&dir.join("ur5_gcode.toml"))
+        .unwrap()
+        .plant;
+    if let pvfc_sim::scenario::RobotSpec::SerialChain(c) = &mut s.plant.robot {
+        c.urdf = dir.join(&c.urdf);
+    }
+    assert!(
+        s.drive_pace().unwrap().is_none(),
+        "no feed, no pace table: no pace"
+    );
+    s.controller.pace = Some(PaceSpec {
+        speed: Some(0.05),
+        ..PaceSpec::default()
+    });
+    assert_eq!(
+        s.drive_pace().unwrap().unwrap().speed,
+        Some(PathSpeed::Tool(0.05))
+    );
+    let pvfc_sim::model::contour::ContourSpec::Cartesian(c) = &mut s.contour else {
+        panic!("a Cartesian contour");
+    };
+    c.gcode = Some("parts/half.nc".into());
+    // The moves before line 15 take the scenario's speed; without one, the first is named.
+    let Some(PathSpeed::Feeds(f)) = s.drive_pace().unwrap().unwrap().speed else {
+        panic!("feeds");
+    };
+    let asked: Vec<f64> = f.stretches().map(|(_, _, v)| v).collect();
+    assert_eq!(asked[..8], [0.05; 8]);
+    assert_eq!(asked[8..], [0.1; 6]);
+    s.controller.pace = None;
+    let e = s.drive_pace().unwrap_err().to_string();
+    assert!(e.contains("line 7 has no feed"), "{e}");
+    let pvfc_sim::model::contour::ContourSpec::Cartesian(c) = &mut s.contour else {
+        panic!("a Cartesian contour");
+    };
+    c.gcode = Some("parts/zero.nc".into());
+    let e = s.drive_pace().unwrap_err().to_string();
+    assert!(
+        e.contains("line 15, column 14: F0: a feed must be > 0"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(tmp).ok();
+}

@@ -239,6 +239,42 @@ int main(int argc, char **argv) {
     double p2[3];
     CHECK(pvfc_robot_tool_pose(cone, seed, DOF, NULL, p2) == PVFC_OK);
     CHECK(p2[0] == p1[0] && p2[1] == p1[1] && p2[2] == p1[2]);
+    /* A part program on a part placed on the table, followed by the cone: its feeds are the
+       pace, so the energy level can be sized from them (energy = 0); the same program
+       without F has no pace to size it from. */
+    const char *program =
+        "gcode = \"scenarios/parts/bracket.nc\"\n"
+        "part = { xyz = [0.45, -0.15, 0.30], rpy = [0.0, 0.0, 0.1] }\n"
+        "seed = [0.0, -1.2, 1.4, -1.8, -1.57, 0.0]\nfixed_orientation = true\ntolerance = 1.0e-5\n";
+    pvfc_contour *part = NULL;
+    CHECK(pvfc_contour_cartesian_toml(program, NULL, 12.0, 0.0, &part) == PVFC_OK);
+    pvfc_settings paced = pvfc_settings_default();
+    paced.energy = 0.0;
+    pvfc_controller *deburr = NULL;
+    CHECK(pvfc_controller_new(cone, part, NULL, 0, &paced, &deburr) == PVFC_OK);
+    double t6[DOF], q6[DOF], v6[DOF] = {0};
+    memcpy(q6, seed, sizeof q6);
+    pvfc_diagnostics dd;
+    CHECK(pvfc_controller_step(deburr, q6, v6, DOF, 1e-3, t6, DOF, &dd) == PVFC_OK);
+    pvfc_controller_destroy(deburr);
+    pvfc_contour_destroy(part);
+    FILE *f = fopen("target/c/bracket_without_feeds.nc", "w");
+    CHECK(f != NULL);
+    if (f) {
+      fputs("G0 X0 Y0\nG1 X0.1\nG3 X0.1 Y0.1 R0.05\nG1 X0\nG1 Y0\n", f);
+      fclose(f);
+      pvfc_contour *bare = NULL;
+      CHECK(pvfc_contour_cartesian_toml(
+                "gcode = \"bracket_without_feeds.nc\"\n"
+                "part = { xyz = [0.45, -0.15, 0.30], rpy = [0.0, 0.0, 0.1] }\n"
+                "seed = [0.0, -1.2, 1.4, -1.8, -1.57, 0.0]\nfixed_orientation = true\n",
+                "target/c", 12.0, 0.0, &bare) == PVFC_OK);
+      deburr = NULL;
+      CHECK_ERROR(pvfc_controller_new(cone, bare, NULL, 0, &paced, &deburr),
+                  PVFC_ERROR_INVALID_ARGUMENT, "give a pace");
+      CHECK(deburr == NULL);
+      pvfc_contour_destroy(bare);
+    }
     /* NULL for both: back to the flange. */
     CHECK(pvfc_robot_set_tool(cone, NULL, NULL) == PVFC_OK);
     CHECK(pvfc_robot_tool_pose(cone, seed, DOF, NULL, p2) == PVFC_OK);

@@ -17,6 +17,8 @@
 use crate::error::{Result, SimError, WaypointProblem};
 use crate::model::arm::JointContourSpec;
 use crate::model::arm_field::{TaskFieldSpec, TaskOrientation};
+use crate::model::feeds::FeedProfile;
+use crate::model::gcode::PartProgram;
 use crate::model::path_orientation::CornerOrientations;
 pub use crate::model::pose::PoseSpec;
 use crate::model::robot::Robot;
@@ -194,6 +196,17 @@ impl CartesianSpec {
                 "the path's geometry overflows (its length or a point is not a finite number): coordinates, radii and axes of a tool path are metres, far below 1e150",
             )),
         }
+    }
+
+    /// The speed asked for along the path by a part program's feeds (`gcode` with F words),
+    /// in the base frame: each cutting move's F on its stretch, a move without F at
+    /// `fallback` (the scenario's `controller.pace.speed`); `None` for a path without feeds.
+    pub fn feeds(&self, base_dir: &Path, fallback: Option<f64>) -> Result<Option<FeedProfile>> {
+        let Some(f) = &self.gcode else {
+            return Ok(None);
+        };
+        let (program, _) = read_program(&base_dir.join(f))?;
+        FeedProfile::from_program(&program, self.path(base_dir)?, fallback)
     }
 
     fn path_unchecked(&self, base_dir: &Path) -> Result<ToolPath> {
@@ -678,6 +691,17 @@ impl CartesianSpec {
 
 /// The closed path of a part program's cutting moves (in the part's frame).
 fn part_program(file: &Path) -> Result<ToolPath> {
+    let (program, named) = read_program(file)?;
+    program.tool_path().map_err(named)
+}
+
+/// A part program read from `file`, and what names its errors by the file.
+fn read_program(
+    file: &Path,
+) -> Result<(
+    PartProgram,
+    impl Fn(crate::model::gcode::ProgramError) -> SimError + '_,
+)> {
     let text = std::fs::read_to_string(file).map_err(|e| SimError::Io {
         path: file.to_path_buf(),
         source: e,
@@ -688,10 +712,7 @@ fn part_program(file: &Path) -> Result<ToolPath> {
         column: e.column,
         message: e.message,
     };
-    crate::model::gcode::PartProgram::parse(&text)
-        .map_err(named)?
-        .tool_path()
-        .map_err(named)
+    Ok((PartProgram::parse(&text).map_err(named)?, named))
 }
 
 /// The circle or ellipse.

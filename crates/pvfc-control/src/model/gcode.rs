@@ -373,6 +373,9 @@ impl Words {
         if !number.is_finite() {
             return Err(lines.error(at, format!("{letter}: not a finite number")));
         }
+        if letter == 'F' && number <= 0.0 {
+            return Err(lines.error(at, format!("F{number}: a feed must be > 0")));
+        }
         let slot = match letter {
             'X' => &mut self.axes[0],
             'Y' => &mut self.axes[1],

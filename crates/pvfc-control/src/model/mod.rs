@@ -10,6 +10,7 @@ pub mod cartesian;
 pub mod contour;
 pub mod dispatch;
 pub mod evaluation;
+pub mod feeds;
 pub mod gcode;
 pub mod joint_contour;
 pub mod pace;

@@ -4,6 +4,7 @@
 //! stays at or below it.
 
 use crate::error::{Result, SimError};
+use crate::model::feeds::FeedProfile;
 use pvfc_core::contour::{Contour, VectorGroup};
 use pvfc_core::mechanics::MechanicalSystem;
 use pvfc_core::pace::{drive_limited_rates, DriveLimits, PaceProfile, PaceTable, Paced};
@@ -22,13 +23,16 @@ pub type PaceProfileTable = Option<PaceTable<f64, PACE_KNOTS>>;
 pub type FieldPacing = Paced<ExponentialPacing<f64>, PaceProfileTable>;
 
 /// The speed asked for along the contour, on the contour at energy level 1.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum PathSpeed {
     /// The tool's speed along its path (m/s): `|J_p(q) ξ_d| τ̇`, `J_p` the linear rows of the
     /// tool's Jacobian (a serial chain's).
     Tool(f64),
     /// The joints' speed (rad/s, m/s for prismatic joints): `|ξ_d| τ̇`.
     Joint(f64),
+    /// The tool's speed stretch by stretch (a part program's feeds): on the contour at `τ`,
+    /// that of the stretch nearest the tool's position.
+    Feeds(FeedProfile),
 }
 
 /// A controller's pace along its contour, as plain data: a speed asked for along the path
@@ -90,12 +94,14 @@ impl PaceSettings {
                 self.level
             )));
         }
-        let Some(speed) = self.speed else {
+        let Some(speed) = &self.speed else {
             return Ok(vec![self.level; PACE_GRID]);
         };
         let (v, name) = match speed {
-            PathSpeed::Tool(v) => (v, "the tool's speed"),
-            PathSpeed::Joint(v) => (v, "the joints' speed"),
+            PathSpeed::Tool(v) => (*v, "the tool's speed"),
+            PathSpeed::Joint(v) => (*v, "the joints' speed"),
+            // Each stretch's speed is checked where the profile is made.
+            PathSpeed::Feeds(_) => (1.0, "the feeds"),
         };
         if !(v.is_finite() && v > 0.0) {
             return Err(SimError::Setting(format!(
@@ -103,22 +109,31 @@ impl PaceSettings {
             )));
         }
         let chain = match speed {
-            PathSpeed::Tool(_) => Some(system.serial_chain().ok_or_else(|| {
-                SimError::Setting(
-                    "pace.speed: a tool speed needs a serial chain (a URDF arm)".into(),
-                )
-            })?),
+            PathSpeed::Tool(_) | PathSpeed::Feeds(_) => {
+                Some(system.serial_chain().ok_or_else(|| {
+                    SimError::Setting(
+                        "pace.speed: a tool speed needs a serial chain (a URDF arm)".into(),
+                    )
+                })?)
+            }
             PathSpeed::Joint(_) => None,
         };
         Ok((0..PACE_GRID)
             .map(|j| {
                 let c = contour.sample(j as f64 * period / PACE_GRID as f64);
+                let q = c.point.coordinates();
                 let per_tau = match chain {
                     Some(chain) => {
-                        let jac = chain.tool_jacobian_world(&c.point.coordinates());
+                        let jac = chain.tool_jacobian_world(&q);
                         (jac.fixed_rows::<3>(0) * c.velocity).norm()
                     }
                     None => c.velocity.norm(),
+                };
+                let v = match (speed, chain) {
+                    (PathSpeed::Feeds(f), Some(chain)) => {
+                        f.speed_at(&chain.tool_pose(&q).translation)
+                    }
+                    _ => v,
                 };
                 // Where the path stands still in τ, no rate is too fast for it.
                 if per_tau > 1e-12 {

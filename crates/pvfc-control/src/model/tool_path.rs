@@ -499,6 +499,12 @@ impl ToolPath {
             })
     }
 
+    /// The arc length (m) at the start of each piece (a line, an arc), then the path's length:
+    /// one more entry than there are pieces.
+    pub fn piece_starts(&self) -> &[f64] {
+        &self.starts
+    }
+
     /// The path's length (m).
     pub fn length(&self) -> f64 {
         self.starts[self.pieces.len()]

@@ -4,6 +4,7 @@
 use crate::contact::ContactSpec;
 use crate::error::{Result, SimError};
 use crate::model::arm::PassiveOptions;
+use crate::model::feeds::FeedProfile;
 use crate::model::pace::{PaceSettings, PathSpeed};
 use pvfc_core::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -151,20 +152,35 @@ impl PaceSpec {
         level: f64,
         tool: bool,
     ) -> Result<PaceSettings> {
+        self.settings_with_feeds(controller, level, tool, None)
+    }
+
+    /// As [`settings`](Self::settings), the speed asked for being a part program's `feeds`
+    /// when given (its moves without F at `speed`).
+    pub fn settings_with_feeds(
+        &self,
+        controller: &ControllerSpec,
+        level: f64,
+        tool: bool,
+        feeds: Option<FeedProfile>,
+    ) -> Result<PaceSettings> {
         let torque_limit = match (&self.torque_limit, &controller.passive) {
             (l, _) if !l.is_empty() => l.clone(),
             (_, Some(p)) => p.torque_limit.clone(),
             _ => Vec::new(),
         };
-        if torque_limit.is_empty() && self.speed.is_none() {
+        if torque_limit.is_empty() && self.speed.is_none() && feeds.is_none() {
             return Err(SimError::Setting(
                 "controller.pace: give a speed (controller.pace.speed) or torque limits (controller.pace.torque_limit or controller.passive.torque_limit)".into(),
             ));
         }
-        let speed = self.speed.map(|v| match tool {
-            true => PathSpeed::Tool(v),
-            false => PathSpeed::Joint(v),
-        });
+        let speed = match feeds {
+            Some(f) => Some(PathSpeed::Feeds(f)),
+            None => self.speed.map(|v| match tool {
+                true => PathSpeed::Tool(v),
+                false => PathSpeed::Joint(v),
+            }),
+        };
         Ok(PaceSettings {
             speed,
             torque_limit,
@@ -635,14 +651,24 @@ impl Scenario {
 
     /// The pace of `[controller.pace]`, if any, at [`pace_level`](Self::pace_level): the
     /// speed asked for is the tool's along a Cartesian path, the joints' along any other
-    /// contour.
+    /// contour. A part program's feeds (F) are the speed asked for along their stretches
+    /// (`controller.pace.speed` on moves without F), with `[controller.pace]`'s limits and
+    /// headroom, or its defaults when the table is left out.
     pub fn drive_pace(&self) -> Result<Option<PaceSettings>> {
         let tool = self.contour.cartesian().is_some();
-        self.controller
-            .pace
-            .as_ref()
-            .map(|p| p.settings(&self.controller, self.pace_level(), tool))
-            .transpose()
+        let pace = self.controller.pace.as_ref();
+        let feeds = match self.contour.cartesian() {
+            Some(c) => c.feeds(&self.base_dir, pace.and_then(|p| p.speed))?,
+            None => None,
+        };
+        match (pace, feeds) {
+            (None, None) => Ok(None),
+            (p, feeds) => p
+                .cloned()
+                .unwrap_or_default()
+                .settings_with_feeds(&self.controller, self.pace_level(), tool, feeds)
+                .map(Some),
+        }
     }
 
     /// The contour's period in `τ` ([`ContourSpec::period`]): a joint curve's, a Cartesian

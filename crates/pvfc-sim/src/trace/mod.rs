@@ -7,6 +7,7 @@
 //! list). A column added to the list appears in all of them.
 
 pub mod clearance;
+pub mod feed_speeds;
 pub mod metrics;
 pub mod path_budget;
 pub mod series;
