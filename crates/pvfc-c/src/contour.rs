@@ -405,8 +405,9 @@ pub unsafe extern "C" fn pvfc_contour_cartesian_circle(
 /// `[contour.cartesian]` table (points, circle, csv, gcode, part, orientations, rest,
 /// `[task]`, …; the user's manual lists them), a CSV file's or part program's name relative
 /// to `base_dir` (NULL: the working directory). A part program's feeds (F) are the pace of a
-/// controller made on it ([`pvfc_settings`]'s `pace_speed` on moves without F). Traced once every `period` of `τ` with adaptive sampling; with fixed
-/// `samples`, `spacing` is the `τ` between waypoints (0: `period / samples`).
+/// controller made on it (`pvfc_settings.pace_speed` on moves without F). Traced once every
+/// `period` of `τ` with adaptive sampling; with fixed `samples`, `spacing` is the `τ` between
+/// waypoints (0: `period / samples`).
 ///
 /// # Safety
 /// `toml` is a NUL-terminated string, `base_dir` NULL or one; `out` is writable.
