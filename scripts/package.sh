@@ -11,14 +11,20 @@ export CARGO_INCREMENTAL=0
 crates=(pvfc-core pvfc-workspace-hack pvfc-control pvfc-sim pvfc-c pvfc-cli)
 packages=()
 for c in "${crates[@]}"; do packages+=(-p "$c"); done
+version=$(cargo metadata --format-version 1 --no-deps \
+  | python3 -c "import json,sys; print(next(p['version'] for p in json.load(sys.stdin)['packages'] if p['name']=='pvfc-cli'))")
+# The verification extracts each packaged crate into cargo's registry folder and does not
+# extract again a name and version it finds there: a second run on one machine would verify
+# against the first run's sources. They are removed first.
+for c in "${crates[@]}"; do
+  rm -rf "${CARGO_HOME:-$HOME/.cargo}"/registry/src/*/"$c-$version"
+done
 cargo publish --locked --dry-run --allow-dirty "${packages[@]}"
 
 # The core's docs as docs.rs builds them ([package.metadata.docs.rs]: every feature).
 RUSTDOCFLAGS="-D warnings" cargo doc --locked --no-deps -p pvfc-core --all-features
 
 pkg="$PWD/target/package"
-version=$(cargo metadata --format-version 1 --no-deps \
-  | python3 -c "import json,sys; print(next(p['version'] for p in json.load(sys.stdin)['packages'] if p['name']=='pvfc-cli'))")
 patches=()
 for c in pvfc-core pvfc-workspace-hack pvfc-control pvfc-sim; do
   patches+=(--config "patch.crates-io.$c.path=\"$pkg/$c-$version\"")
