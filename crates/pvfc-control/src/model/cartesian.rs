@@ -189,13 +189,7 @@ impl CartesianSpec {
 
     /// The path's exact geometry (m, base frame).
     pub fn path(&self, base_dir: &Path) -> Result<ToolPath> {
-        let path = self.path_unchecked(base_dir)?;
-        match path.is_finite() {
-            true => Ok(path),
-            false => Err(bad(
-                "the path's geometry overflows (its length or a point is not a finite number): coordinates, radii and axes of a tool path are metres, far below 1e150",
-            )),
-        }
+        finite(self.path_unchecked(base_dir)?)
     }
 
     /// The speed asked for along the path by a part program's feeds (`gcode` with F words),
@@ -205,8 +199,18 @@ impl CartesianSpec {
         let Some(f) = &self.gcode else {
             return Ok(None);
         };
-        let (program, _) = read_program(&base_dir.join(f))?;
-        FeedProfile::from_program(&program, self.path(base_dir)?, fallback)
+        let file = base_dir.join(f);
+        let (program, named) = read_program(&file)?;
+        let path = finite(self.placed(program.tool_path().map_err(named)?)?)?;
+        FeedProfile::from_program(&program, path, fallback)
+    }
+
+    /// A path given in the part's frame, placed in the base frame by `part`.
+    fn placed(&self, in_part: ToolPath) -> Result<ToolPath> {
+        match &self.part {
+            Some(part) => Ok(in_part.transformed(&part.isometry("contour.cartesian.part")?)),
+            None => Ok(in_part),
+        }
     }
 
     fn path_unchecked(&self, base_dir: &Path) -> Result<ToolPath> {
@@ -230,10 +234,7 @@ impl CartesianSpec {
         } else {
             ToolPath::rounded_polygon(&corners(&self.points), self.corner_radius).map_err(bad)?
         };
-        match &self.part {
-            Some(part) => Ok(in_part.transformed(&part.isometry("contour.cartesian.part")?)),
-            None => Ok(in_part),
-        }
+        self.placed(in_part)
     }
 
     /// The task-space field's settings for `robot`, when the path has a
@@ -686,6 +687,16 @@ impl CartesianSpec {
             })
             .collect();
         CornerOrientations::new(path, &corners, &rotations).map_err(bad)
+    }
+}
+
+/// `path`, or an error when its geometry overflows.
+fn finite(path: ToolPath) -> Result<ToolPath> {
+    match path.is_finite() {
+        true => Ok(path),
+        false => Err(bad(
+            "the path's geometry overflows (its length or a point is not a finite number): coordinates, radii and axes of a tool path are metres, far below 1e150",
+        )),
     }
 }
 

@@ -72,11 +72,17 @@ impl FeedProfile {
             .map(|((a, b), v)| (a, *b, *v))
     }
 
+    /// The index of the stretch at arc length `along` (m; wrapped into one pass).
+    pub fn stretch_at(&self, along: f64) -> usize {
+        let s = along.rem_euclid(self.path.length());
+        self.ends
+            .partition_point(|e| *e <= s)
+            .min(self.speeds.len() - 1)
+    }
+
     /// The speed asked for at arc length `along` (m; wrapped into one pass).
     pub fn speed_along(&self, along: f64) -> f64 {
-        let s = along.rem_euclid(self.path.length());
-        let i = self.ends.partition_point(|e| *e <= s);
-        self.speeds[i.min(self.speeds.len() - 1)]
+        self.speeds[self.stretch_at(along)]
     }
 
     /// The speed asked for where the tool is at `p`: that of the stretch of the path's point

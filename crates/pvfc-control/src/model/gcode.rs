@@ -106,7 +106,7 @@ impl PartProgram {
                 words.argument(w.letter, &w.value, w.span, source, &lines)?;
             }
             // Modal settings first (a block may set the units and move).
-            state.apply(&words)?;
+            state.apply(&words);
             let Some(motion) =
                 words
                     .motion
@@ -431,7 +431,7 @@ impl Default for Modal {
 }
 
 impl Modal {
-    fn apply(&mut self, w: &Words) -> Result<(), ProgramError> {
+    fn apply(&mut self, w: &Words) {
         if let Some(p) = w.plane {
             self.plane = p;
         }
@@ -445,10 +445,9 @@ impl Modal {
             self.incremental_centres = i;
         }
         if let Some(f) = w.feed {
-            // Units per minute to m/s; a zero or negative feed is refused where it is used.
+            // Units per minute to m/s (F > 0 is checked where the word is read).
             self.feed = Some(f * self.unit / 60.0);
         }
-        Ok(())
     }
 
     fn target(&self, w: &Words) -> Vector3<f64> {

@@ -97,16 +97,18 @@ impl PaceSettings {
         let Some(speed) = &self.speed else {
             return Ok(vec![self.level; PACE_GRID]);
         };
-        let (v, name) = match speed {
-            PathSpeed::Tool(v) => (*v, "the tool's speed"),
-            PathSpeed::Joint(v) => (*v, "the joints' speed"),
-            // Each stretch's speed is checked where the profile is made.
-            PathSpeed::Feeds(_) => (1.0, "the feeds"),
+        // A constant speed is checked here; each feed where the feeds were read.
+        let constant = match speed {
+            PathSpeed::Tool(v) => Some((*v, "the tool's speed")),
+            PathSpeed::Joint(v) => Some((*v, "the joints' speed")),
+            PathSpeed::Feeds(_) => None,
         };
-        if !(v.is_finite() && v > 0.0) {
-            return Err(SimError::Setting(format!(
-                "pace.speed = {v}: {name} must be finite and > 0"
-            )));
+        if let Some((v, name)) = constant {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(SimError::Setting(format!(
+                    "pace.speed = {v}: {name} must be finite and > 0"
+                )));
+            }
         }
         let chain = match speed {
             PathSpeed::Tool(_) | PathSpeed::Feeds(_) => {
@@ -130,10 +132,12 @@ impl PaceSettings {
                     None => c.velocity.norm(),
                 };
                 let v = match (speed, chain) {
+                    (PathSpeed::Tool(v) | PathSpeed::Joint(v), _) => *v,
                     (PathSpeed::Feeds(f), Some(chain)) => {
                         f.speed_at(&chain.tool_pose(&q).translation)
                     }
-                    _ => v,
+                    // Not reached: feeds have a chain (checked above).
+                    (PathSpeed::Feeds(_), None) => 0.0,
                 };
                 // Where the path stands still in τ, no rate is too fast for it.
                 if per_tau > 1e-12 {

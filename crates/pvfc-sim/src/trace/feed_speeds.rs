@@ -55,10 +55,7 @@ pub fn feed_speeds(s: &Scenario, robot: &Robot, t: &Trace) -> Result<Option<Vec<
         let ds = w[1] - w[0];
         let ds = ds - length * (ds / length).round();
         let dt = t.t[range.start + k + 1] - t.t[range.start + k];
-        let mid = (w[0] + ds / 2.0).rem_euclid(length);
-        if let Some(i) = stretches.iter().position(|(a, b, _)| *a <= mid && mid < *b) {
-            samples[i].push((ds, dt));
-        }
+        samples[feeds.stretch_at(w[0] + ds / 2.0)].push((ds, dt));
     }
     Ok(Some(
         stretches
