@@ -41,6 +41,7 @@ fn settings(waypoints: Vec<Vec<f64>>, n: usize) -> ArmSettings {
         energy: 40.0,
         flywheel_inertia: 1.0,
         gamma: 1.0,
+        coupling_rate: None,
         gravity_compensation: true,
         friction_compensation: None,
         friction_band: 0.0,

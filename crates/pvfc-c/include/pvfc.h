@@ -130,6 +130,10 @@ typedef struct pvfc_settings {
   size_t pace_torque_limit_len;
   // The share of each limit the motion along the contour may use, in (0, 1].
   double pace_headroom;
+  // The rate `γβĒ` (1/s) at which the velocity error converges (Remark 1), in place of
+  // `gamma` (0: `gamma` is used): `γ = coupling_rate / (βĒ)` with `β` the nominal speed `r`
+  // (or 1) and `Ē` the energy level, also when it is sized from the pace (`energy = 0`).
+  double coupling_rate;
 } pvfc_settings;
 
 // The numbers of one control step besides the torque.
@@ -338,7 +342,7 @@ void pvfc_contour_destroy(struct pvfc_contour *contour);
 // The default settings: no self-pacing, `Ē = 10`, `M_F = 1`, `γ = 1`, gravity
 // compensation on, no friction compensation, no nominal-speed control, `τ₀ = 0`, the
 // contour's own pace (no speed asked for, no torque limits; headroom 0.8 if limits are
-// given).
+// given), `γ` given directly (no coupling rate).
 struct pvfc_settings pvfc_settings_default(void);
 
 // Makes a controller of `robot` that follows `contour` (a Cartesian path's inverse

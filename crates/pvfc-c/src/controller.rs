@@ -49,12 +49,16 @@ pub struct pvfc_settings {
     pub pace_torque_limit_len: usize,
     /// The share of each limit the motion along the contour may use, in (0, 1].
     pub pace_headroom: f64,
+    /// The rate `γβĒ` (1/s) at which the velocity error converges (Remark 1), in place of
+    /// `gamma` (0: `gamma` is used): `γ = coupling_rate / (βĒ)` with `β` the nominal speed `r`
+    /// (or 1) and `Ē` the energy level, also when it is sized from the pace (`energy = 0`).
+    pub coupling_rate: f64,
 }
 
 /// The default settings: no self-pacing, `Ē = 10`, `M_F = 1`, `γ = 1`, gravity
 /// compensation on, no friction compensation, no nominal-speed control, `τ₀ = 0`, the
 /// contour's own pace (no speed asked for, no torque limits; headroom 0.8 if limits are
-/// given).
+/// given), `γ` given directly (no coupling rate).
 #[no_mangle]
 pub extern "C" fn pvfc_settings_default() -> pvfc_settings {
     pvfc_settings {
@@ -74,6 +78,7 @@ pub extern "C" fn pvfc_settings_default() -> pvfc_settings {
         pace_torque_limit: std::ptr::null(),
         pace_torque_limit_len: 0,
         pace_headroom: 0.8,
+        coupling_rate: 0.0,
     }
 }
 
@@ -179,6 +184,7 @@ pub unsafe extern "C" fn pvfc_controller_new(
             energy: s.energy,
             flywheel_inertia: s.flywheel_inertia,
             gamma: s.gamma,
+            coupling_rate: (s.coupling_rate != 0.0).then_some(s.coupling_rate),
             gravity_compensation: s.gravity_compensation,
             friction_compensation: friction,
             friction_band: s.friction_band,

@@ -379,6 +379,7 @@ fn agree_with(
         energy: s.energy,
         flywheel_inertia: s.flywheel_inertia,
         gamma: s.gamma,
+        coupling_rate: (s.coupling_rate != 0.0).then_some(s.coupling_rate),
         gravity_compensation: s.gravity_compensation,
         friction_compensation: None,
         friction_band: 0.0,

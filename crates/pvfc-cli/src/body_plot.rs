@@ -2,7 +2,7 @@
 //! the energy audit, the body rates, and the path of the body's x axis on the unit sphere against the
 //! desired attitude's.
 
-use crate::canvas::{figure, panel, Series};
+use crate::canvas::{figure, panel, Series, Style};
 use pvfc_core::contour::Contour;
 use pvfc_core::lie::{LieGroup, So3};
 use pvfc_sim::error::Result;
@@ -18,7 +18,7 @@ pub fn body_figure(s: &Scenario, t: &Trace, path: &Path) -> Result<()> {
     let series = |label: &str, f: &dyn Fn(usize) -> f64| Series {
         label: label.into(),
         points: samples.iter().map(|&i| (t.t[i], f(i))).collect(),
-        reference: false,
+        style: Style::Line,
     };
     let angle = attitude_errors(t, &contour);
     // The work of the environment (a disturbance torque) is counted when the run has it.
@@ -51,12 +51,12 @@ pub fn body_figure(s: &Scenario, t: &Trace, path: &Path) -> Result<()> {
         Series {
             label: "x axis of R_d(τ)".into(),
             points: desired.iter().map(|p| (p.0, p.1)).collect(),
-            reference: true,
+            style: Style::Reference,
         },
         Series {
             label: "x axis of the body".into(),
             points: body.iter().map(|p| (p.0, p.1)).collect(),
-            reference: false,
+            style: Style::Line,
         },
     ];
     let title = format!("{}: attitude error", s.name);

@@ -29,14 +29,26 @@ const COLORS: [RGBColor; 8] = [
     RGBColor(188, 189, 34),
 ];
 
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Style {
+    /// A curve through the points in order, in the next colour.
+    Line,
+    /// Dashed grey, a reference (the desired contour).
+    Reference,
+    /// A marker at each point and no line: one marker per run, for points whose order means
+    /// nothing (a run's speed against its accuracy).
+    Markers,
+}
+
 /// One curve of a panel.
 pub struct Series {
     /// Legend label.
     pub label: String,
     /// The points.
     pub points: Vec<(f64, f64)>,
-    /// Drawn dashed-grey as a reference (the desired contour).
-    pub reference: bool,
+    /// How it is drawn.
+    pub style: Style,
 }
 
 fn bounds(series: &[Series], log_y: bool) -> ((f64, f64), (f64, f64)) {
@@ -130,26 +142,38 @@ pub fn panel(
                     .iter()
                     .cloned()
                     .filter(|(x, y)| x.is_finite() && y.is_finite() && (!log_y || *y > 0.0));
-                if s.reference {
-                    let style = ShapeStyle::from(&RGBColor(120, 120, 120)).stroke_width(1);
-                    let drawn = chart
-                        .draw_series(DashedLineSeries::new(pts, 6, 4, style))
-                        .map_err(|e| err(path, e))?;
-                    if !s.label.is_empty() {
-                        drawn.label(s.label.clone()).legend(|(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 18, y)], RGBColor(120, 120, 120))
-                        });
+                match s.style {
+                    Style::Reference => {
+                        let style = ShapeStyle::from(&RGBColor(120, 120, 120)).stroke_width(1);
+                        let drawn = chart
+                            .draw_series(DashedLineSeries::new(pts, 6, 4, style))
+                            .map_err(|e| err(path, e))?;
+                        if !s.label.is_empty() {
+                            drawn.label(s.label.clone()).legend(|(x, y)| {
+                                PathElement::new(vec![(x, y), (x + 18, y)], RGBColor(120, 120, 120))
+                            });
+                        }
                     }
-                } else {
-                    let c = COLORS[k % COLORS.len()];
-                    k += 1;
-                    chart
-                        .draw_series(LineSeries::new(pts, c.stroke_width(2)))
-                        .map_err(|e| err(path, e))?
-                        .label(s.label.clone())
-                        .legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
-                        });
+                    Style::Line => {
+                        let c = COLORS[k % COLORS.len()];
+                        k += 1;
+                        chart
+                            .draw_series(LineSeries::new(pts, c.stroke_width(2)))
+                            .map_err(|e| err(path, e))?
+                            .label(s.label.clone())
+                            .legend(move |(x, y)| {
+                                PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
+                            });
+                    }
+                    Style::Markers => {
+                        let c = COLORS[k % COLORS.len()];
+                        k += 1;
+                        chart
+                            .draw_series(pts.map(|p| Circle::new(p, 4, c.filled())))
+                            .map_err(|e| err(path, e))?
+                            .label(s.label.clone())
+                            .legend(move |(x, y)| Circle::new((x + 9, y), 4, c.filled()));
+                    }
                 }
             }
             if series.len() > 1 {

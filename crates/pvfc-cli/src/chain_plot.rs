@@ -1,7 +1,7 @@
 //! The figure of a URDF arm's run: joint errors, `U`, `τ̇`, `κ_a`, and the tool's path in 3-D
 //! projected on two planes, against the desired contour's.
 
-use crate::canvas::{figure, panel, Series};
+use crate::canvas::{figure, panel, Series, Style};
 use pvfc_sim::error::Result;
 use pvfc_sim::scenario::ArmSystem;
 use pvfc_sim::scenario::Scenario;
@@ -17,7 +17,7 @@ fn thinned(t: &Trace, label: &str, f: &dyn Fn(usize) -> f64) -> Series {
             .step_by(every)
             .map(|i| (t.t[i], f(i)))
             .collect(),
-        reference: false,
+        style: Style::Line,
     }
 }
 
@@ -39,7 +39,7 @@ pub fn chain_figure(
     let series = |label: String, f: &dyn Fn(usize) -> f64| Series {
         label,
         points: samples.iter().map(|&i| (t.t[i], f(i))).collect(),
-        reference: false,
+        style: Style::Line,
     };
     let dof = t.q.dof();
     let desired: Vec<Vec<f64>> = samples
@@ -54,7 +54,7 @@ pub fn chain_figure(
                 .zip(&desired)
                 .map(|(&i, xd)| (t.t[i], t.q[i][j] - xd[j]))
                 .collect(),
-            reference: false,
+            style: Style::Line,
         })
         .collect();
     // The tool's path, and the desired contour's image under forward kinematics.
@@ -84,19 +84,19 @@ pub fn chain_figure(
         let mut v = vec![Series {
             label: "x_d(τ)".into(),
             points: reference.iter().map(|p| (p[a], p[b])).collect(),
-            reference: true,
+            style: Style::Reference,
         }];
         if !path_points.is_empty() {
             v.push(Series {
                 label: "Cartesian path".into(),
                 points: path_points.iter().map(|p| (p[a], p[b])).collect(),
-                reference: true,
+                style: Style::Reference,
             });
         }
         v.push(Series {
             label: label.into(),
             points: actual.iter().map(|p| (p[a], p[b])).collect(),
-            reference: false,
+            style: Style::Line,
         });
         v
     };
@@ -205,7 +205,7 @@ pub fn chain_figure(
             &[Series {
                 label: "distance".into(),
                 points: distance.clone().unwrap_or_default(),
-                reference: false,
+                style: Style::Line,
             }],
             true,
         ),

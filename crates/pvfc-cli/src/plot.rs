@@ -1,10 +1,10 @@
 //! PNG figures laid out like the paper's Figs. 1 and 6–10 (plotters, bundled DejaVu font).
 
-use crate::canvas::{figure, panel, Series};
+use crate::canvas::{figure, panel, Series, Style};
 use crate::runs::Runs;
 use pvfc_sim::contact::{ObstacleSpec, PlanarArm, ShapeSpec};
 use pvfc_sim::error::{Result, SimError};
-use pvfc_sim::scenario::preset_id::PresetId;
+use pvfc_sim::scenario::preset_id::{Fig1Contour, PresetId};
 use pvfc_sim::scenario::{Mode, RobotSpec};
 use pvfc_sim::trace::metrics::last_pass;
 use pvfc_sim::trace::{Trace, TIMED_SUFFIX};
@@ -29,7 +29,7 @@ fn desired(runs: &Runs, id: PresetId) -> Result<Series> {
                 (x[0], x[1])
             })
             .collect(),
-        reference: true,
+        style: Style::Reference,
     })
 }
 
@@ -54,7 +54,7 @@ fn pass_figure(runs: &Runs, path: &Path, title: &str, ids: &[(PresetId, String)]
         traced.push(Series {
             label: label.clone(),
             points: path_of(t, r.clone()),
-            reference: false,
+            style: Style::Line,
         });
         u.push(Series {
             label: label.clone(),
@@ -62,12 +62,12 @@ fn pass_figure(runs: &Runs, path: &Path, title: &str, ids: &[(PresetId, String)]
                 .clone()
                 .map(|i| (t.tau[i] - tau0, t.potential[i].max(1e-8)))
                 .collect(),
-            reference: false,
+            style: Style::Line,
         });
         tdot.push(Series {
             label: label.clone(),
             points: r.map(|i| (t.tau[i] - tau0, t.tau_dot[i])).collect(),
-            reference: false,
+            style: Style::Line,
         });
     }
     figure(path, 3, |i, a| match i {
@@ -113,7 +113,7 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
         Series {
             label: "traced".into(),
             points: path_of(f6, 0..f6.len()),
-            reference: false,
+            style: Style::Line,
         },
     ];
     figure(&p, 3, |i, a| match i {
@@ -140,7 +140,7 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
                     .zip(&f6.potential)
                     .map(|(t, u)| (*t, u.max(1e-8)))
                     .collect(),
-                reference: false,
+                style: Style::Line,
             }],
             true,
         ),
@@ -158,7 +158,7 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
                     .cloned()
                     .zip(f6.energy.iter().cloned())
                     .collect(),
-                reference: false,
+                style: Style::Line,
             }],
             false,
         ),
@@ -173,7 +173,7 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
         traced.push(Series {
             label: l.into(),
             points: path_of(t, 0..end),
-            reference: false,
+            style: Style::Line,
         });
     }
     joint_space_figure(&p, "Fig. 7: approach from (0, 0), first 4 s", &traced)?;
@@ -243,12 +243,12 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
         Series {
             label: "PVFC".into(),
             points: path_of(pv, from(pv)..pv.len()),
-            reference: false,
+            style: Style::Line,
         },
         Series {
             label: "timed trajectory (computed torque + PD)".into(),
             points: path_of(tm, from(tm)..tm.len()),
-            reference: false,
+            style: Style::Line,
         },
     ];
     joint_space_figure(
@@ -257,6 +257,44 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
         &traced,
     )?;
     files.push(p);
+
+    // Fig. 1 as the paper draws it: on drives that saturate, the circle each controller
+    // traces over its last 6 s (PVFC at the pace its drives allow, the trackers at r = 1.5).
+    let id = PresetId::Fig1Saturated {
+        contour: Fig1Contour::Circle,
+        speed: 150,
+    };
+    if let Ok((s, pv)) = runs.run(id) {
+        let p = dir.join("fig1_radial_reduction.png");
+        let last = |t: &pvfc_sim::trace::Trace| {
+            let from = t.t.iter().position(|&x| x >= s.duration - 6.0).unwrap_or(0);
+            path_of(t, from..t.len())
+        };
+        let traced = vec![
+            desired(runs, id)?,
+            Series {
+                label: "PVFC (drive-limited pace)".into(),
+                points: last(pv),
+                style: Style::Line,
+            },
+            Series {
+                label: "timed tracker (computed torque + PD)".into(),
+                points: last(runs.timed(id)?),
+                style: Style::Line,
+            },
+            Series {
+                label: "speed-scaling tracker".into(),
+                points: last(&runs.named(&id.scaled_name())?.1),
+                style: Style::Line,
+            },
+        ];
+        joint_space_figure(
+            &p,
+            "Fig. 1 on drives limited to 15 / 5 N·m: a circle demanded at r = 1.5 (last 6 s)",
+            &traced,
+        )?;
+        files.push(p);
+    }
 
     let p = dir.join("energy_sampled_vs_continuous.png");
     let series: Vec<Series> = [
@@ -275,7 +313,7 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
                 .zip(&t.energy)
                 .map(|(x, e)| (*x, (e - e0) / e0))
                 .collect(),
-            reference: false,
+            style: Style::Line,
         })
     })
     .collect::<Result<_>>()?;
@@ -420,7 +458,7 @@ pub fn contact_figure(runs: &Runs, name: &str, p: &Path) -> Result<()> {
                 (tip.x, tip.y)
             })
             .collect(),
-        reference: true,
+        style: Style::Reference,
     }];
     let end = t.t.last().copied().unwrap_or(0.0);
     for (k, o) in spec.obstacles.iter().enumerate() {
@@ -431,13 +469,13 @@ pub fn contact_figure(runs: &Runs, name: &str, p: &Path) -> Result<()> {
                 String::new()
             },
             points: outline(o, 0.0),
-            reference: true,
+            style: Style::Reference,
         });
         if !o.motion.is_empty() {
             paths.push(Series {
                 label: String::new(),
                 points: outline(o, end),
-                reference: true,
+                style: Style::Reference,
             });
         }
     }
@@ -452,7 +490,7 @@ pub fn contact_figure(runs: &Runs, name: &str, p: &Path) -> Result<()> {
         paths.push(Series {
             label: (*label).into(),
             points: c.tool.iter().map(|x| (x[0], x[1])).collect(),
-            reference: false,
+            style: Style::Line,
         });
         force.push(Series {
             label: (*label).into(),
@@ -462,7 +500,7 @@ pub fn contact_figure(runs: &Runs, name: &str, p: &Path) -> Result<()> {
                 .zip(&c.normal_force)
                 .map(|(a, b)| (*a, *b))
                 .collect(),
-            reference: false,
+            style: Style::Line,
         });
         let e0 = tr.energy[0];
         let scale = if e0 > 0.0 {
@@ -478,7 +516,7 @@ pub fn contact_figure(runs: &Runs, name: &str, p: &Path) -> Result<()> {
                 .zip(c.audit_residual(&tr.energy))
                 .map(|(a, r)| (*a, (r.abs() / scale).max(1e-16)))
                 .collect(),
-            reference: false,
+            style: Style::Line,
         });
         energy.push(Series {
             label: format!("energy pumped into the contact ({label})"),
@@ -488,7 +526,7 @@ pub fn contact_figure(runs: &Runs, name: &str, p: &Path) -> Result<()> {
                 .zip(&c.work_contact)
                 .map(|(a, w)| (*a, -w))
                 .collect(),
-            reference: false,
+            style: Style::Line,
         });
     }
     // PVFC's own energy after the per-run curves, so that every panel colours PVFC and the
@@ -498,7 +536,7 @@ pub fn contact_figure(runs: &Runs, name: &str, p: &Path) -> Result<()> {
         energy.push(Series {
             label: "κ_a (PVFC)".into(),
             points: t.t.iter().zip(&t.energy).map(|(a, b)| (*a, *b)).collect(),
-            reference: false,
+            style: Style::Line,
         });
         energy.push(Series {
             label: "κ_a(0) + W_add-ons: what PVFC may give".into(),
@@ -508,7 +546,7 @@ pub fn contact_figure(runs: &Runs, name: &str, p: &Path) -> Result<()> {
                 .zip(&c.work_controller)
                 .map(|(a, w)| (*a, e0 + w))
                 .collect(),
-            reference: true,
+            style: Style::Reference,
         });
     }
     figure(p, 4, |i, a| match i {

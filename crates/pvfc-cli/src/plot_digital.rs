@@ -3,7 +3,7 @@
 //! at the wall, the push and the obstacle: the audit residual (the energy the controller
 //! created or destroyed) and the passivity margin against time.
 
-use crate::canvas::{figure, panel, Series};
+use crate::canvas::{figure, panel, Series, Style};
 use crate::runs::Runs;
 use pvfc_sim::error::Result;
 use pvfc_sim::scenario::preset_id::{Digital, DigitalCase, PresetId};
@@ -73,7 +73,7 @@ pub fn digital_figure(runs: &Runs, dir: &Path) -> Result<PathBuf> {
                 series.push(Series {
                     label: label(rate, kind),
                     points: residual(t),
-                    reference: false,
+                    style: Style::Line,
                 });
             }
         }
@@ -86,7 +86,7 @@ pub fn digital_figure(runs: &Runs, dir: &Path) -> Result<PathBuf> {
             margins.push(Series {
                 label: label(rate, kind),
                 points: margin(t),
-                reference: false,
+                style: Style::Line,
             });
         }
     }

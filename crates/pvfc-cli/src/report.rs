@@ -94,7 +94,7 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
         u_tail < 1e-6 && pace_err < 1e-3,
     );
     let (sc, _) = r.run(PresetId::Energy(Mode::Continuous))?;
-    let convergence = velocity_field_convergence(cont, sc.controller.gamma, sc.controller.energy)
+    let convergence = velocity_field_convergence(cont, sc.coupling_gain()?, sc.controller.energy)
         .ok_or_else(|| {
         SimError::Setting("energy_continuous: W_β never nears the field".into())
     })?;

@@ -4,7 +4,7 @@
 //! [`robustness`](pvfc_sim::scenario::presets::robustness) at every `γĒ` of
 //! [`ROBUSTNESS_GAINS`]; this module gives their claim and their figure.
 
-use crate::canvas::{figure, panel, Series};
+use crate::canvas::{figure, panel, Series, Style};
 use crate::runs::Runs;
 use pvfc_sim::error::{Result, SimError};
 use pvfc_sim::scenario::preset_id::{PresetId, ROBUSTNESS_GAINS};
@@ -106,7 +106,7 @@ pub fn figure_robustness(r: &Runs, dir: &Path) -> Result<PathBuf> {
         Series {
             label: "max ‖e_β‖ over the last 10 s".into(),
             points: runs.iter().map(|d| (d.gamma_energy, d.bound())).collect(),
-            reference: false,
+            style: Style::Line,
         },
         Series {
             label: "∝ 1/(γĒ)".into(),
@@ -119,7 +119,7 @@ pub fn figure_robustness(r: &Runs, dir: &Path) -> Result<PathBuf> {
                     )
                 })
                 .collect(),
-            reference: true,
+            style: Style::Reference,
         },
     ];
     let mut over_time = Vec::new();
@@ -134,7 +134,7 @@ pub fn figure_robustness(r: &Runs, dir: &Path) -> Result<PathBuf> {
                 .step_by(10)
                 .map(|(t, w)| (*t, velocity_field_error(*w)))
                 .collect(),
-            reference: false,
+            style: Style::Line,
         });
     }
     figure(&p, 2, |i, a| {

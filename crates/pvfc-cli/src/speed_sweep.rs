@@ -3,7 +3,7 @@
 //! run, the mean speed it made along the contour and its distance to the contour; the claim
 //! `fig1.saturated` and the figure `fig1_saturated.png` (speed against accuracy).
 
-use crate::canvas::{figure, panel, Series};
+use crate::canvas::{figure, panel, Series, Style};
 use crate::runs::Runs;
 use pvfc_core::prelude::Scara;
 use pvfc_sim::error::Result;
@@ -351,22 +351,22 @@ pub fn figure_saturated(r: &Runs, dir: &Path) -> Result<PathBuf> {
     let series = |label: &str, v: &[SpeedPoint]| Series {
         label: label.into(),
         points: v.iter().map(|x| (x.speed, x.error.0)).collect(),
-        reference: false,
+        style: Style::Markers,
     };
     let demanded = |label: &str, v: &[SpeedPoint]| Series {
         label: label.into(),
         points: v.iter().map(|x| (x.demanded, x.tau_rate)).collect(),
-        reference: false,
+        style: Style::Line,
     };
     let mm = |label: &str, v: &[SpeedPoint]| Series {
         label: label.into(),
         points: v.iter().map(|x| (x.speed * 1e3, x.error.0 * 1e3)).collect(),
-        reference: false,
+        style: Style::Markers,
     };
     let by_demand = |label: &str, v: &[SpeedPoint]| Series {
         label: label.into(),
         points: v.iter().map(|x| (x.demanded, x.error.0 * 1e3)).collect(),
-        reference: false,
+        style: Style::Markers,
     };
     let scara = |a: &crate::canvas::Area<'_>, title: &str, w: &Sweep| {
         panel(
@@ -442,7 +442,7 @@ pub fn figure_saturated(r: &Runs, dir: &Path) -> Result<PathBuf> {
                 Series {
                     label: "demanded".into(),
                     points: vec![(0.0, 0.0), (4.0, 4.0)],
-                    reference: true,
+                    style: Style::Reference,
                 },
             ],
             false,

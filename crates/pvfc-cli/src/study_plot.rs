@@ -1,7 +1,7 @@
 //! A study's figures, one per metric: lines against the axis of a one-axis grid, a heat map
 //! over a two-axis grid, a histogram over a random study's runs.
 
-use crate::canvas::{figure, heat_map, histogram, panel, Series};
+use crate::canvas::{figure, heat_map, histogram, panel, Series, Style};
 use pvfc_sim::error::{Result, SimError};
 use pvfc_sim::study::runner::StudyRow;
 use pvfc_sim::study::spec::StudySpec;
@@ -54,7 +54,7 @@ pub fn study_figures(spec: &StudySpec, rows: &[StudyRow], dir: &Path) -> Result<
             let series = [Series {
                 label: metric.name.into(),
                 points,
-                reference: false,
+                style: Style::Line,
             }];
             figure(&path, 1, |_, a| {
                 panel(a, &path, &title, &keys[0], &label, &series, false)

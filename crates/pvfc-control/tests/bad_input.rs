@@ -198,8 +198,12 @@ fn settings_beyond_a_double_are_refused_where_the_controller_is_built() {
     let robot = scara();
     ArmController::new(&robot, &settings()).expect("the good settings");
     type Edit = fn(&mut ArmSettings);
-    let edits: [(&str, Edit); 8] = [
+    let edits: [(&str, Edit); 12] = [
         ("tau0", |s| s.tau0 = f64::NAN),
+        ("coupling_rate", |s| s.coupling_rate = Some(f64::NAN)),
+        ("coupling_rate", |s| s.coupling_rate = Some(0.0)),
+        ("coupling_rate", |s| s.coupling_rate = Some(-400.0)),
+        ("coupling_rate", |s| s.coupling_rate = Some(1e308)),
         ("tau0", |s| s.tau0 = f64::INFINITY),
         ("energy", |s| s.energy = 1e308),
         ("flywheel_inertia", |s| s.flywheel_inertia = 1e-308),

@@ -191,7 +191,7 @@ impl Controller {
     /// joints, quadratic on prismatic ones, weights `h`), self-pacing, the flywheel and the
     /// add-ons (gravity and friction compensation, nominal speed). The keyword arguments
     /// after `h` are `pvfc.ControllerSettings`'s (`self_pacing`, `energy`,
-    /// `flywheel_inertia`, `gamma`, `gravity_compensation`, `friction_compensation`,
+    /// `flywheel_inertia`, `gamma`, `coupling_rate`, `gravity_compensation`, `friction_compensation`,
     /// `friction_band`, `nominal_speed`, `tau0`).
     #[staticmethod]
     #[pyo3(signature = (robot, waypoints, spacing, *, h=None, **settings))]

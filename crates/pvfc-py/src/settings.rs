@@ -7,7 +7,9 @@ use pvfc_sim::model::arm::{ArmSettings, JointContourSpec};
 use pyo3::prelude::*;
 
 /// The settings of a PVFC controller: self-pacing `R` (eq. 21), the energy level `Ē` and the
-/// flywheel's inertia `M_F` (eq. 6), the coupling gain `γ` (eq. 7), and the add-ons: gravity
+/// flywheel's inertia `M_F` (eq. 6), the coupling gain `γ` (eq. 7) or the coupling rate `γβĒ`
+/// (1/s, Remark 1: `γ = coupling_rate / (βĒ)` with `β` the nominal speed `r` or 1, also when
+/// `Ē` is sized from the pace with `energy=0`), and the add-ons: gravity
 /// compensation, friction compensation (eq. 35, one Coulomb level per joint, with a velocity
 /// band), nominal speed `(c, r)` (eq. 36), and the contour parameter to start at. Checked when
 /// composed with a robot.
@@ -22,6 +24,8 @@ pub(crate) struct ControllerSettings {
     pub(crate) flywheel_inertia: f64,
     #[pyo3(get)]
     pub(crate) gamma: f64,
+    #[pyo3(get)]
+    pub(crate) coupling_rate: Option<f64>,
     #[pyo3(get)]
     pub(crate) gravity_compensation: bool,
     pub(crate) friction_compensation: Option<Vec<f64>>,
@@ -44,6 +48,7 @@ impl ControllerSettings {
             energy: self.energy,
             flywheel_inertia: self.flywheel_inertia,
             gamma: self.gamma,
+            coupling_rate: self.coupling_rate,
             gravity_compensation: self.gravity_compensation,
             friction_compensation: self.friction_compensation.clone(),
             friction_band: self.friction_band,
@@ -62,6 +67,7 @@ impl Default for ControllerSettings {
             energy: 10.0,
             flywheel_inertia: 1.0,
             gamma: 1.0,
+            coupling_rate: None,
             gravity_compensation: true,
             friction_compensation: None,
             friction_band: 0.0,
@@ -75,7 +81,7 @@ impl Default for ControllerSettings {
 impl ControllerSettings {
     #[new]
     #[pyo3(signature = (*, self_pacing=0.0, energy=10.0, flywheel_inertia=1.0, gamma=1.0,
-        gravity_compensation=true, friction_compensation=None, friction_band=0.0,
+        coupling_rate=None, gravity_compensation=true, friction_compensation=None, friction_band=0.0,
         nominal_speed=None, tau0=0.0))]
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -83,6 +89,7 @@ impl ControllerSettings {
         energy: f64,
         flywheel_inertia: f64,
         gamma: f64,
+        coupling_rate: Option<f64>,
         gravity_compensation: bool,
         friction_compensation: Option<&Bound<'_, PyAny>>,
         friction_band: f64,
@@ -94,6 +101,7 @@ impl ControllerSettings {
             energy,
             flywheel_inertia,
             gamma,
+            coupling_rate,
             gravity_compensation,
             friction_compensation: friction_compensation
                 .map(|f| any_array(f, "friction_compensation", 1).map(|a| a.1))

@@ -155,6 +155,38 @@ def test_a_controller_paced_at_a_joint_speed_moves_its_field_at_that_speed() -> 
         assert e["energy_level"] > 0.5 * speed**2
 
 
+def test_a_coupling_rate_sets_gamma_for_the_sized_energy_level() -> None:
+    """``ControllerSettings(coupling_rate=k)`` with ``energy=0``: the controller is the one
+    with the sized level Ē and ``gamma = k / (βĒ)`` (β = 1 without a nominal speed): the same
+    torques to the bit, off the contour and moving."""
+    robot, contour = ur5(), loop()
+    pace = {"joint_speed": 0.5}
+    by_rate = pvfc.Controller.compose(
+        robot,
+        contour,
+        settings=pvfc.ControllerSettings(energy=0.0, coupling_rate=400.0),
+        pace=pace,
+    )
+    q = contour.sample(0.4)[0] + 0.01
+    e = by_rate.evaluate(q, np.full(6, 0.05), 0.4, 0.3, 2.0)
+    level = e["energy_level"]
+    by_gain = pvfc.Controller.compose(
+        robot,
+        contour,
+        settings=pvfc.ControllerSettings(energy=level, gamma=400.0 / level),
+        pace=pace,
+    )
+    for ctl in (by_rate, by_gain):
+        assert ctl.evaluate(q, np.full(6, 0.05), 0.4, 0.3, 2.0)["energy_level"] == level
+    a = by_rate.torque(q, np.full(6, 0.05), 0.4, 0.3, 2.0)
+    b = by_gain.torque(q, np.full(6, 0.05), 0.4, 0.3, 2.0)
+    np.testing.assert_array_equal(a, b)
+    with pytest.raises(pvfc.PvfcError, match="coupling_rate"):
+        pvfc.Controller.compose(
+            robot, contour, settings=pvfc.ControllerSettings(coupling_rate=-1.0)
+        )
+
+
 def test_a_pace_bounded_by_the_drives_is_never_faster_than_asked() -> None:
     robot, contour = ur5(), loop()
     slow = pvfc.Controller.compose(robot, contour, pace={"torque_limit": LIMITS})

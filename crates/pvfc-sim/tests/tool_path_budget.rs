@@ -173,6 +173,7 @@ fn the_adaptive_sampling_puts_the_ur5_contour_within_its_tolerance() {
         energy: 40.0,
         flywheel_inertia: 1.0,
         gamma: 1.0,
+        coupling_rate: None,
         gravity_compensation: false,
         friction_compensation: None,
         friction_band: 0.0,

@@ -131,6 +131,25 @@ int main(int argc, char **argv) {
   CHECK(pvfc_controller_step(ctl, q, v, DOF, 1e-3, again, DOF, NULL) == PVFC_OK);
   for (int i = 0; i < DOF; i++) CHECK(again[i] == torque[i]);
 
+  /* The coupling rate γβĒ in place of γ: 40 /s at Ē = 40 (β = 1) is γ = 1, the default's
+     controller, step for step; a rate ≤ 0 is refused, naming it. */
+  {
+    pvfc_settings by_rate = settings;
+    by_rate.gamma = 1e9; /* not read */
+    by_rate.coupling_rate = 40.0;
+    pvfc_controller *rated = NULL;
+    CHECK(pvfc_controller_new_waypoints(robot, waypoints, 3, DOF, 1.5, h, DOF, &by_rate,
+                                        &rated) == PVFC_OK);
+    double rated_torque[DOF];
+    CHECK(pvfc_controller_step(rated, q, v, DOF, 1e-3, rated_torque, DOF, NULL) == PVFC_OK);
+    for (int i = 0; i < DOF; i++) CHECK(rated_torque[i] == torque[i]);
+    pvfc_controller_destroy(rated);
+    by_rate.coupling_rate = -1.0;
+    CHECK_ERROR(pvfc_controller_new_waypoints(robot, waypoints, 3, DOF, 1.5, h, DOF, &by_rate,
+                                              &bad),
+                PVFC_ERROR_INVALID_ARGUMENT, "coupling_rate");
+  }
+
   /* The passive digital controller with torque limits. */
   const double limit[DOF] = {150, 150, 150, 28, 28, 28};
   pvfc_passive_options options = pvfc_passive_options_default();

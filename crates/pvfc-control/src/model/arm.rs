@@ -36,8 +36,14 @@ pub struct ArmSettings {
     pub energy: f64,
     /// The flywheel's inertia `M_F`.
     pub flywheel_inertia: f64,
-    /// The coupling gain `γ`.
+    /// The coupling gain `γ` (eq. 7); not read when [`coupling_rate`](Self::coupling_rate)
+    /// is given.
     pub gamma: f64,
+    /// The rate `γβĒ` (1/s) at which the velocity error converges (Remark 1), in place of
+    /// `γ`: the controller takes `γ = rate / (βĒ)` ([`coupling_gain`]) with `β` the level it
+    /// runs at ([`level`](Self::level)) and `Ē` its energy level, sized from the pace or not.
+    /// A coupling rate keeps the controller's stiffness when the energy level changes.
+    pub coupling_rate: Option<f64>,
     /// Add `g(q)` to the torque.
     pub gravity_compensation: bool,
     /// Coulomb levels of the friction compensation (eq. 35), one per joint.
@@ -70,6 +76,7 @@ impl ArmSettings {
             energy: 10.0,
             flywheel_inertia: 1.0,
             gamma: 1.0,
+            coupling_rate: None,
             gravity_compensation: true,
             friction_compensation: None,
             friction_band: 0.0,
@@ -78,6 +85,45 @@ impl ArmSettings {
             obstacles: None,
             pace: None,
         }
+    }
+
+    /// The energy level `β` the controller runs at: the nominal speed `r` of eq. (36), which
+    /// holds it there, or 1.
+    pub fn level(&self) -> f64 {
+        self.nominal_speed.map_or(1.0, |(_, r)| r)
+    }
+
+    /// The coupling gain `γ` for the energy level `energy`: `gamma`, or the one of
+    /// `coupling_rate` ([`coupling_gain`]).
+    pub fn gamma_at(&self, energy: f64) -> Result<f64> {
+        match self.coupling_rate {
+            None => Ok(self.gamma),
+            Some(rate) => coupling_gain(rate, self.level(), energy),
+        }
+    }
+}
+
+/// The largest coupling rate `γβĒ` taken (1/s): a million corrections of the velocity error
+/// per second, beyond what any sampled controller follows (a 1 kHz loop goes unstable near
+/// 1,600/s on the SCARA).
+pub const MAX_COUPLING_RATE: f64 = 1e6;
+
+/// The coupling gain `γ` of eq. (7) whose velocity error converges at `rate = γβĒ` (1/s):
+/// with the flywheel holding the augmented kinetic energy at `β²Ē`, the coupling's
+/// correction of `q̇_a − βV_a` has the rate `γβĒ` (Remark 1; about 2–4 × that in the
+/// measured closed loop). `level` is `β`, `energy` is `Ē`.
+pub fn coupling_gain(rate: f64, level: f64, energy: f64) -> Result<f64> {
+    if !(rate > 0.0 && rate <= MAX_COUPLING_RATE) {
+        return Err(setting(format!(
+            "coupling_rate = {rate}: in (0, {MAX_COUPLING_RATE:e}] (1/s)"
+        )));
+    }
+    let gamma = rate / (level * energy);
+    match gamma.is_finite() && gamma > 0.0 {
+        true => Ok(gamma),
+        false => Err(setting(format!(
+            "coupling_rate = {rate}: at the level β = {level} and energy Ē = {energy}, γ = rate / (βĒ) = {gamma} is not a finite number > 0"
+        ))),
     }
 }
 
@@ -197,7 +243,7 @@ pub fn arm_controller<const N: usize>(
         }
     };
     let flywheel = Flywheel::new(s.flywheel_inertia, energy)?;
-    let law = PvfcLaw::new(chain, field, flywheel, s.gamma)?;
+    let law = PvfcLaw::new(chain, field, flywheel, s.gamma_at(energy)?)?;
     let mut ctl = Controller::new(law).starting_at_rest(s.tau0);
     if s.gravity_compensation {
         ctl = ctl.with_gravity_compensation();

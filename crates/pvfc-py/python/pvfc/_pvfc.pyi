@@ -289,6 +289,7 @@ class ControllerSettings:
         energy: float = 10.0,
         flywheel_inertia: float = 1.0,
         gamma: float = 1.0,
+        coupling_rate: Optional[float] = None,
         gravity_compensation: bool = True,
         friction_compensation: Optional[_ArrayLike] = None,
         friction_band: float = 0.0,
@@ -303,6 +304,8 @@ class ControllerSettings:
     def flywheel_inertia(self) -> float: ...
     @property
     def gamma(self) -> float: ...
+    @property
+    def coupling_rate(self) -> Optional[float]: ...
     @property
     def gravity_compensation(self) -> bool: ...
     @property
@@ -438,6 +441,7 @@ class Controller:
         energy: float = 10.0,
         flywheel_inertia: float = 1.0,
         gamma: float = 1.0,
+        coupling_rate: Optional[float] = None,
         gravity_compensation: bool = True,
         friction_compensation: Optional[_ArrayLike] = None,
         friction_band: float = 0.0,
@@ -494,6 +498,7 @@ class ArmController(Controller):
         energy: float = 10.0,
         flywheel_inertia: float = 1.0,
         gamma: float = 1.0,
+        coupling_rate: Optional[float] = None,
         gravity_compensation: bool = True,
         friction_compensation: Optional[_ArrayLike] = None,
         friction_band: float = 0.0,

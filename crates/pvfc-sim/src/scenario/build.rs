@@ -178,6 +178,32 @@ impl Scenario {
         Ok(())
     }
 
+    /// The coupling gain `γ` of eq. (7) of a controller at the scenario's energy level:
+    /// `controller.gamma`, or the one of `controller.coupling_rate`
+    /// ([`coupling_gain`](crate::model::arm::coupling_gain)) at the nominal speed's level `r`
+    /// (or 1). A URDF arm's energy level may be sized from the pace: its controller resolves
+    /// the rate itself ([`ArmSettings::gamma_at`](crate::model::arm::ArmSettings::gamma_at)).
+    pub fn coupling_gain(&self) -> Result<f64> {
+        let c = &self.controller;
+        match c.coupling_rate {
+            None => Ok(c.gamma),
+            Some(rate) => crate::model::arm::coupling_gain(
+                rate,
+                c.nominal_speed.map_or(1.0, |n| n.r),
+                c.energy,
+            ),
+        }
+    }
+
+    /// The rate `γβĒ` (1/s) at which the controller's velocity error converges (Remark 1):
+    /// `controller.coupling_rate`, or `γβĒ` of its `gamma` and `energy` at the nominal
+    /// speed's level `r` (or 1).
+    pub fn coupling_rate(&self) -> f64 {
+        let c = &self.controller;
+        c.coupling_rate
+            .unwrap_or_else(|| c.gamma * c.nominal_speed.map_or(1.0, |n| n.r) * c.energy)
+    }
+
     /// The number of joints: the URDF's, 2 for the planar arm, 3 for a rigid body (its
     /// angular velocity's).
     pub fn dof(&self) -> Result<usize> {
@@ -271,6 +297,7 @@ impl Scenario {
             energy: c.energy,
             flywheel_inertia: c.flywheel_inertia,
             gamma: c.gamma,
+            coupling_rate: c.coupling_rate,
             gravity_compensation: c.gravity_compensation.unwrap_or(true),
             friction_compensation: c.friction_compensation.clone(),
             friction_band: c.friction_band.unwrap_or(0.0),
@@ -435,7 +462,7 @@ impl Scenario {
     {
         let c = &self.controller;
         let flywheel = Flywheel::new(c.flywheel_inertia, c.energy)?;
-        let law = PvfcLaw::new(system, field, flywheel, c.gamma)?;
+        let law = PvfcLaw::new(system, field, flywheel, self.coupling_gain()?)?;
         let mut ctl = Controller::new(law).with_state(self.initial_internal(&flywheel));
         if let Some(f) = &c.friction_compensation {
             let f = joint_vector::<N>(f, "controller.friction_compensation")?;

@@ -86,8 +86,14 @@ pub struct ControllerSpec {
     pub energy: f64,
     /// Flywheel inertia `M_F`.
     pub flywheel_inertia: f64,
-    /// Coupling gain `γ` of eq. (7).
+    /// Coupling gain `γ` of eq. (7); `coupling_rate`, when given, takes its place.
     pub gamma: f64,
+    /// The rate `γβĒ` (1/s) at which the velocity error converges (Remark 1), in place of
+    /// `gamma`: `γ = coupling_rate / (βĒ)` with `β` the nominal speed `r` of eq. (36) (or 1)
+    /// and `Ē` the energy level, also when it is sized from the pace (`energy = 0`). Keeps
+    /// the controller's stiffness when the energy level changes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coupling_rate: Option<f64>,
     /// Controller rate (Hz) in the sampled-data mode.
     pub rate: f64,
     /// Friction compensation levels of eq. (35), if any (N·m).
@@ -307,6 +313,7 @@ impl Default for ControllerSpec {
             energy: 50.0,
             flywheel_inertia: 1.0,
             gamma: 0.05,
+            coupling_rate: None,
             rate: 1000.0,
             friction_compensation: None,
             friction_band: None,

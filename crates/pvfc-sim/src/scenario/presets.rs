@@ -230,12 +230,21 @@ pub fn stribeck(compensated: bool, pacing: u32) -> Scenario {
     s
 }
 
-/// Fig. 1: PVFC (Fig. 8's `R = 100` run) next to a timed-trajectory tracker (computed
-/// torque + PD, `ω_n = 20 rad/s`, critically damped) at PVFC's mean `τ̇`, same plant.
+/// The rate `γβĒ` (1/s) at which Fig. 1's PVFC corrects its velocity error (Remark 1): the
+/// stiffness it holds against the friction its compensation leaves. The paper does not
+/// publish `γ`; Fig. 8's 50/s leaves PVFC 4–5× the tracker's error in unsaturated motion.
+/// 400/s is the UR5 presets' rate, sampled well by the 1 kHz controller (0.4 per period; at
+/// 1,600/s the 1 kHz loop is unstable).
+pub const FIG1_COUPLING_RATE: f64 = 400.0;
+
+/// Fig. 1: PVFC (Fig. 8's `R = 100` run, at the coupling rate [`FIG1_COUPLING_RATE`]) next to
+/// a timed-trajectory tracker (computed torque + PD, `ω_n = 20 rad/s`, critically damped) at
+/// PVFC's mean `τ̇`, same plant.
 pub fn fig1() -> Scenario {
     let mut s = fig8(100);
     s.name = PresetId::Fig1.name();
     s.description = "Fig. 1: PVFC versus a timed-trajectory tracker at the same mean speed".into();
+    s.controller.coupling_rate = Some(FIG1_COUPLING_RATE);
     s.baseline = Some(BaselineSpec {
         kp: vec![400.0, 400.0],
         kd: vec![40.0, 40.0],
@@ -451,10 +460,10 @@ pub const FIG1_TORQUE_LIMITS: [f64; 2] = [15.0, 5.0];
 
 /// Fig. 1 as the paper means it: drives that saturate at [`FIG1_TORQUE_LIMITS`], `contour` (a
 /// circle of radius 1 rad in joint space, the Lissajous curve with equal periods, or the
-/// paper's Lissajous curve of `fig1`), and a demanded speed `r` (in hundredths). PVFC (Fig. 8's `R = 100` run, the passive digital controller at 1 kHz
-/// with the limits) has the energy level of `β = r` (`Ē` × r², as `κ_a ∝ β²`) held by the
-/// nominal-speed control (36) at `r`, and `γ / r³` so that its rate `γβĒ` stays Fig. 8's;
-/// the timed tracker (computed torque + PD at 20 rad/s,
+/// paper's Lissajous curve of `fig1`), and a demanded speed `r` (in hundredths). PVFC
+/// ([`fig1`]'s, the passive digital controller at 1 kHz with the limits) has the energy level
+/// of `β = r` (`Ē` × r², as `κ_a ∝ β²`) held by the nominal-speed control (36) at `r`, at
+/// [`fig1`]'s coupling rate `γβĒ`; the timed tracker (computed torque + PD at 20 rad/s,
 /// its command clamped to the same limits) runs at `τ̇ = r`.
 pub fn fig1_saturated(contour: Fig1Contour, speed: u32) -> Scenario {
     let r = f64::from(speed) / 100.0;
@@ -478,10 +487,8 @@ pub fn fig1_saturated(contour: Fig1Contour, speed: u32) -> Scenario {
     s.description = format!(
         "Fig. 1 on drives limited to {FIG1_TORQUE_LIMITS:?} N·m: {shape} at the demanded speed r = {r}"
     );
+    // The coupling rate γβĒ stays fig1's (the controller takes γ from it at β = r).
     s.controller.energy *= r * r;
-    // The velocity error converges at γβĒ (Remark 1), which grows as r³: γ / r³ keeps that
-    // rate at Fig. 8's (50/s), which a 1 kHz controller samples well.
-    s.controller.gamma /= r * r * r;
     // The run starts at its energy level, β = r (the flywheel holds κ_a = r²Ē with the arm at
     // rest), and the nominal-speed control holds it there with a time constant 1/c = 2 s (with
     // the paper's c = 0.01, 100 s, β would still be on its way from 1 to r when the run ends).
@@ -774,7 +781,7 @@ pub const UR5_TORQUE_LIMITS: [f64; 6] = [60.0, 60.0, 30.0, 5.0, 5.0, 5.0];
 /// rounded rectangle or `ur5_circle`'s circle) at `r` times its speed, both controllers
 /// limited to [`UR5_TORQUE_LIMITS`]. PVFC is the passive digital controller at 1 kHz with the
 /// limits, at the energy of `β = r` (`Ē × r²`) held by the nominal-speed control (36) at `r`,
-/// with `γ / r³` (so `γβĒ` stays the free run's); the timed tracker runs at `τ̇ = r`, its
+/// at the free run's coupling rate `γβĒ`; the timed tracker runs at `τ̇ = r`, its
 /// command clamped to the limits. The run lasts 2.5 passes (at least 8 s).
 pub fn ur5_saturated(free: &Scenario, path: SaturatedPath, speed: u32) -> Scenario {
     let r = f64::from(speed);
@@ -788,8 +795,9 @@ pub fn ur5_saturated(free: &Scenario, path: SaturatedPath, speed: u32) -> Scenar
         }
     );
     s.duration = (30.0 / r).max(8.0);
+    // γβĒ stays the free run's (the controller takes γ from it at β = r).
+    s.controller.coupling_rate = Some(free.coupling_rate());
     s.controller.energy *= r * r;
-    s.controller.gamma /= r * r * r;
     if let Some(n) = s.controller.nominal_speed.as_mut() {
         n.r = r;
     }
