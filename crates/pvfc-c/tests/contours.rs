@@ -37,9 +37,12 @@ fn ur5() -> *mut pvfc_robot {
     robot
 }
 
-/// `scenarios/ur5_cartesian.toml`, with the task-space field or not.
+/// `scenarios/ur5_cartesian.toml`, with the task-space field or not, at navigation weights
+/// 4 (the file's 16 ask more than its `Ē` at the states off the contour these tests step
+/// from).
 fn scenario(task: bool) -> Scenario {
     let mut s = Scenario::from_file(&repo().join("scenarios/ur5_cartesian.toml")).unwrap();
+    s.controller.h = vec![4.0; 6];
     if task {
         s.contour.cartesian_mut().unwrap().task = Some(TaskSpec::default());
     }
@@ -54,6 +57,7 @@ fn settings(s: &Scenario, friction: &[f64]) -> pvfc_settings {
     out.energy = c.energy;
     out.flywheel_inertia = c.flywheel_inertia;
     out.gamma = c.gamma;
+    out.coupling_rate = c.coupling_rate.unwrap_or(0.0);
     out.gravity_compensation = c.gravity_compensation.unwrap_or(true);
     out.friction_compensation = friction.as_ptr();
     out.friction_compensation_len = friction.len();

@@ -132,7 +132,7 @@ def test_a_scenario_chooses_the_task_space_field(repo):
 @pytest.mark.parametrize("field", ["joint", "task"])
 def test_a_ur5_closed_loop_on_pinocchio_meets_the_tracking_target(field):
     """The UR5 on Pinocchio's dynamics (``aba``, RK4 at 4 kHz, gravity), pvfc's controller at
-    1 kHz (``ur5_cartesian``'s gains: γ = 10, Ē = 40 J, R = 50, gravity compensation, nominal
+    1 kHz (γ = 10, Ē = 40 J, R = 50, gravity compensation, nominal
     speed (0.5, 1)), no friction, following the rectangle either as a joint contour sampled
     to 10 µm (h = 4) or with the task-space field on the exact path (k = 4, the tool held
     pointing down): over the second pass the tool, by Pinocchio's forward kinematics, stays
