@@ -124,8 +124,8 @@ fn a_pace_needs_a_speed_or_limits_and_energy_zero_needs_a_pace() {
 
 /// A part program's feeds are the pace (`scenarios/ur5_gcode.toml`: the bracket's outline at
 /// F6000, its relief at F1800, with a tilted cone as the TCP): on every stretch the tool holds
-/// the feed within 5 % (its median speed there), and it stays on the path (0.1 mm mean along
-/// the part's surface, 0.3 mm at most in 3-D). A program without F takes `controller.pace.speed`, and without
+/// the feed within 5 % (its median speed there), and it stays on the path (0.1 mm mean and
+/// 0.3 mm at most, along the part's surface and in 3-D). A program without F takes `controller.pace.speed`, and without
 /// either a move's speed is an error naming its line.
 #[test]
 fn a_part_programs_feeds_are_the_pace() {
@@ -143,13 +143,12 @@ fn a_part_programs_feeds_are_the_pace() {
     for x in &speeds {
         assert!(x.error().abs() < 0.05, "{x:?}");
     }
-    // On the path: 0.1 mm mean along the part's surface, 0.3 mm at most in 3-D (the 3-D mean
-    // is 0.11 mm: the offset normal to the part, ±0.13 mm, is the friction the compensation
-    // leaves).
+    // On the path: 0.1 mm mean and 0.3 mm at most, along the part's surface and in 3-D
+    // (measured 0.017 / 0.046 and 0.031 / 0.055 mm).
     let b = path_budget(&s, &system.robot, &t).unwrap().unwrap();
     let surface = b.surface.expect("a planar path");
-    assert!(surface.mean < 1e-4, "{surface:?}");
-    assert!(b.spread.max < 3e-4, "{:?}", b.spread);
+    assert!(surface.mean < 1e-4 && surface.max < 3e-4, "{surface:?}");
+    assert!(b.spread.mean < 1e-4 && b.spread.max < 3e-4, "{:?}", b.spread);
 
     // The same program without feeds: the scenario's speed, or an error naming the line.
     let text = std::fs::read_to_string(dir.join("parts/bracket.nc"))
