@@ -210,16 +210,21 @@ stage "The same examples in Rust, Python and C++ (examples/side_by_side): the sa
 rm -rf target/cmake-side
 cmake -S examples/side_by_side -B target/cmake-side -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build target/cmake-side >/dev/null
-cargo build --locked --release --example scara_contour --example ur5_tool_path
-for example in scara_contour:models/scara.urdf ur5_tool_path:models/ur5/ur5_robot.urdf; do
-  name=${example%%:*}
-  urdf=${example#*:}
-  out=target/side-by-side-$name
-  "target/release/examples/$name" "$urdf" >"$out-rust.txt"
-  "$py" "examples/side_by_side/$name.py" "$urdf" >"$out-python.txt"
-  "target/cmake-side/$name" "$urdf" >"$out-cpp.txt"
+cargo build --locked --release --example scara_contour --example ur5_tool_path \
+  --example part_program
+# Each entry: the program, the URDF, the tip (the part program on the UR5 and on the Panda).
+for example in scara_contour:models/scara.urdf: ur5_tool_path:models/ur5/ur5_robot.urdf: \
+  part_program:models/ur5/ur5_robot.urdf:tool0 \
+  part_program:models/panda/panda.urdf:panda_hand_tcp; do
+  IFS=: read -r name urdf tip <<<"$example"
+  args=("$urdf")
+  if [ -n "$tip" ]; then args+=("$tip"); fi
+  out=target/side-by-side-$name-$(basename "$urdf" .urdf)
+  "target/release/examples/$name" "${args[@]}" >"$out-rust.txt"
+  "$py" "examples/side_by_side/$name.py" "${args[@]}" >"$out-python.txt"
+  "target/cmake-side/$name" "${args[@]}" >"$out-cpp.txt"
   python3 scripts/same_output.py "$out-rust.txt" "$out-python.txt" "$out-cpp.txt"
-  run_checked "target/cmake-side/$name" "$urdf" >/dev/null
+  run_checked "target/cmake-side/$name" "${args[@]}" >/dev/null
 done
 
 stage "pytest"
