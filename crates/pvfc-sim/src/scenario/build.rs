@@ -187,11 +187,7 @@ impl Scenario {
         let c = &self.controller;
         match c.coupling_rate {
             None => Ok(c.gamma),
-            Some(rate) => crate::model::arm::coupling_gain(
-                rate,
-                c.nominal_speed.map_or(1.0, |n| n.r),
-                c.energy,
-            ),
+            Some(rate) => crate::model::arm::coupling_gain(rate, c.level(), c.energy),
         }
     }
 
@@ -201,7 +197,7 @@ impl Scenario {
     pub fn coupling_rate(&self) -> f64 {
         let c = &self.controller;
         c.coupling_rate
-            .unwrap_or_else(|| c.gamma * c.nominal_speed.map_or(1.0, |n| n.r) * c.energy)
+            .unwrap_or_else(|| c.gamma * c.level() * c.energy)
     }
 
     /// The number of joints: the URDF's, 2 for the planar arm, 3 for a rigid body (its

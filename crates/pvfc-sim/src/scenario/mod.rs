@@ -119,6 +119,15 @@ pub struct ControllerSpec {
     pub pace: Option<PaceSpec>,
 }
 
+impl ControllerSpec {
+    /// The energy level `β` the controller runs at for its coupling rate: the nominal speed
+    /// `r` of eq. (36), which holds it there, or 1 (the rule of
+    /// [`ArmSettings::level`](crate::model::arm::ArmSettings::level)).
+    pub fn level(&self) -> f64 {
+        self.nominal_speed.map_or(1.0, |n| n.r)
+    }
+}
+
 /// `[controller.pace]`: the field's pace along the contour: a speed asked for along the path,
 /// bounded by what the drives allow (`pvfc_core::pace::drive_limits`), computed from the
 /// controller's model of the robot at the energy level the controller runs at (the nominal
