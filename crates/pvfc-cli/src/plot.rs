@@ -1,6 +1,7 @@
 //! PNG figures laid out like the paper's Figs. 1 and 6–10 (plotters, bundled DejaVu font).
 
 use crate::canvas::{figure, panel, Series, Style};
+use crate::report::window;
 use crate::runs::Runs;
 use pvfc_sim::contact::{ObstacleSpec, PlanarArm, ShapeSpec};
 use pvfc_sim::error::{Result, SimError};
@@ -233,21 +234,18 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
     let p = dir.join("fig1_pvfc_vs_timed.png");
     let (s1, pv) = runs.run(PresetId::Fig1)?;
     let tm = runs.timed(PresetId::Fig1)?;
-    let from = |t: &pvfc_sim::trace::Trace| {
-        t.t.iter()
-            .position(|&x| x >= s1.duration - 12.0)
-            .unwrap_or(0)
-    };
+    let last =
+        |t: &pvfc_sim::trace::Trace| path_of(t, window(t, s1.duration - 12.0, f64::INFINITY));
     let traced = vec![
         desired(runs, PresetId::Fig1)?,
         Series {
             label: "PVFC".into(),
-            points: path_of(pv, from(pv)..pv.len()),
+            points: last(pv),
             style: Style::Line,
         },
         Series {
             label: "timed trajectory (computed torque + PD)".into(),
-            points: path_of(tm, from(tm)..tm.len()),
+            points: last(tm),
             style: Style::Line,
         },
     ];
@@ -266,10 +264,8 @@ pub fn all_figures(runs: &Runs, dir: &Path) -> Result<Vec<PathBuf>> {
     };
     if let Ok((s, pv)) = runs.run(id) {
         let p = dir.join("fig1_radial_reduction.png");
-        let last = |t: &pvfc_sim::trace::Trace| {
-            let from = t.t.iter().position(|&x| x >= s.duration - 6.0).unwrap_or(0);
-            path_of(t, from..t.len())
-        };
+        let last =
+            |t: &pvfc_sim::trace::Trace| path_of(t, window(t, s.duration - 6.0, f64::INFINITY));
         let traced = vec![
             desired(runs, id)?,
             Series {

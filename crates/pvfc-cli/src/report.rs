@@ -31,7 +31,8 @@ fn mean(xs: &[f64]) -> f64 {
     xs.iter().sum::<f64>() / xs.len().max(1) as f64
 }
 
-fn window(t: &Trace, from: f64, to: f64) -> std::ops::Range<usize> {
+/// The samples of `t` with `from ≤ t < to` (at least one).
+pub(crate) fn window(t: &Trace, from: f64, to: f64) -> std::ops::Range<usize> {
     let a = t.t.iter().position(|&x| x >= from).unwrap_or(0);
     let b = t.t.iter().position(|&x| x >= to).unwrap_or(t.len());
     a..b.max(a + 1).min(t.len())
