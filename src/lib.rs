@@ -31,4 +31,6 @@ mod manual {
     struct Obstacles;
     #[doc = include_str!("../docs/src/guide/drive-limits.md")]
     struct DriveLimits;
+    #[doc = include_str!("../docs/src/guide/faults.md")]
+    struct Faults;
 }

@@ -43,7 +43,29 @@ typedef enum pvfc_status {
   PVFC_ERROR_NUMERICAL = 9,
   // A bug in pvfc (a caught panic): please report it with the message.
   PVFC_ERROR_INTERNAL = 10,
+  // Not an error: the passive controller's supervision found a fault at this sample (a
+  // non-finite reading, a period out of bounds, a reading no motion can make, a frozen
+  // encoder). The torque written is the safe torque, zero; the energy account says which
+  // fault and which joint; [`pvfc_last_error`] names it. The controller resumes at the
+  // next good sample.
+  PVFC_FAULT = 11,
 } pvfc_status;
+
+// The fault a supervised passive step found (`pvfc_energy_account.fault`).
+typedef enum pvfc_fault {
+  // No fault.
+  PVFC_FAULT_NONE = 0,
+  // A measured position or velocity, or the applied torque, is NaN or infinite.
+  PVFC_FAULT_NON_FINITE = 1,
+  // The period is not finite, or outside `[min_period, max_period]`.
+  PVFC_FAULT_PERIOD = 2,
+  // A joint moved further since the last good reading than its speed bound allows.
+  PVFC_FAULT_SPEED = 3,
+  // A joint's speed changed more than its acceleration bound allows.
+  PVFC_FAULT_ACCELERATION = 4,
+  // A joint's encoder stopped dead while the joint was moving, and has not changed since.
+  PVFC_FAULT_FROZEN = 5,
+} pvfc_fault;
 
 // A contour (opaque).
 typedef struct pvfc_contour pvfc_contour;
@@ -168,6 +190,18 @@ typedef struct pvfc_passive_options {
   double velocity_filter;
   // The storage the tank keeps in hand (J, ≥ 0).
   double reserve;
+  // Supervision: the fastest each joint can move (rad/s, m/s; `n` entries, each > 0).
+  // NULL: no supervision (a non-finite reading or period is an error, every other reading
+  // is believed). With it, a sample that breaks a bound is a fault: `pvfc_passive_step`
+  // returns `PVFC_FAULT` with the safe torque, zero.
+  const double *max_speed;
+  // Supervision: the most each joint can be accelerated (rad/s², m/s²; `n` entries, each
+  // > 0). NULL: only the speed is checked, and no encoder is found frozen.
+  const double *max_acceleration;
+  // Supervision: the shortest period accepted (s, > 0; with `max_speed`).
+  double min_period;
+  // Supervision: the longest period accepted (s, ≥ `min_period`; with `max_speed`).
+  double max_period;
 } pvfc_passive_options;
 
 // The energy account of one passive step (J).
@@ -186,8 +220,15 @@ typedef struct pvfc_energy_account {
   bool saturated;
   // What the storage was charged for the encoders' resolution this step.
   double quantisation;
-  // The navigation function `U` at this step.
+  // The navigation function `U` at this step (at a fault: as of the last good step).
   double potential;
+  // What the storage was charged at a fault for the work the last torque may have done
+  // unseen over the period that ended (0 without a fault).
+  double unseen;
+  // The fault found at this sample (`PVFC_FAULT_NONE` without one).
+  enum pvfc_fault fault;
+  // The joint (0-based) the fault names, or -1.
+  int32_t fault_joint;
 } pvfc_energy_account;
 
 // One joint of a serial arm given as numbers, and the link it moves (URDF's conventions:
@@ -439,6 +480,11 @@ enum pvfc_status pvfc_passive_new(const struct pvfc_controller *ctl,
 // (NULL: the last command): writes the torque to hold for the next period into `torque_out`
 // and, if `account` is not NULL, the period's energy account. Allocates nothing. On error
 // nothing changes.
+//
+// With supervision (`pvfc_passive_options.max_speed`), NaN or infinite readings and periods
+// are not errors but faults: a sample that breaks a bound returns `PVFC_FAULT`, writes the
+// safe torque (zero) and the account (its `fault`, `fault_joint`, `unseen`), and the
+// controller resumes at the next good sample.
 //
 // # Safety
 // The pointers are NULL or point to `n` values each; `p` is used by one thread at a time.

@@ -400,20 +400,25 @@ class PassiveController {
     h_ = detail::Handle<pvfc_passive, pvfc_passive_destroy>(p);
   }
   /// One step at the measured positions `q` (velocities `qdot`, or empty to estimate them;
-  /// `applied` the torque the drive applied, or empty for the last command).
+  /// `applied` the torque the drive applied, or empty for the last command). With
+  /// supervision, a fault is not an exception: the torque is the safe torque (zero) and the
+  /// account's `fault` says which.
   pvfc_energy_account step(In q, double dt, Out torque, In qdot = In(), In applied = In()) {
     if ((qdot.size() && qdot.size() != q.size()) ||
         (applied.size() && applied.size() != q.size())) {
       throw WrongSizeError(PVFC_ERROR_WRONG_SIZE, "q, qdot and applied differ in length");
     }
     pvfc_energy_account a;
-    check(pvfc_passive_step(h_.get(), q.data(), qdot.size() ? qdot.data() : nullptr,
-                            applied.size() ? applied.data() : nullptr, q.size(), dt,
-                            torque.data(), torque.size(), &a));
+    const pvfc_status status =
+        pvfc_passive_step(h_.get(), q.data(), qdot.size() ? qdot.data() : nullptr,
+                          applied.size() ? applied.data() : nullptr, q.size(), dt,
+                          torque.data(), torque.size(), &a);
+    if (status != PVFC_FAULT) check(status);
     return a;
   }
   /// `step` for a real-time loop: no exception, nothing allocated even on failure. Returns
-  /// `PVFC_OK` or the error's kind, with its message in `pvfc_last_error()`; arrays of
+  /// `PVFC_OK`, `PVFC_FAULT` (supervision: the safe torque was written) or the error's kind,
+  /// with its message in `pvfc_last_error()`; arrays of
   /// different lengths are `PVFC_ERROR_WRONG_SIZE` without a message. `account`, if not NULL,
   /// receives the period's energy account. On failure nothing changes.
   pvfc_status try_step(In q, double dt, Out torque, In qdot = In(), In applied = In(),

@@ -18,14 +18,8 @@ pub(crate) unsafe fn doubles<'a>(
     n: usize,
     name: &'static str,
 ) -> Result<&'a [f64], Failure> {
-    if n == 0 {
-        return Ok(&[]);
-    }
-    if p.is_null() {
-        return Err(null(name));
-    }
-    // SAFETY: the caller gives n readable doubles at p (the header documents it).
-    let x = unsafe { std::slice::from_raw_parts(p, n) };
+    // SAFETY: forwarded from the caller.
+    let x = unsafe { any_doubles(p, n, name) }?;
     if let Some(i) = x.iter().position(|v| !v.is_finite()) {
         return Err(Failure::argument(
             PVFC_ERROR_NON_FINITE,
@@ -86,6 +80,51 @@ pub(crate) unsafe fn joints<'a>(
     }
     // SAFETY: forwarded from the caller.
     unsafe { doubles(p, n, name) }
+}
+
+/// `n` doubles at `p`, whatever their values (NaN and infinities included: a reading the
+/// passive controller's supervision judges).
+///
+/// # Safety
+/// `p` must point to `n` readable doubles, or be NULL (an error).
+pub(crate) unsafe fn any_doubles<'a>(
+    p: *const f64,
+    n: usize,
+    name: &'static str,
+) -> Result<&'a [f64], Failure> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if p.is_null() {
+        return Err(null(name));
+    }
+    // SAFETY: the caller gives n readable doubles at p (the header documents it).
+    Ok(unsafe { std::slice::from_raw_parts(p, n) })
+}
+
+/// A joint vector of exactly `dof` doubles at `p`, whatever their values ([`any_doubles`]);
+/// `None` for NULL when `optional`.
+///
+/// # Safety
+/// `p` is NULL or points to `n` readable doubles.
+pub(crate) unsafe fn any_joints<'a>(
+    p: *const f64,
+    n: usize,
+    dof: usize,
+    (name, optional): (&'static str, bool),
+) -> Result<Option<&'a [f64]>, Failure> {
+    if optional && p.is_null() {
+        return Ok(None);
+    }
+    if n != dof {
+        return Err(Failure::argument(
+            PVFC_ERROR_WRONG_SIZE,
+            name,
+            Fault::Entries { n, dof },
+        ));
+    }
+    // SAFETY: forwarded from the caller.
+    unsafe { any_doubles(p, n, name) }.map(Some)
 }
 
 /// An optional joint vector: `None` for NULL, else exactly `dof` doubles (as [`joints`]).

@@ -3,7 +3,9 @@
 use crate::args::*;
 use crate::controller::pvfc_controller;
 use crate::status::*;
-use pvfc_control::model::arm::{PassiveArm, PassiveOptions};
+use pvfc_control::model::arm::{PassiveArm, PassiveOptions, SupervisionOptions};
+use pvfc_core::supervision::Fault;
+
 /// The options of the passive digital controller. Get them from
 /// [`pvfc_passive_options_default`].
 #[repr(C)]
@@ -22,6 +24,18 @@ pub struct pvfc_passive_options {
     pub velocity_filter: f64,
     /// The storage the tank keeps in hand (J, ≥ 0).
     pub reserve: f64,
+    /// Supervision: the fastest each joint can move (rad/s, m/s; `n` entries, each > 0).
+    /// NULL: no supervision (a non-finite reading or period is an error, every other reading
+    /// is believed). With it, a sample that breaks a bound is a fault: `pvfc_passive_step`
+    /// returns `PVFC_FAULT` with the safe torque, zero.
+    pub max_speed: *const f64,
+    /// Supervision: the most each joint can be accelerated (rad/s², m/s²; `n` entries, each
+    /// > 0). NULL: only the speed is checked, and no encoder is found frozen.
+    pub max_acceleration: *const f64,
+    /// Supervision: the shortest period accepted (s, > 0; with `max_speed`).
+    pub min_period: f64,
+    /// Supervision: the longest period accepted (s, ≥ `min_period`; with `max_speed`).
+    pub max_period: f64,
 }
 
 /// Default passive options: no limits, exact positions, no filter, no reserve.
@@ -34,6 +48,42 @@ pub extern "C" fn pvfc_passive_options_default() -> pvfc_passive_options {
         n: 0,
         velocity_filter: 0.0,
         reserve: 0.0,
+        max_speed: std::ptr::null(),
+        max_acceleration: std::ptr::null(),
+        min_period: 0.0,
+        max_period: 0.0,
+    }
+}
+
+/// The fault a supervised passive step found (`pvfc_energy_account.fault`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum pvfc_fault {
+    /// No fault.
+    #[default]
+    PVFC_FAULT_NONE = 0,
+    /// A measured position or velocity, or the applied torque, is NaN or infinite.
+    PVFC_FAULT_NON_FINITE = 1,
+    /// The period is not finite, or outside `[min_period, max_period]`.
+    PVFC_FAULT_PERIOD = 2,
+    /// A joint moved further since the last good reading than its speed bound allows.
+    PVFC_FAULT_SPEED = 3,
+    /// A joint's speed changed more than its acceleration bound allows.
+    PVFC_FAULT_ACCELERATION = 4,
+    /// A joint's encoder stopped dead while the joint was moving, and has not changed since.
+    PVFC_FAULT_FROZEN = 5,
+}
+
+impl From<Option<Fault>> for pvfc_fault {
+    fn from(f: Option<Fault>) -> Self {
+        match f {
+            None => pvfc_fault::PVFC_FAULT_NONE,
+            Some(Fault::NonFinite) => pvfc_fault::PVFC_FAULT_NON_FINITE,
+            Some(Fault::Period) => pvfc_fault::PVFC_FAULT_PERIOD,
+            Some(Fault::Speed { .. }) => pvfc_fault::PVFC_FAULT_SPEED,
+            Some(Fault::Acceleration { .. }) => pvfc_fault::PVFC_FAULT_ACCELERATION,
+            Some(Fault::Frozen { .. }) => pvfc_fault::PVFC_FAULT_FROZEN,
+        }
     }
 }
 
@@ -55,8 +105,15 @@ pub struct pvfc_energy_account {
     pub saturated: bool,
     /// What the storage was charged for the encoders' resolution this step.
     pub quantisation: f64,
-    /// The navigation function `U` at this step.
+    /// The navigation function `U` at this step (at a fault: as of the last good step).
     pub potential: f64,
+    /// What the storage was charged at a fault for the work the last torque may have done
+    /// unseen over the period that ended (0 without a fault).
+    pub unseen: f64,
+    /// The fault found at this sample (`PVFC_FAULT_NONE` without one).
+    pub fault: pvfc_fault,
+    /// The joint (0-based) the fault names, or -1.
+    pub fault_joint: i32,
 }
 
 /// The passive digital controller (opaque): passive by construction at its samples.
@@ -85,11 +142,26 @@ pub unsafe extern "C" fn pvfc_passive_new(
             // SAFETY: NULL or o.n readable doubles at p, as documented.
             Ok(unsafe { optional_joints(p, o.n, n, name) }?.map(<[f64]>::to_vec))
         };
+        let supervision = match array(o.max_speed, "options.max_speed")? {
+            Some(max_speed) => Some(SupervisionOptions {
+                max_speed,
+                max_acceleration: array(o.max_acceleration, "options.max_acceleration")?,
+                period: (o.min_period, o.max_period),
+            }),
+            None if !o.max_acceleration.is_null() => {
+                return Err(Failure(
+                    PVFC_ERROR_INVALID_ARGUMENT,
+                    "options.max_acceleration: given without options.max_speed".into(),
+                ))
+            }
+            None => None,
+        };
         let options = PassiveOptions {
             torque_limit: array(o.torque_limit, "options.torque_limit")?,
             encoder_resolution: array(o.encoder_resolution, "options.encoder_resolution")?,
             velocity_filter: o.velocity_filter,
             reserve: o.reserve,
+            supervision,
         };
         let p = c.passive(&options)?;
         unsafe { give(out, pvfc_passive { p }) }
@@ -101,6 +173,11 @@ pub unsafe extern "C" fn pvfc_passive_new(
 /// (NULL: the last command): writes the torque to hold for the next period into `torque_out`
 /// and, if `account` is not NULL, the period's energy account. Allocates nothing. On error
 /// nothing changes.
+///
+/// With supervision (`pvfc_passive_options.max_speed`), NaN or infinite readings and periods
+/// are not errors but faults: a sample that breaks a bound returns `PVFC_FAULT`, writes the
+/// safe torque (zero) and the account (its `fault`, `fault_joint`, `unseen`), and the
+/// controller resumes at the next good sample.
 ///
 /// # Safety
 /// The pointers are NULL or point to `n` values each; `p` is used by one thread at a time.
@@ -121,17 +198,31 @@ pub unsafe extern "C" fn pvfc_passive_step(
         // SAFETY: as documented.
         let p = &mut unsafe { object_mut(p, "p") }?.p;
         let dof = p.dof();
-        let q = unsafe { joints(q, n, dof, "q") }?;
-        let v = unsafe { optional_joints(qdot, n, dof, "qdot") }?;
-        let u = unsafe { optional_joints(applied, n, dof, "applied") }?;
-        if !(dt.is_finite() && dt > 0.0) {
+        let supervised = p.supervised();
+        let (q, v, u) = if supervised {
+            // The readings as they are: the supervision judges them.
+            (
+                unsafe { any_joints(q, n, dof, ("q", false)) }?.unwrap_or(&[]),
+                unsafe { any_joints(qdot, n, dof, ("qdot", true)) }?,
+                unsafe { any_joints(applied, n, dof, ("applied", true)) }?,
+            )
+        } else {
+            (
+                unsafe { joints(q, n, dof, "q") }?,
+                unsafe { optional_joints(qdot, n, dof, "qdot") }?,
+                unsafe { optional_joints(applied, n, dof, "applied") }?,
+            )
+        };
+        // (With supervision a bad period is a fault, judged by the controller.)
+        let period_ok = dt.is_finite() && dt > 0.0;
+        if !(supervised || period_ok) {
             return Err(Failure(
                 PVFC_ERROR_INVALID_ARGUMENT,
                 "dt: finite and > 0".into(),
             ));
         }
         let torque = unsafe { output(torque_out, torque_len, dof, "torque_out") }?;
-        let (potential, e) = p.step_into(q, v, u, dt, torque, None)?;
+        let (potential, e, fault) = p.step_into(q, v, u, dt, torque, None)?;
         // SAFETY: NULL or writable.
         if let Some(a) = unsafe { account.as_mut() } {
             *a = pvfc_energy_account {
@@ -143,9 +234,15 @@ pub unsafe extern "C" fn pvfc_passive_step(
                 saturated: e.saturated,
                 quantisation: e.quantisation,
                 potential,
+                unseen: e.unseen,
+                fault: fault.into(),
+                fault_joint: fault.and_then(|f| f.joint()).map_or(-1, |j| j as i32),
             };
         }
-        Ok(())
+        match fault {
+            Some(f) => Err(Failure(PVFC_FAULT, Message::Supervision(f))),
+            None => Ok(()),
+        }
     })
 }
 

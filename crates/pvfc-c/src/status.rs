@@ -35,6 +35,12 @@ pub enum pvfc_status {
     PVFC_ERROR_NUMERICAL = 9,
     /// A bug in pvfc (a caught panic): please report it with the message.
     PVFC_ERROR_INTERNAL = 10,
+    /// Not an error: the passive controller's supervision found a fault at this sample (a
+    /// non-finite reading, a period out of bounds, a reading no motion can make, a frozen
+    /// encoder). The torque written is the safe torque, zero; the energy account says which
+    /// fault and which joint; [`pvfc_last_error`] names it. The controller resumes at the
+    /// next good sample.
+    PVFC_FAULT = 11,
 }
 
 pub(crate) use pvfc_status::*;
@@ -54,6 +60,8 @@ pub(crate) enum Message {
     Sim(SimError),
     /// What is wrong with the argument `name`.
     Argument(&'static str, Fault),
+    /// The fault the passive controller's supervision found ([`PVFC_FAULT`]).
+    Supervision(pvfc_core::supervision::Fault),
 }
 
 /// What is wrong with an argument ([`Message::Argument`]).
@@ -88,6 +96,7 @@ impl fmt::Display for Message {
             Message::Text(s) => f.write_str(s),
             Message::Fixed(s) => f.write_str(s),
             Message::Sim(e) => write!(f, "{e}"),
+            Message::Supervision(fault) => write!(f, "supervision: {fault}"),
             Message::Argument(name, Fault::Null) => write!(f, "{name}: NULL pointer"),
             Message::Argument(name, Fault::NonFinite { index, value }) => match index {
                 Some(i) => write!(f, "{name}[{i}] is {value}"),

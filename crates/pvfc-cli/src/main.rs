@@ -317,6 +317,16 @@ fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
             }
             (System::Scara(_) | System::SerialChain(_), None) => {}
         }
+        if !s.faults.is_empty() {
+            if let Some(f) = pvfc_sim::trace::metrics::fault_summary(t) {
+                let [nan, period, speed, accel, frozen] = f.samples;
+                println!(
+                    "{name}: faults: {} events; samples at fault: non-finite {nan}, period {period}, speed {speed}, acceleration {accel}, frozen {frozen}; energy created at most {:.1e} J",
+                    s.faults.len(),
+                    f.created
+                );
+            }
+        }
     }
     if s.contact.is_some() {
         let p = out.join(format!("{}.png", s.name));

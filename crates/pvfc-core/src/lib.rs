@@ -65,6 +65,7 @@ pub mod pace;
 pub mod pacing;
 pub mod passive;
 pub mod scalar;
+pub mod supervision;
 pub mod task_field;
 
 pub use error::{Error, ErrorKind, Result};
@@ -97,5 +98,6 @@ pub mod prelude {
     };
     pub use crate::pacing::{ConstantGains, ExponentialPacing, SelfPacing};
     pub use crate::passive::{EnergyAccount, PassiveController, PassiveStepOutput};
+    pub use crate::supervision::{Fault, Supervision};
     pub use crate::Real;
 }

@@ -72,6 +72,7 @@ use crate::field::VelocityField;
 use crate::lie::Tangent;
 use crate::mechanics::MechanicalSystem;
 use crate::scalar::cast;
+use crate::supervision::{Fault, Supervision};
 use crate::Real;
 
 /// The energy account of one step of a [`PassiveController`], for logs and tests.
@@ -98,22 +99,34 @@ pub struct EnergyAccount<T: Real> {
     /// What the storage was charged for the encoders' resolution this step,
     /// `½ Σ_i δ_i |u_{k,i} − u_{k−1,i}|` (J; 0 without a resolution).
     pub quantisation: T,
+    /// What the storage was charged at a fault for the work the last torque may have done
+    /// unseen over the period that ended, `Σ_i |u_i| v̄_i h` (J; 0 without a fault). The
+    /// add-ons' share is in it: their energy over that period is not reported in
+    /// [`add_ons`](Self::add_ons).
+    pub unseen: T,
 }
 
 /// What one step of a [`PassiveController`] returns.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PassiveStepOutput<T: Real, const D: usize> {
-    /// The motor torques to apply (clamped to the limits, if any).
+    /// The motor torques to apply (clamped to the limits, if any; zero at a fault).
     pub torque: Tangent<T, D>,
+    /// The add-ons' share of [`torque`](Self::torque) (friction and gravity compensation,
+    /// nominal speed): the rest is the coupling's, whose energy the storage pays.
+    pub add_on: Tangent<T, D>,
     /// The velocity the law was evaluated at (measured, or estimated from positions).
     pub velocity: Tangent<T, D>,
     /// The internal states the torque was computed at (after the energy correction, before
     /// the update).
     pub state: InternalState<T>,
-    /// `U`, `λ₁`, `λ₂`, `β`, `κ_a`, `V_F` at that state.
+    /// `U`, `λ₁`, `λ₂`, `β`, `κ_a`, `V_F` at that state (at a fault: as of the last good
+    /// step, zeros before the first).
     pub diagnostics: Diagnostics<T>,
     /// The energy account of the step.
     pub energy: EnergyAccount<T>,
+    /// The fault detected at this sample, if any ([`Supervision`]); the torque is then the
+    /// safe torque, zero.
+    pub fault: Option<Fault>,
 }
 
 /// What the controller remembers of the period it is holding a torque over.
@@ -126,6 +139,51 @@ struct Held<T: Real, G, const D: usize> {
     virtual_add_on: T,
     /// The torque applied over the period before (for the encoders' charge).
     previous: Option<Tangent<T, D>>,
+    /// The time since `q` was read, less the period now ending (faulted periods since).
+    elapsed: T,
+}
+
+/// The balance of the period a [`Held`] sample covers, from positions only.
+struct Balance<T: Real, const D: usize> {
+    /// The increment `log(q_held⁻¹ q)`.
+    dq: Tangent<T, D>,
+    /// `(u − a)ᵀΔq`: the coupling's energy to the robot.
+    to_robot: T,
+    /// `aᵀΔq + E`: the add-ons'.
+    add_ons: T,
+    /// `½ Σ δ_i |u_k − u_{k−1}|`: the encoders' charge (0 without a resolution).
+    quantisation: T,
+}
+
+impl<T: Real, G: VectorGroup<T, D>, const D: usize> Held<T, G, D> {
+    /// The balance up to the reading `q`, with `applied` the torque the drive applied (`None`:
+    /// the command) and `resolution` the encoders'.
+    fn balance(
+        &self,
+        q: &G,
+        applied: Option<&Tangent<T, D>>,
+        resolution: Option<&Tangent<T, D>>,
+    ) -> Balance<T, D> {
+        let dq = self.q.inverse().compose(q).log();
+        let u = applied.copied().unwrap_or(self.command);
+        let quantisation = match (resolution, &self.previous) {
+            // ½ Σ δ_i |u_k − u_{k−1}|: what the rounding of q_k can hide (summation by
+            // parts, module documentation).
+            (Some(res), Some(before)) => {
+                res.iter()
+                    .zip(u.iter().zip(before.iter()))
+                    .fold(T::zero(), |acc, (d, (a, b))| acc + *d * (*a - *b).abs())
+                    * cast::<T>(0.5)
+            }
+            _ => T::zero(),
+        };
+        Balance {
+            to_robot: (u - self.add_on).dot(&dq),
+            add_ons: self.add_on.dot(&dq) + self.virtual_add_on,
+            quantisation,
+            dq,
+        }
+    }
 }
 
 /// PVFC for a sampled-data loop, passive for any sampling period: see the
@@ -159,6 +217,13 @@ pub struct PassiveController<T: Real, G, Sys, F, const D: usize> {
     storage: T,
     held: Option<Held<T, G, D>>,
     velocity_estimate: Tangent<T, D>,
+    supervision: Option<Supervision<T, D>>,
+    /// The last good increment's speed and the time it was measured over.
+    rate: Option<(Tangent<T, D>, T)>,
+    /// The joint whose encoder was found frozen, until its reading changes.
+    frozen: Option<usize>,
+    /// The diagnostics of the last good step (reported at a fault).
+    last_diagnostics: Diagnostics<T>,
 }
 
 impl<T, G, Sys, F, const D: usize> PassiveController<T, G, Sys, F, D>
@@ -182,7 +247,32 @@ where
             storage,
             held: None,
             velocity_estimate: Tangent::zeros(),
+            supervision: None,
+            rate: None,
+            frozen: None,
+            last_diagnostics: Diagnostics {
+                potential: T::zero(),
+                lambda1: T::zero(),
+                lambda2: T::zero(),
+                beta: T::zero(),
+                kinetic_energy: T::zero(),
+                flywheel_field_speed: T::zero(),
+                momentum_along_field: T::zero(),
+            },
         }
+    }
+
+    /// Checks every sample against `supervision`'s bounds (the period, each joint's speed
+    /// and acceleration): a sample that breaks one is a [`Fault`], answered with the safe
+    /// torque instead of an error ([`step`](Self::step)).
+    pub fn with_supervision(mut self, supervision: Supervision<T, D>) -> Self {
+        self.supervision = Some(supervision);
+        self
+    }
+
+    /// The bounds the samples are checked against, if any.
+    pub fn supervision(&self) -> Option<&Supervision<T, D>> {
+        self.supervision.as_ref()
     }
 
     /// Per-joint torque limits `|u_i| ≤ limit_i` (each > 0, finite).
@@ -261,6 +351,25 @@ where
     ///
     /// Errors: `InvalidParameter` for `dt ≤ 0` or not finite; `NonFinite` for NaN/∞ in `q`,
     /// `v` or `applied`, or an overflow; the law's errors ([`EnergyTooLow`](ErrorKind)).
+    ///
+    /// # With supervision
+    /// With [`with_supervision`](Self::with_supervision), a sample that breaks a bound
+    /// (a non-finite reading or period, a period out of bounds, a joint beyond its speed or
+    /// acceleration bound, a frozen encoder: [`Supervision`]) is not an error: the step
+    /// returns `Ok` with [`fault`](PassiveStepOutput::fault) set and the **safe torque,
+    /// zero**, and:
+    /// - if the positions are good (the period is at fault, the reading within its bounds),
+    ///   the last period's balance is made as usual;
+    /// - if they are not, the work the last torque did over the period is unseen: the
+    ///   storage is charged its bound, `Σ_i |u_i| v̄_i h` (reported as
+    ///   [`unseen`](EnergyAccount::unseen)), so that no fault can make the controller give
+    ///   more than it has; the last good positions are kept;
+    /// - the internal states are not advanced (the internal velocities are put on the
+    ///   storage's level), and nothing is integrated from the faulty sample.
+    ///
+    /// The next good sample is checked against the last good one over the time elapsed
+    /// since it, so the controller resumes at the first reading that motion can explain;
+    /// the periods of zero torque between are balanced exactly.
     pub fn step(
         &mut self,
         q: &G,
@@ -268,7 +377,11 @@ where
         applied: Option<&Tangent<T, D>>,
         dt: T,
     ) -> Result<PassiveStepOutput<T, D>> {
-        if !(dt.is_finite() && dt > T::zero()) {
+        if let Some(sup) = self.supervision {
+            if let Some(fault) = self.detect(&sup, q, v, applied, dt) {
+                return self.safe_step(&sup, q, applied, dt, fault);
+            }
+        } else if !(dt.is_finite() && dt > T::zero()) {
             return Err(Error::new(
                 ErrorKind::InvalidParameter,
                 "PassiveController::step: dt must be finite and > 0",
@@ -289,26 +402,19 @@ where
         let mut storage = self.storage;
         let mut velocity_estimate = self.velocity_estimate;
         let mut quantisation = T::zero();
+        let mut increment = None;
         if let Some(held) = &self.held {
-            let dq = held.q.inverse().compose(q).log();
-            let u = applied.copied().unwrap_or(held.command);
-            to_robot = (u - held.add_on).dot(&dq);
-            add_ons = held.add_on.dot(&dq) + held.virtual_add_on;
-            storage = storage - to_robot + held.virtual_add_on;
-            if let (Some(res), Some(before)) = (&self.resolution, &held.previous) {
-                // ½ Σ δ_i |u_k − u_{k−1}|: what the rounding of q_k can hide (summation by
-                // parts, module documentation).
-                quantisation = res
-                    .iter()
-                    .zip(u.iter().zip(before.iter()))
-                    .fold(T::zero(), |acc, (d, (a, b))| acc + *d * (*a - *b).abs())
-                    * cast::<T>(0.5);
-                storage -= quantisation;
-            }
+            let b = held.balance(q, applied, self.resolution.as_ref());
+            let dq = b.dq;
+            // The time since `held.q` was read (longer than `dt` after faulted periods).
+            let elapsed = held.elapsed + dt;
+            (to_robot, add_ons, quantisation) = (b.to_robot, b.add_ons, b.quantisation);
+            storage = storage - to_robot + held.virtual_add_on - quantisation;
             if v.is_none() {
-                let alpha = self.filter / (self.filter + dt);
-                velocity_estimate = velocity_estimate * alpha + dq * ((T::one() - alpha) / dt);
+                let alpha = self.filter / (self.filter + elapsed);
+                velocity_estimate = velocity_estimate * alpha + dq * ((T::one() - alpha) / elapsed);
             }
+            increment = Some((dq, elapsed));
         }
         // 2. The internal velocities put back onto the storage's level set.
         let integrated = virtual_energy(&self.controller, &state);
@@ -386,6 +492,11 @@ where
         *self.controller.state_mut() = next;
         self.storage = storage;
         self.velocity_estimate = velocity_estimate;
+        if self.supervision.is_some() {
+            self.rate = increment.map(|(dq, e)| (dq / e, e));
+            self.frozen = None;
+            self.last_diagnostics = diagnostics;
+        }
         // The torque applied over the period that just ended (for the encoders' charge).
         let previous = match (&self.resolution, &self.held) {
             (Some(_), Some(h)) => Some(applied.copied().unwrap_or(h.command)),
@@ -397,9 +508,11 @@ where
             add_on: add_on.robot,
             virtual_add_on,
             previous,
+            elapsed: T::zero(),
         });
         Ok(PassiveStepOutput {
             torque: command,
+            add_on: add_on.robot,
             velocity,
             state,
             diagnostics,
@@ -411,11 +524,143 @@ where
                 scale,
                 saturated,
                 quantisation,
+                unseen: T::zero(),
             },
+            fault: None,
+        })
+    }
+
+    /// The fault of a sample, if any, and whether its positions are good (the order:
+    /// non-finite readings, the period, the frozen encoder, the speed and acceleration
+    /// bounds). A period at fault is reported first, but its positions are still checked.
+    fn detect(
+        &self,
+        sup: &Supervision<T, D>,
+        q: &G,
+        v: Option<&Tangent<T, D>>,
+        applied: Option<&Tangent<T, D>>,
+        dt: T,
+    ) -> Option<(Fault, bool)> {
+        let finite = |x: &Tangent<T, D>| x.iter().all(|e| e.is_finite());
+        if !(finite(&q.coordinates()) && v.is_none_or(finite) && applied.is_none_or(finite)) {
+            return Some((Fault::NonFinite, false));
+        }
+        let reading = match &self.held {
+            Some(held) => {
+                let dq = held.q.inverse().compose(q).log();
+                match self.frozen {
+                    Some(joint) if dq[joint] == T::zero() => Some(Fault::Frozen { joint }),
+                    _ => sup.check_increment(
+                        &dq,
+                        held.elapsed + sup.elapsed(dt),
+                        self.rate.as_ref(),
+                        self.resolution.as_ref(),
+                    ),
+                }
+            }
+            None => None,
+        }
+        .or_else(|| v.and_then(|v| sup.check_velocity(v)));
+        if !sup.period_ok(dt) {
+            return Some((Fault::Period, reading.is_none()));
+        }
+        reading.map(|f| (f, false))
+    }
+
+    /// The step at a fault: the safe torque (zero), the storage charged for what the last
+    /// torque may have done unseen, nothing integrated ([`step`](Self::step)).
+    fn safe_step(
+        &mut self,
+        sup: &Supervision<T, D>,
+        q: &G,
+        applied: Option<&Tangent<T, D>>,
+        dt: T,
+        (fault, good_positions): (Fault, bool),
+    ) -> Result<PassiveStepOutput<T, D>> {
+        let mf = self.controller.law().flywheel().inertia();
+        let period = sup.elapsed(dt);
+        let applied = applied.filter(|u| u.iter().all(|x| x.is_finite()));
+        let mut storage = self.storage;
+        let (mut to_robot, mut add_ons, mut unseen, mut quantisation) =
+            (T::zero(), T::zero(), T::zero(), T::zero());
+        let mut velocity_estimate = self.velocity_estimate;
+        let mut rate = self.rate;
+        let held = match &self.held {
+            Some(held) => {
+                let u = applied.copied().unwrap_or(held.command);
+                let previous = self.resolution.map(|_| u);
+                storage += held.virtual_add_on;
+                if good_positions {
+                    let b = held.balance(q, applied, self.resolution.as_ref());
+                    let dq = b.dq;
+                    let elapsed = held.elapsed + period;
+                    (to_robot, add_ons, quantisation) = (b.to_robot, b.add_ons, b.quantisation);
+                    storage = storage - to_robot - quantisation;
+                    let alpha = self.filter / (self.filter + elapsed);
+                    velocity_estimate =
+                        velocity_estimate * alpha + dq * ((T::one() - alpha) / elapsed);
+                    rate = Some((dq / elapsed, elapsed));
+                    Some((*q, T::zero(), previous))
+                } else {
+                    // The add-ons' share too: their work is not reported for this period.
+                    unseen = sup.unseen_work(&u, period);
+                    add_ons = held.virtual_add_on;
+                    storage -= unseen;
+                    Some((held.q, held.elapsed + period, previous))
+                }
+            }
+            None => good_positions.then_some((*q, T::zero(), None)),
+        };
+        let mut state = *self.controller.state();
+        let integrated = virtual_energy(&self.controller, &state);
+        let correction = storage - integrated;
+        if self.held.is_some() {
+            project(&mut state, storage, mf);
+        }
+        if !(storage.is_finite() && velocity_estimate.iter().all(|x| x.is_finite())) {
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                "PassiveController::step: the storage overflowed at a fault",
+            ));
+        }
+        // Commit: nothing integrated, the safe torque held.
+        *self.controller.state_mut() = state;
+        self.storage = storage;
+        self.velocity_estimate = velocity_estimate;
+        self.rate = rate;
+        if let Fault::Frozen { joint } = fault {
+            self.frozen = Some(joint);
+        } else if good_positions {
+            self.frozen = None;
+        }
+        self.held = held.map(|(q, elapsed, previous)| Held {
+            q,
+            command: Tangent::zeros(),
+            add_on: Tangent::zeros(),
+            virtual_add_on: T::zero(),
+            previous,
+            elapsed,
+        });
+        Ok(PassiveStepOutput {
+            torque: Tangent::zeros(),
+            add_on: Tangent::zeros(),
+            velocity: velocity_estimate,
+            state,
+            diagnostics: self.last_diagnostics,
+            energy: EnergyAccount {
+                storage,
+                to_robot,
+                add_ons,
+                correction,
+                scale: T::zero(),
+                saturated: false,
+                quantisation,
+                unseen,
+            },
+            fault: Some(fault),
         })
     }
 }
-
 /// `½τ̇² + ½M_F q̇_F²` of the controller's internal states.
 fn virtual_energy<T: Real, G, Sys, F, const D: usize>(
     c: &Controller<T, G, Sys, F, D>,

@@ -267,3 +267,213 @@ fn torque_limits_clamp_each_joint_and_report_it() {
     }
     assert!(clamped_some && clear_some);
 }
+
+// ---- Supervision: faults detected, answered with the safe torque, nothing created ----
+
+use pvfc_core::supervision::{Fault, Supervision};
+
+/// Bounds no clean run of these tests comes near: 10 rad/s, 2,000 rad/s², periods 0.4–3.5 ms.
+fn supervision() -> Supervision<f64, 2> {
+    Supervision::new(Vector2::new(10.0, 10.0), 4e-4, 3.5e-3)
+        .unwrap()
+        .with_max_acceleration(Vector2::new(2000.0, 2000.0))
+        .unwrap()
+}
+
+fn supervised(limits: f64) -> Passive {
+    PassiveController::new(controller(50.0, 1.0).starting_at_rest(0.0))
+        .with_torque_limits(Vector2::new(limits, limits))
+        .unwrap()
+        .with_supervision(supervision())
+}
+
+/// What the sensors and the drive do to one period of the loop.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Glitch {
+    /// The reading of joint `j` is off by `size` (rad).
+    Spike(usize, f64),
+    /// The reading of joint `j` is NaN.
+    NotANumber(usize),
+    /// The period is this long (s); the controller is told so at the next sample.
+    Period(f64),
+    /// The drive keeps the torque it had (and says so).
+    Dropped,
+    /// The drive applies the command of the sample before (and says so).
+    Late,
+    /// The drive clamps the torque to this (N·m; and says so).
+    Limit(f64),
+}
+
+/// The loop of `steps` periods of 1 ms (unless a glitch says otherwise) from the contour's
+/// start at rest, with `glitch(k)` at sample `k`. Returns each sample's fault and the energy
+/// the controller created up to it: the drive's work on the robot, `Σ u_appliedᵀΔq_true`,
+/// less the add-ons' energy it reported, less what its storage gave.
+fn run(
+    ctl: &mut Passive,
+    steps: usize,
+    glitch: impl Fn(usize) -> Option<Glitch>,
+) -> Vec<(Option<Fault>, f64)> {
+    let h = 1e-3;
+    let (mut q, mut v) = (Torus::new(Vector2::new(0.0, 0.0)), Vector2::zeros());
+    let (mut dt, mut applied, mut last_command) = (h, Vector2::zeros(), Vector2::zeros());
+    let (mut work, mut add_ons, mut s0) = (0.0, 0.0, None);
+    let mut out = Vec::new();
+    for k in 0..steps {
+        let g = glitch(k);
+        let mut reading = *q.angles();
+        match g {
+            Some(Glitch::Spike(j, size)) => reading[j] += size,
+            Some(Glitch::NotANumber(j)) => reading[j] = f64::NAN,
+            _ => {}
+        }
+        let report = (k > 0).then_some(&applied);
+        let step = ctl.step(&Torus::new(reading), None, report, dt).unwrap();
+        let s = *s0.get_or_insert(step.energy.storage);
+        add_ons += step.energy.add_ons;
+        out.push((step.fault, work - add_ons - (s - step.energy.storage)));
+        // The drive.
+        applied = match g {
+            Some(Glitch::Dropped) => applied,
+            Some(Glitch::Late) => last_command,
+            Some(Glitch::Limit(l)) => step.torque.map(|t| t.clamp(-l, l)),
+            _ => step.torque,
+        };
+        last_command = step.torque;
+        let period = match g {
+            Some(Glitch::Period(p)) => p,
+            _ => h,
+        };
+        let (q1, v1) = plant(q, v, applied, period, 10);
+        work += applied.dot(&(q1.angles() - q.angles()));
+        (q, v, dt) = (q1, v1, period);
+    }
+    out
+}
+
+#[test]
+fn on_clean_signals_supervision_changes_nothing() {
+    let mut plain: Passive = PassiveController::new(controller(50.0, 1.0).starting_at_rest(0.0))
+        .with_torque_limits(Vector2::new(20.0, 20.0))
+        .unwrap();
+    let mut watched = supervised(20.0);
+    let a = run(&mut plain, 1500, |_| None);
+    let b = run(&mut watched, 1500, |_| None);
+    assert_eq!(a, b);
+    assert!(b.iter().all(|(f, _)| f.is_none()));
+}
+
+#[test]
+fn a_spike_is_answered_with_zero_torque_and_the_loop_resumes() {
+    let mut ctl = supervised(20.0);
+    let run = run(&mut ctl, 800, |k| {
+        (k == 500 || k == 600).then_some(Glitch::Spike(1, if k == 500 { 0.3 } else { -0.02 }))
+    });
+    assert_eq!(run[500].0, Some(Fault::Speed { joint: 1 }));
+    assert_eq!(run[600].0, Some(Fault::Speed { joint: 1 }));
+    assert!(run.iter().filter(|(f, _)| f.is_some()).count() == 2);
+    for (k, (_, created)) in run.iter().enumerate() {
+        assert!(*created <= 1e-9, "{created:e} J created at sample {k}");
+    }
+}
+
+#[test]
+fn a_fault_step_returns_the_safe_torque_and_charges_the_unseen_work() {
+    let mut ctl = supervised(20.0);
+    let mut q = Torus::new(Vector2::new(0.0, 0.0));
+    let mut last = ctl.step(&q, None, None, 1e-3).unwrap();
+    for _ in 0..50 {
+        q = Torus::new(q.angles() + Vector2::new(1e-3, -5e-4));
+        last = ctl.step(&q, None, None, 1e-3).unwrap();
+    }
+    let before = ctl;
+    let nan = Torus::new(Vector2::new(f64::NAN, 0.0));
+    let f = ctl.step(&nan, None, None, 1e-3).unwrap();
+    assert_eq!(f.fault, Some(Fault::NonFinite));
+    assert_eq!(f.torque, Vector2::zeros());
+    let bound = (last.torque[0].abs() + last.torque[1].abs()) * 10.0 * 1e-3;
+    assert!((f.energy.unseen - bound).abs() <= 1e-15 * bound.max(1.0));
+    assert!(f.energy.storage <= before.storage() - bound + 1e-12);
+    assert_eq!(
+        f.state.tau,
+        before.controller().state().tau,
+        "τ advanced at a fault"
+    );
+    // Zero torque is held: the next good reading is balanced at zero work.
+    q = Torus::new(q.angles() + Vector2::new(2e-3, -1e-3));
+    let next = ctl.step(&q, None, None, 1e-3).unwrap();
+    assert_eq!(next.fault, None);
+    assert_eq!(next.energy.to_robot, 0.0);
+    // The velocity estimate spans both periods.
+    assert!((next.velocity - Vector2::new(1.0, -0.5)).norm() < 1e-9);
+    // The period: out of bounds is a fault with the exact balance.
+    q = Torus::new(q.angles() + Vector2::new(5e-3, 0.0));
+    let late = ctl.step(&q, None, None, 5e-3).unwrap();
+    assert_eq!(late.fault, Some(Fault::Period));
+    assert_eq!(late.energy.unseen, 0.0);
+    assert!((late.energy.to_robot - next.torque.dot(&Vector2::new(5e-3, 0.0))).abs() < 1e-15);
+    for dt in [f64::NAN, 0.0, -1.0, f64::INFINITY, 1e-4] {
+        assert_eq!(
+            ctl.step(&q, None, None, dt).unwrap().fault,
+            Some(Fault::Period)
+        );
+    }
+}
+
+#[test]
+fn a_frozen_encoder_is_latched_until_it_moves() {
+    let mut ctl = supervised(20.0);
+    // Joint 0 at 4 rad/s: it cannot stop within a millisecond at 2,000 rad/s².
+    let mut q = Torus::new(Vector2::new(0.0, 0.0));
+    for _ in 0..20 {
+        ctl.step(&q, None, None, 1e-3).unwrap();
+        q = Torus::new(q.angles() + Vector2::new(4e-3, 0.0));
+    }
+    let stuck = Torus::new(q.angles() - Vector2::new(4e-3, 0.0));
+    ctl.step(&stuck, None, None, 1e-3).unwrap();
+    for k in 0..30 {
+        let out = ctl.step(&stuck, None, None, 1e-3).unwrap();
+        assert_eq!(out.fault, Some(Fault::Frozen { joint: 0 }), "sample {k}");
+        assert_eq!(out.torque, Vector2::zeros());
+    }
+    // It moves again, by what 4 rad/s can do in the time since the last good reading.
+    let moved = Torus::new(stuck.angles() + Vector2::new(0.05, 0.0));
+    assert_eq!(ctl.step(&moved, None, None, 1e-3).unwrap().fault, None);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Random glitches of every kind the controller detects or the drive reports, over 1.2 s
+    /// of the SCARA's loop: at every sample the energy the controller created (the drive's
+    /// true work less the add-ons' reported energy and what the storage gave) is at most
+    /// rounding, and the loop ends with no fault.
+    #[test]
+    fn faults_create_no_energy(
+        events in prop::collection::vec(
+            (50usize..1000, 0usize..7, 1usize..30, 0usize..2, 0.05f64..1.0, any::<bool>()),
+            1..12,
+        ),
+        limit in 5.0f64..30.0,
+    ) {
+        let glitch = |k: usize| {
+            events.iter().find(|e| k >= e.0 && k < e.0 + e.2).map(|&(_, kind, _, j, size, sign)| {
+                let size = if sign { size } else { -size };
+                match kind {
+                    0 => Glitch::Spike(j, size),
+                    1 => Glitch::NotANumber(j),
+                    2 => Glitch::Period(5e-4 + 2.5e-3 * size),
+                    3 => Glitch::Period(4e-3 + 4e-3 * size.abs()),
+                    4 => Glitch::Dropped,
+                    5 => Glitch::Late,
+                    _ => Glitch::Limit(limit * size.abs()),
+                }
+            })
+        };
+        let mut ctl = supervised(limit);
+        let run = run(&mut ctl, 1200, glitch);
+        for (k, (_, created)) in run.iter().enumerate() {
+            prop_assert!(*created <= 1e-9, "{created:e} J created at sample {k}");
+        }
+        prop_assert!(run[1199].0.is_none());
+    }
+}

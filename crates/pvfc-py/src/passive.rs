@@ -10,7 +10,10 @@ use nalgebra::Vector2;
 use numpy::PyArray1;
 use pvfc_core::passive::{EnergyAccount, PassiveController as CorePassive};
 use pvfc_core::prelude::*;
-use pvfc_sim::model::arm::{ArmController as SimArm, PassiveArm, PassiveOptions};
+use pvfc_core::supervision::Fault;
+use pvfc_sim::model::arm::{
+    ArmController as SimArm, PassiveArm, PassiveOptions, SupervisionOptions,
+};
 use pvfc_sim::scenario::PaperPassiveController;
 use pvfc_sim::scenario::System;
 use pyo3::exceptions::PyTypeError;
@@ -31,11 +34,18 @@ enum Inner {
 /// `[controller.passive]`, the encoder's counts on the revolute joints), or from a
 /// `pvfc.Controller` of the SCARA or of an arm (its internal states as they are; settings
 /// default to none). The arguments override the settings.
+///
+/// With `max_speed` (one bound per joint, rad/s or m/s) and `period` (`(min, max)`, s), and
+/// optionally `max_acceleration`, every sample is supervised: a NaN or infinite reading, a
+/// period out of bounds, a reading no motion can make or a frozen encoder is a fault, not an
+/// exception: `step` returns the safe torque (zeros), `fault` says which, and the
+/// controller resumes at the next good sample.
 #[pyclass(module = "pvfc")]
 pub(crate) struct PassiveController {
     ctl: Inner,
     initial: Inner,
     last: Option<EnergyAccount<f64>>,
+    fault: Option<Fault>,
 }
 
 fn pair(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vector2<f64>> {
@@ -45,19 +55,24 @@ fn pair(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vector2<f64>> {
 #[pymethods]
 impl PassiveController {
     #[new]
-    #[pyo3(signature = (controller, torque_limit=None, encoder_resolution=None, velocity_filter=None, reserve=None))]
+    #[pyo3(signature = (controller, torque_limit=None, encoder_resolution=None, velocity_filter=None, reserve=None, max_speed=None, max_acceleration=None, period=None))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         controller: &Bound<'_, PyAny>,
         torque_limit: Option<&Bound<'_, PyAny>>,
         encoder_resolution: Option<&Bound<'_, PyAny>>,
         velocity_filter: Option<f64>,
         reserve: Option<f64>,
+        max_speed: Option<&Bound<'_, PyAny>>,
+        max_acceleration: Option<&Bound<'_, PyAny>>,
+        period: Option<(f64, f64)>,
     ) -> PyResult<Self> {
         let overrides = Overrides {
             torque_limit,
             encoder_resolution,
             velocity_filter,
             reserve,
+            supervision: (max_speed, max_acceleration, period),
         };
         let ctl = if let Ok(scenario) = controller.cast::<Scenario>() {
             let mut s = scenario.borrow().s.clone();
@@ -104,6 +119,7 @@ impl PassiveController {
             initial: ctl.clone(),
             ctl,
             last: None,
+            fault: None,
         })
     }
 
@@ -119,7 +135,8 @@ impl PassiveController {
     /// One control step at the measured positions `q` (and velocities `qdot`, or `None` to
     /// estimate them from the positions), with `applied` the torque the drive applied over
     /// the last period (`None`: what this controller commanded). Returns the torque to hold
-    /// for `dt`, shape (dof,). On error nothing changes.
+    /// for `dt`, shape (dof,). On error nothing changes. With supervision, a fault returns
+    /// the safe torque (zeros) and sets `fault`.
     #[pyo3(signature = (q, qdot, dt, applied=None))]
     fn step<'py>(
         &mut self,
@@ -129,13 +146,13 @@ impl PassiveController {
         dt: f64,
         applied: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let (torque, energy) = match &mut self.ctl {
+        let (torque, energy, fault) = match &mut self.ctl {
             Inner::Scara(c) => {
                 let q = Torus::new(pair(q, "q")?);
                 let v = qdot.map(|v| pair(v, "qdot")).transpose()?;
                 let u = applied.map(|u| pair(u, "applied")).transpose()?;
                 let out = c.step(&q, v.as_ref(), u.as_ref(), dt).map_err(core_err)?;
-                (out.torque.as_slice().to_vec(), out.energy)
+                (out.torque.as_slice().to_vec(), out.energy, out.fault)
             }
             Inner::Arm(c) => {
                 let n = c.dof();
@@ -145,15 +162,17 @@ impl PassiveController {
                 let out = c
                     .step(&q, v.as_deref(), u.as_deref(), dt)
                     .map_err(sim_err)?;
-                (out.torque, out.energy)
+                (out.torque, out.energy, out.fault)
             }
         };
         self.last = Some(energy);
+        self.fault = fault;
         Ok(out1(py, torque))
     }
 
     /// The last step's energy account: storage, to_robot, add_ons, correction, scale,
-    /// saturated, quantisation (J, except scale and saturated); `None` before the first step.
+    /// saturated, quantisation, unseen (J, except scale and saturated); `None` before the
+    /// first step.
     #[getter]
     fn energy<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         let Some(e) = self.last else {
@@ -167,7 +186,35 @@ impl PassiveController {
         d.set_item("scale", e.scale)?;
         d.set_item("saturated", e.saturated)?;
         d.set_item("quantisation", e.quantisation)?;
+        d.set_item("unseen", e.unseen)?;
         Ok(Some(d))
+    }
+
+    /// The fault the supervision found at the last step, as `(kind, joint)`: kind one of
+    /// "non_finite", "period", "speed", "acceleration", "frozen"; joint the 0-based joint it
+    /// names, or `None`. `None` without a fault.
+    #[getter]
+    fn fault(&self) -> Option<(&'static str, Option<usize>)> {
+        self.fault.map(|f| {
+            let kind = match f {
+                Fault::NonFinite => "non_finite",
+                Fault::Period => "period",
+                Fault::Speed { .. } => "speed",
+                Fault::Acceleration { .. } => "acceleration",
+                Fault::Frozen { .. } => "frozen",
+            };
+            (kind, f.joint())
+        })
+    }
+
+    /// Whether every sample is supervised (`max_speed` and `period` given, or the scenario's
+    /// `[controller.passive.supervision]`).
+    #[getter]
+    fn supervised(&self) -> bool {
+        match &self.ctl {
+            Inner::Scara(c) => c.supervision().is_some(),
+            Inner::Arm(c) => c.supervised(),
+        }
     }
 
     /// The storage ½τ̇² + ½M_F q̇_F² as accounted (J).
@@ -192,6 +239,7 @@ impl PassiveController {
     fn reset(&mut self) {
         self.ctl = self.initial.clone();
         self.last = None;
+        self.fault = None;
     }
 }
 
@@ -201,6 +249,42 @@ struct Overrides<'a, 'py> {
     encoder_resolution: Option<&'a Bound<'py, PyAny>>,
     velocity_filter: Option<f64>,
     reserve: Option<f64>,
+    /// `max_speed`, `max_acceleration`, `period`.
+    supervision: SupervisionArgs<'a, 'py>,
+}
+
+/// The supervision's arguments: `max_speed`, `max_acceleration`, `period`.
+type SupervisionArgs<'a, 'py> = (
+    Option<&'a Bound<'py, PyAny>>,
+    Option<&'a Bound<'py, PyAny>>,
+    Option<(f64, f64)>,
+);
+
+impl Overrides<'_, '_> {
+    /// The supervision the arguments ask for (`None`: none asked), for `n` joints.
+    fn supervision(&self, n: usize) -> PyResult<Option<SupervisionOptions>> {
+        let (speed, acceleration, period) = self.supervision;
+        let Some(speed) = speed else {
+            if acceleration.is_some() || period.is_some() {
+                return Err(pyo3::exceptions::PyValueError::new_err(
+                    "PassiveController: max_acceleration and period supervise with max_speed: give max_speed too",
+                ));
+            }
+            return Ok(None);
+        };
+        let period = period.ok_or_else(|| {
+            pyo3::exceptions::PyValueError::new_err(
+                "PassiveController: max_speed needs period=(min, max) (s)",
+            )
+        })?;
+        Ok(Some(SupervisionOptions {
+            max_speed: dyn_vector(speed, "max_speed", n)?,
+            max_acceleration: acceleration
+                .map(|a| dyn_vector(a, "max_acceleration", n))
+                .transpose()?,
+            period,
+        }))
+    }
 }
 
 fn no_body() -> PyErr {
@@ -223,6 +307,9 @@ fn arm(ctl: &SimArm, mut base: PassiveOptions, o: &Overrides<'_, '_>) -> PyResul
     }
     if let Some(r) = o.reserve {
         base.reserve = r;
+    }
+    if let Some(s) = o.supervision(n)? {
+        base.supervision = Some(s);
     }
     ctl.passive(&base).map_err(sim_err)
 }
@@ -247,6 +334,9 @@ fn scara(
     }
     if let Some(r) = o.reserve {
         ctl = ctl.with_reserve(r).map_err(core_err)?;
+    }
+    if let Some(s) = o.supervision(2)? {
+        ctl = ctl.with_supervision(s.build::<2>().map_err(sim_err)?);
     }
     Ok(ctl)
 }

@@ -128,6 +128,7 @@ fn a_urdf_arm_runs_with_the_passive_digital_controller() {
         positions_only: true,
         velocity_filter: 0.002,
         reserve: 0.0,
+        supervision: None,
     });
     s.validate().unwrap();
     let t = simulate(&s, &mut |_| {}).unwrap();

@@ -172,6 +172,44 @@ int main(int argc, char **argv) {
               "options.torque_limit");
   CHECK(bad_passive == NULL);
 
+  /* Supervision: a NaN reading and a spike are faults answered with zero torque; the
+   * controller resumes at the next good reading. */
+  {
+    const double max_speed[DOF] = {3, 3, 3, 6, 6, 6};
+    pvfc_passive_options watched = pvfc_passive_options_default();
+    watched.max_speed = max_speed;
+    watched.n = DOF;
+    pvfc_passive *bad_watch = NULL;
+    CHECK_ERROR(pvfc_passive_new(ctl, &watched, &bad_watch), PVFC_ERROR_INVALID_ARGUMENT,
+                "period");
+    CHECK(bad_watch == NULL);
+    watched.min_period = 5e-4;
+    watched.max_period = 3e-3;
+    pvfc_passive *sup = NULL;
+    CHECK(pvfc_passive_new(ctl, &watched, &sup) == PVFC_OK);
+    double r[DOF];
+    for (int i = 0; i < DOF; i++) r[i] = q[i];
+    CHECK(pvfc_passive_step(sup, r, NULL, NULL, DOF, 1e-3, torque, DOF, &account) == PVFC_OK);
+    CHECK(account.fault == PVFC_FAULT_NONE && account.fault_joint == -1);
+    r[4] = NAN;
+    CHECK_ERROR(pvfc_passive_step(sup, r, NULL, NULL, DOF, 1e-3, torque, DOF, &account),
+                PVFC_FAULT, "non-finite reading");
+    CHECK(account.fault == PVFC_FAULT_NON_FINITE);
+    for (int i = 0; i < DOF; i++) CHECK(torque[i] == 0.0);
+    CHECK(account.unseen > 0.0);
+    r[4] = q[4] + 0.5; /* half a radian in a millisecond */
+    CHECK_ERROR(pvfc_passive_step(sup, r, NULL, NULL, DOF, 1e-3, torque, DOF, &account),
+                PVFC_FAULT, "joint 4");
+    CHECK(account.fault == PVFC_FAULT_SPEED && account.fault_joint == 4);
+    r[4] = q[4];
+    CHECK_ERROR(pvfc_passive_step(sup, r, NULL, NULL, DOF, 0.1, torque, DOF, &account),
+                PVFC_FAULT, "period");
+    CHECK(account.fault == PVFC_FAULT_PERIOD);
+    CHECK(pvfc_passive_step(sup, r, NULL, NULL, DOF, 1e-3, torque, DOF, &account) == PVFC_OK);
+    CHECK(account.fault == PVFC_FAULT_NONE);
+    pvfc_passive_destroy(sup);
+  }
+
   /* Dynamics: M symmetric, rnea(q, v, 0) = C v + g. */
   double m[DOF * DOF], c[DOF * DOF], g[DOF], tau[DOF], zero[DOF] = {0};
   const double vel[DOF] = {0.4, -0.3, 0.2, 0.5, -0.6, 0.1};

@@ -192,6 +192,34 @@ TEST(Passive, StaysWithinItsTorqueLimits) {
   EXPECT_THROW(pvfc::PassiveController(ctl, o), pvfc::WrongSizeError);
 }
 
+TEST(Passive, AFaultIsTheSafeTorqueNotAnException) {
+  const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
+  const pvfc::Controller ctl = pvfc::Controller::waypoints(robot, kWaypoints, 1.5, {}, settings());
+  const std::array<double, 6> max_speed = {3, 3, 3, 6, 6, 6};
+  pvfc::PassiveOptions o;
+  o.max_speed = max_speed.data();
+  o.n = max_speed.size();
+  o.min_period = 5e-4;
+  o.max_period = 3e-3;
+  pvfc::PassiveController p(ctl, o);
+  std::array<double, 6> q = {0.1, -1.1, 1.3, -1.7, -1.5, 0.1};
+  std::array<double, 6> torque{};
+  EXPECT_EQ(p.step(q, 1e-3, torque).fault, PVFC_FAULT_NONE);
+  q[3] = std::numeric_limits<double>::infinity();
+  pvfc_energy_account a{};
+  EXPECT_NO_THROW(a = p.step(q, 1e-3, torque));
+  EXPECT_EQ(a.fault, PVFC_FAULT_NON_FINITE);
+  for (double t : torque) EXPECT_EQ(t, 0.0);
+  q[3] = -1.7 + 0.4;  // 0.4 rad in 2 ms: beyond 6 rad/s
+  EXPECT_EQ(p.try_step(q, 1e-3, torque, {}, {}, &a), PVFC_FAULT);
+  EXPECT_EQ(a.fault, PVFC_FAULT_SPEED);
+  EXPECT_EQ(a.fault_joint, 3);
+  EXPECT_NE(std::string(pvfc_last_error()).find("joint 3"), std::string::npos);
+  q[3] = -1.7;
+  EXPECT_EQ(p.try_step(q, 1e-3, torque, {}, {}, &a), PVFC_OK);
+  EXPECT_EQ(a.fault, PVFC_FAULT_NONE);
+}
+
 TEST(Contour, ACartesianCircleWithTheTaskFieldFromEigenFreeViews) {
   const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
   const std::array<double, 6> seed = {0.0, -1.2, 1.4, -1.8, -1.57, 0.0};

@@ -466,6 +466,39 @@ pub struct PassiveOptions {
     pub velocity_filter: f64,
     /// The storage the tank keeps in hand (J, ≥ 0).
     pub reserve: f64,
+    /// The bounds every sample is checked against; `None`: no supervision (a non-finite
+    /// reading is an error, every other reading is believed).
+    pub supervision: Option<SupervisionOptions>,
+}
+
+/// The bounds of [`Supervision`] as plain data: what a reading can be, for the passive
+/// controller to tell a fault from motion (TOML `[controller.passive.supervision]`).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SupervisionOptions {
+    /// The fastest each joint can move (rad/s, m/s; each > 0), with a margin.
+    pub max_speed: Vec<f64>,
+    /// The most each joint can be accelerated (rad/s², m/s²; each > 0), with a margin;
+    /// `None`: only the speed is checked, and no encoder is found frozen.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_acceleration: Option<Vec<f64>>,
+    /// The shortest and the longest period the controller accepts (s, `0 < min ≤ max`).
+    pub period: (f64, f64),
+}
+
+impl SupervisionOptions {
+    /// The core's bounds for an `N`-joint arm (lengths and numbers checked, named).
+    pub fn build<const N: usize>(&self) -> Result<Supervision<f64, N>> {
+        let s = Supervision::new(
+            fixed::<N>(&self.max_speed, "max_speed")?,
+            self.period.0,
+            self.period.1,
+        )?;
+        Ok(match &self.max_acceleration {
+            Some(a) => s.with_max_acceleration(fixed::<N>(a, "max_acceleration")?)?,
+            None => s,
+        })
+    }
 }
 
 impl PassiveOptions {
@@ -489,6 +522,9 @@ impl PassiveOptions {
         if let Some(d) = &self.encoder_resolution {
             p = p.with_encoder_resolution(fixed::<N>(d, "encoder_resolution")?)?;
         }
+        if let Some(s) = &self.supervision {
+            p = p.with_supervision(s.build::<N>()?);
+        }
         Ok(p)
     }
 }
@@ -508,6 +544,8 @@ pub struct PassiveArmStep {
     pub potential: f64,
     /// The period's energy account.
     pub energy: EnergyAccount<f64>,
+    /// The fault detected at this sample (with supervision); the torque is then zero.
+    pub fault: Option<Fault>,
 }
 
 crate::dof_enum! {
@@ -534,19 +572,20 @@ impl PassiveArm {
     ) -> Result<PassiveArmStep> {
         let n = self.dof();
         let (mut torque, mut velocity) = (vec![0.0; n], vec![0.0; n]);
-        let (potential, energy) =
+        let (potential, energy, fault) =
             self.step_into(q, v, applied, dt, &mut torque, Some(&mut velocity))?;
         Ok(PassiveArmStep {
             torque,
             velocity,
             potential,
             energy,
+            fault,
         })
     }
 
     /// [`step`](Self::step) writing the torque (and, if given, the velocity the law used) into
-    /// the caller's slices: allocates nothing. Returns `U` and the period's energy account. On
-    /// error nothing changes.
+    /// the caller's slices: allocates nothing. Returns `U`, the period's energy account and
+    /// the fault detected, if any. On error nothing changes.
     pub fn step_into(
         &mut self,
         q: &[f64],
@@ -555,7 +594,7 @@ impl PassiveArm {
         dt: f64,
         torque: &mut [f64],
         velocity: Option<&mut [f64]>,
-    ) -> Result<(f64, EnergyAccount<f64>)> {
+    ) -> Result<(f64, EnergyAccount<f64>, Option<Fault>)> {
         crate::on_joints!(PassiveArm, self, c, N => {
             if torque.len() != N || velocity.as_ref().is_some_and(|x| x.len() != N) {
                 return Err(SimError::Setting(format!(
@@ -571,13 +610,18 @@ impl PassiveArm {
             if let Some(w) = velocity {
                 w.copy_from_slice(out.velocity.as_slice());
             }
-            Ok((out.diagnostics.potential, out.energy))
+            Ok((out.diagnostics.potential, out.energy, out.fault))
         })
     }
 
     /// The storage `½τ̇² + ½M_F q̇_F²` as accounted (J).
     pub fn storage(&self) -> f64 {
         crate::on_joints!(PassiveArm, self, c, N => c.storage())
+    }
+
+    /// Whether every sample is checked against bounds ([`SupervisionOptions`]).
+    pub fn supervised(&self) -> bool {
+        crate::on_joints!(PassiveArm, self, c, N => c.supervision().is_some())
     }
 
     /// The internal states `(τ, τ̇, q̇_F, laps)`.

@@ -270,13 +270,15 @@ impl<'a, const N: usize> Spatial<'a, N> {
     fn of(s: &Scenario, system: &ArmSystem, chain: &'a SerialChain<f64, N>) -> Result<Self> {
         Ok(Spatial {
             world: Contact::of(s, &system.robot)?,
-            disturbed: s.plant.disturbance.is_some(),
+            // An impact is the environment's too; every run with faults keeps the audit.
+            disturbed: s.plant.disturbance.is_some() || !s.faults.is_empty(),
             chain,
         })
     }
 
     /// The contact columns' workspace dimension when the run keeps them: with a world, or
-    /// with a disturbance (its work is the environment's, in `work_contact`).
+    /// with a disturbance or faults (their work is the environment's, in `work_contact`, and
+    /// the audit says whether the faults made the controller create energy).
     fn columns(&self) -> Option<usize> {
         (self.world.is_some() || self.disturbed).then_some(3)
     }

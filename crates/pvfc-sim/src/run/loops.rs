@@ -11,6 +11,7 @@
 use crate::contact::ForceSchedule;
 use crate::error::{Result, SimError};
 use crate::plant::disturbance::{torque_of, Disturbance};
+use crate::plant::faults::{impact_torque, FaultState};
 use crate::plant::friction::JointFriction;
 use crate::run::integrate::{ClosedLoop, Derivative};
 use crate::run::path_clock::PathClock;
@@ -100,6 +101,9 @@ fn force_schedule(s: &Scenario) -> Option<ForceSchedule> {
 /// The sampled-data loop: the controller at its rate with zero-order hold, the plant (with
 /// its gravity, friction and contact) integrated with RK4 in substeps. The controller's
 /// internal states are logged as they are at the sample (those the torque was computed at).
+/// The scenario's `[[faults]]` act on the readings, the clock (a period drawn or lengthened:
+/// the samples are then where the clock put them) and the drive (the torque held is what the
+/// drive made of the command).
 /// The add-ons' work is what the controller accounts (the passive one), or for
 /// `Controller::step` summed at the samples (rectangle rule): for a loop without add-ons the
 /// audit residual is then the sampled controller's own departure from passivity. The contact
@@ -121,16 +125,26 @@ where
     E: Surroundings<G, N> + ?Sized,
 {
     let friction = s.plant.friction.clone();
-    let (dt, h, n) = timing(s)?;
+    let (dt, _, n) = timing(s)?;
     let period = s.period();
     let mut trace = Trace::with_capacity(s.name.clone(), N, n + 1);
     let mut contact = columns.map(|dim| ContactTrace::with_capacity(n + 1, N, dim));
     let mut work = Work::default();
-    for k in 0..=n {
-        let t = k as f64 * dt;
+    let mut faults = FaultState::<N>::new(&s.faults, dt);
+    let limits = s
+        .controller
+        .passive
+        .as_ref()
+        .map(|p| p.torque_limit.as_slice());
+    let limits = limits.filter(|l| !l.is_empty());
+    // The nominal clock samples at k·dt; a faulty one where its periods add up to.
+    let faulty_clock = faults.timing();
+    let end = n as f64 * dt;
+    let (mut t, mut since) = (0.0, dt);
+    for k in 0.. {
         let c0 = env.contact(t, &q, &v)?;
         schedule(s, ctl.nominal_speed_mut(), E::normal_force(&c0))?;
-        let out = ctl.sample(&q, &v, dt)?;
+        let out = ctl.sample(&q, &v, (t, since), &mut faults)?;
         work.0[2] += out.add_ons_ended;
         let coordinates = q.coordinates();
         trace.push(Row::of_sample(
@@ -145,22 +159,32 @@ where
             let r = ctl.nominal_speed_mut().map_or(0.0, |n| n.speed());
             env.log(ct, &q, &c0, &work, r)?;
         }
-        if k == n {
+        if t >= end {
             break;
         }
         work.0[2] += out.add_ons_next;
+        let (u, p) = if faults.any() {
+            (faults.drive(t, &out.torque, limits), faults.period(k, t))
+        } else {
+            (out.torque, dt)
+        };
         (q, v) = hold(
             s,
             plant,
             env,
             (q, v),
-            (t, h),
-            (&out.torque, false),
+            (t, p / s.simulation.plant_substeps as f64),
+            (&u, false),
             &E::torque(&c0),
             &mut work,
         )?;
+        (t, since) = if faulty_clock {
+            (t + p, p)
+        } else {
+            ((k + 1) as f64 * dt, dt)
+        };
         if k % 1000 == 0 {
-            progress(k as f64 / n as f64);
+            progress(t / end);
         }
     }
     trace.contact = contact;
@@ -214,6 +238,7 @@ where
             torque: u.as_slice(),
             energy: plant.kinetic_energy(&q, &v),
             friction_power: friction.torque(&v).dot(&v),
+            fault: 0.0,
         });
         let c0 = env.contact(t, &q, &v)?;
         if let Some(ct) = contact.as_mut() {
@@ -283,7 +308,8 @@ where
                 *fc0
             } else {
                 E::torque(&env.contact(t0 + c, q, v)?)
-            } + torque_of::<N>(disturbance, t0 + c);
+            } + torque_of::<N>(disturbance, t0 + c)
+                + impact_torque::<N>(&s.faults, t0 + c, 1.0 / s.controller.rate);
             let motor = if count_motor { u.dot(v) } else { 0.0 };
             p[i] = [fc.dot(v), ff.dot(v), motor, -plant.gravity(q).dot(v)];
             Ok(u + ff + fc)
@@ -414,6 +440,7 @@ where
             torque: first.torque.as_slice(),
             energy: sys.kinetic_energy(&st),
             friction_power: first.power[1],
+            fault: 0.0,
         });
         if let Some(ct) = contact.as_mut() {
             let r = sys

@@ -46,9 +46,9 @@ pub fn simulate_in(
 }
 
 /// The contact columns' workspace dimension when the run keeps them: with contact, or with a
-/// disturbance (its work is the environment's, in `work_contact`).
+/// disturbance or faults (their work is the environment's, in `work_contact`).
 fn columns(s: &Scenario, with_contact: bool) -> Option<usize> {
-    (with_contact || s.plant.disturbance.is_some()).then_some(2)
+    (with_contact || s.plant.disturbance.is_some() || !s.faults.is_empty()).then_some(2)
 }
 
 /// Free space: no contact.

@@ -5,6 +5,7 @@
 //! from each other only by their plant and surroundings, not by the controller.
 
 use crate::error::Result;
+use crate::plant::faults::FaultState;
 use crate::scenario::PassiveSpec;
 use crate::trace::Row;
 use nalgebra::SVector;
@@ -29,12 +30,21 @@ pub(crate) struct Sample<const N: usize> {
     /// The add-ons' energy of the period that starts, by the rectangle rule at the sample
     /// (the ZOH controller; 0 for the passive one).
     pub add_ons_next: f64,
+    /// The fault the supervision found ([`pvfc_core::supervision::Fault::code`]; 0: none).
+    pub fault: u8,
 }
 
 /// A controller of a sampled-data loop, at the true state of the plant `(q, q̇)`.
 pub(crate) trait Stepper<G, const N: usize> {
-    /// One control step.
-    fn sample(&mut self, q: &G, v: &SVector<f64, N>, dt: f64) -> Result<Sample<N>>;
+    /// One control step at time `t`, `dt` after the last; `faults` are what the sensors and
+    /// the drive do to the loop (the passive controller's; the ZOH one meets none).
+    fn sample(
+        &mut self,
+        q: &G,
+        v: &SVector<f64, N>,
+        time: (f64, f64),
+        faults: &mut FaultState<'_, N>,
+    ) -> Result<Sample<N>>;
     /// The nominal-speed add-on, to schedule `r` on line.
     fn nominal_speed_mut(&mut self) -> Option<&mut NominalSpeed<f64>>;
 }
@@ -45,7 +55,13 @@ where
     Sys: MechanicalSystem<f64, G, N>,
     F: VelocityField<f64, G, N>,
 {
-    fn sample(&mut self, q: &G, v: &SVector<f64, N>, dt: f64) -> Result<Sample<N>> {
+    fn sample(
+        &mut self,
+        q: &G,
+        v: &SVector<f64, N>,
+        (_, dt): (f64, f64),
+        _: &mut FaultState<'_, N>,
+    ) -> Result<Sample<N>> {
         let pre = *self.state();
         let mf = self.law().flywheel().inertia();
         let out = self.step(q, v, dt)?;
@@ -61,6 +77,7 @@ where
             add_ons_ended: 0.0,
             add_ons_next: (a.robot.dot(v) + a.tau * pre.tau_dot + a.flywheel * pre.flywheel_speed)
                 * dt,
+            fault: 0,
         })
     }
 
@@ -105,22 +122,36 @@ where
     Sys: MechanicalSystem<f64, G, N>,
     F: VelocityField<f64, G, N>,
 {
-    fn sample(&mut self, q: &G, v: &SVector<f64, N>, dt: f64) -> Result<Sample<N>> {
-        // The encoders round the revolute joints' angles (composing keeps `q`'s joint kinds).
-        let measured = if self.spec.encoder_counts.is_some() {
+    fn sample(
+        &mut self,
+        q: &G,
+        v: &SVector<f64, N>,
+        (t, dt): (f64, f64),
+        faults: &mut FaultState<'_, N>,
+    ) -> Result<Sample<N>> {
+        // The encoders round the revolute joints' angles, and the sensor faults act on what
+        // they read (composing keeps `q`'s joint kinds).
+        let measured = if self.spec.encoder_counts.is_some() || faults.any() {
             let x = q.coordinates();
-            q.compose(&G::from_coordinates(SVector::from_fn(|i, _| {
+            let mut reading = SVector::from_fn(|i, _| {
                 if self.circular[i] {
-                    self.spec.measure(x[i]) - x[i]
+                    self.spec.measure(x[i])
                 } else {
-                    0.0
+                    x[i]
                 }
-            })))
+            });
+            faults.reading(t, &mut reading);
+            q.compose(&G::from_coordinates(reading - x))
         } else {
             *q
         };
         let velocity = (!self.spec.positions_only).then_some(v);
-        let out = self.controller.step(&measured, velocity, None, dt)?;
+        // A drive with faults reports the torque it applied (real drives report their
+        // current); without, the controller takes its command as applied.
+        let applied = faults.any().then(|| *faults.applied());
+        let out = self
+            .controller
+            .step(&measured, velocity, applied.as_ref(), dt)?;
         Ok(Sample {
             torque: out.torque,
             state: out.state,
@@ -128,6 +159,7 @@ where
             storage: out.energy.storage,
             add_ons_ended: out.energy.add_ons,
             add_ons_next: 0.0,
+            fault: out.fault.map_or(0, |f| f.code()),
         })
     }
 
@@ -163,6 +195,7 @@ impl<'a> Row<'a> {
             torque: out.torque.as_slice(),
             energy: kinetic_energy + out.storage,
             friction_power,
+            fault: f64::from(out.fault),
         }
     }
 }

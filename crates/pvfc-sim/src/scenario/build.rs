@@ -146,6 +146,11 @@ impl Scenario {
                 "controller.passive: the passive digital controller runs in the sampled mode",
             );
         }
+        if !self.faults.is_empty() && self.controller.passive.is_none() {
+            return bad(
+                "faults: a run with faults needs [controller.passive] (the sampled controller that survives them)",
+            );
+        }
         match &self.plant.robot {
             RobotSpec::RigidBody(_) => return self.check_body(),
             // A URDF arm is validated by building its system: the same code path as a run's,
@@ -156,6 +161,7 @@ impl Scenario {
         if let Some(p) = &self.controller.passive {
             p.validate_for(2)?;
         }
+        self.validate_faults(2)?;
         if self.contact_3d.is_some() {
             return bad("contact_3d: 3-D contact is for URDF arms; the SCARA's is [contact]");
         }
@@ -349,6 +355,19 @@ impl Scenario {
         }
         if let Some(p) = &self.controller.passive {
             p.validate_for(n)?;
+        }
+        self.validate_faults(n)
+    }
+
+    /// The `[[faults]]` events against a `dof`-joint robot and its drive.
+    fn validate_faults(&self, dof: usize) -> Result<()> {
+        let limited = self
+            .controller
+            .passive
+            .as_ref()
+            .is_some_and(|p| !p.torque_limit.is_empty());
+        for (i, e) in self.faults.iter().enumerate() {
+            e.validate(i, dof, limited)?;
         }
         Ok(())
     }

@@ -3,9 +3,10 @@
 
 use crate::contact::ContactSpec;
 use crate::error::{Result, SimError};
-use crate::model::arm::PassiveOptions;
+use crate::model::arm::{PassiveOptions, SupervisionOptions};
 use crate::model::feeds::FeedProfile;
 use crate::model::pace::{PaceSettings, PathSpeed};
+use crate::plant::faults::FaultEvent;
 use pvfc_core::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -223,6 +224,11 @@ pub struct PassiveSpec {
     pub velocity_filter: f64,
     /// The storage the tank keeps in hand (J, ≥ 0).
     pub reserve: f64,
+    /// `[controller.passive.supervision]`: the bounds every sample is checked against (a
+    /// reading or period that breaks one is a fault, answered with zero torque); none: no
+    /// supervision.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supervision: Option<SupervisionOptions>,
 }
 
 impl PassiveSpec {
@@ -237,6 +243,7 @@ impl PassiveSpec {
                 .map(|d| circular.iter().map(|&c| if c { d } else { 0.0 }).collect()),
             velocity_filter: self.velocity_filter,
             reserve: self.reserve,
+            supervision: self.supervision.clone(),
         })
     }
 
@@ -263,6 +270,32 @@ impl PassiveSpec {
         }
         if !(self.reserve.is_finite() && self.reserve >= 0.0) {
             return bad("controller.passive.reserve: finite and ≥ 0 (J)");
+        }
+        if let Some(s) = &self.supervision {
+            let lists = [
+                ("max_speed", Some(&s.max_speed)),
+                ("max_acceleration", s.max_acceleration.as_ref()),
+            ];
+            for (name, list) in lists {
+                let Some(list) = list else { continue };
+                if list.len() != dof {
+                    return Err(SimError::Setting(format!(
+                        "controller.passive.supervision.{name}: {} entries for a {dof}-joint robot",
+                        list.len()
+                    )));
+                }
+                if !list.iter().all(|x| x.is_finite() && *x > 0.0) {
+                    return bad(&format!(
+                        "controller.passive.supervision.{name}: each finite and > 0"
+                    ));
+                }
+            }
+            let (lo, hi) = s.period;
+            if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo <= hi) {
+                return bad(
+                    "controller.passive.supervision.period: [min, max] finite, 0 < min ≤ max (s)",
+                );
+            }
         }
         Ok(())
     }
@@ -298,6 +331,9 @@ impl PassiveSpec {
                     0.0
                 }
             }))?;
+        }
+        if let Some(s) = &self.supervision {
+            c = c.with_supervision(s.build::<N>()?);
         }
         Ok(c)
     }
@@ -548,6 +584,11 @@ pub struct Scenario {
     /// Obstacles the field keeps the robot away from (`[obstacles]`, Remark 3).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub obstacles: Option<obstacles::ObstacleSpec>,
+    /// Faults the loop meets (`[[faults]]`: encoder spikes and freezes, non-finite readings,
+    /// jitter, missed periods, dropped and late commands, torque limits, impacts; see
+    /// [`crate::plant::faults`]). They need `[controller.passive]`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub faults: Vec<FaultEvent>,
     /// Directory that relative paths in the scenario are resolved against (not in the file).
     #[serde(skip)]
     pub base_dir: PathBuf,

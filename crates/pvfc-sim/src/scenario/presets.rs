@@ -55,6 +55,7 @@ pub fn pelican_example() -> Scenario {
         contact: None,
         contact_3d: None,
         obstacles: None,
+        faults: Vec::new(),
         base_dir: Default::default(),
         deprecations: Vec::new(),
     }
@@ -101,6 +102,7 @@ fn forced(id: PresetId, description: &str, r_pacing: f64, compensation: bool, r:
         contact: None,
         contact_3d: None,
         obstacles: None,
+        faults: Vec::new(),
         base_dir: Default::default(),
         deprecations: Vec::new(),
     }
@@ -318,6 +320,7 @@ fn digital_drive() -> Scenario {
             positions_only: true,
             velocity_filter: 0.002,
             reserve: 0.0,
+            supervision: None,
         },
     );
     drive.name = PresetId::DigitalDrive.name();

@@ -421,3 +421,31 @@ pub fn velocity_field_error_bound(trace: &Trace, from: f64, to: f64) -> Option<f
 pub fn velocity_field_error(w_beta: f64) -> f64 {
     (2.0 * w_beta.max(0.0)).sqrt()
 }
+
+/// What the passive controller's supervision reported over a run ([`fault_summary`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FaultSummary {
+    /// The samples at fault, by the code of the trace's `fault` column (index `c − 1` for code
+    /// `c`: non-finite, period, speed, acceleration, frozen).
+    pub samples: [usize; 5],
+    /// The largest energy the controller created at any sample, `max_t` of the audit
+    /// `κ_a(t) − κ_a(0) − ΣW(t)` (J; the run's first value is 0, so this is ≥ 0).
+    pub created: f64,
+}
+
+/// The [`FaultSummary`] of a run with the work columns (`None` without them).
+pub fn fault_summary(trace: &Trace) -> Option<FaultSummary> {
+    let c = trace.contact.as_ref()?;
+    let mut samples = [0; 5];
+    for code in &trace.fault {
+        let i = *code as usize;
+        if (1..=5).contains(&i) {
+            samples[i - 1] += 1;
+        }
+    }
+    let created = c
+        .audit_residual(&trace.energy)
+        .into_iter()
+        .fold(0.0, f64::max);
+    Some(FaultSummary { samples, created })
+}

@@ -47,6 +47,8 @@ macro_rules! trace_columns {
                 torque as torque: Joints Plot "Motor torques (N·m, N), one row per sample.";
                 friction_power as friction_power: Scalar Plot
                     "Power of the plant's friction on the arm, F_fᵀq̇ ≤ 0 (W).";
+                fault as fault: Scalar Plot
+                    "The fault the passive controller's supervision found at the sample (pvfc_core::supervision::Fault::code): 0 none, 1 a non-finite reading, 2 a period out of bounds, 3 beyond the speed bound, 4 beyond the acceleration bound, 5 a frozen encoder.";
             }
             contact {
                 work_contact as work_contact: Scalar Audit
@@ -405,14 +407,16 @@ mod tests {
             lambda2: 14.0,
             torque: &[15.0, 16.0],
             friction_power: 17.0,
+            fault: 18.0,
         });
         let flat: Vec<f64> = TRACE_COLUMNS
             .iter()
             .flat_map(|col| (col.get)(&t).sample(0).unwrap().to_vec())
             .collect();
-        assert_eq!(flat, (1..=17).map(f64::from).collect::<Vec<_>>());
+        assert_eq!(flat, (1..=18).map(f64::from).collect::<Vec<_>>());
         assert_eq!(t.v[0], [4.0, 5.0]);
         assert_eq!(t.friction_power, [17.0]);
+        assert_eq!(t.fault, [18.0]);
         c.push_sample(
             &ContactSample {
                 force: &[5.0, 6.0, 7.0],
