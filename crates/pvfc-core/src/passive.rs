@@ -72,7 +72,7 @@ use crate::field::VelocityField;
 use crate::lie::Tangent;
 use crate::mechanics::MechanicalSystem;
 use crate::scalar::cast;
-use crate::supervision::{Fault, Supervision};
+use crate::supervision::{unchanged, Fault, Supervision};
 use crate::Real;
 
 /// The energy account of one step of a [`PassiveController`], for logs and tests.
@@ -83,7 +83,9 @@ pub struct EnergyAccount<T: Real> {
     /// state the torque was computed at, or negative if the tank was overdrawn.
     pub storage: T,
     /// The energy the coupling gave the robot over the last period, `(u − a)ᵀΔq`, paid by
-    /// the storage (J; negative when the robot gave energy back).
+    /// the storage (J; negative when the robot gave energy back). When a frozen encoder's
+    /// catch-up is confirmed at this step ([`PassiveController::step`]), the work of the
+    /// torque held before it across the jump is in it too.
     pub to_robot: T,
     /// The add-ons' energy over the last period, `aᵀΔq + E` (J).
     pub add_ons: T,
@@ -224,6 +226,25 @@ pub struct PassiveController<T: Real, G, Sys, F, const D: usize> {
     frozen: Option<usize>,
     /// The diagnostics of the last good step (reported at a fault).
     last_diagnostics: Diagnostics<T>,
+    /// A rejected reading that may be the truth after a frozen encoder ([`Candidate`]).
+    candidate: Option<Candidate<T, G>>,
+}
+
+/// A reading rejected where the joint at fault had not moved since the reading before (an
+/// encoder that may have been frozen, undetected, and now reads the truth again). If the
+/// next reading continues from it and not from the last good one, it was the truth: it
+/// becomes the last good reading, and the work the torque held before the fault did across
+/// the jump is charged, as the balance would have, so that the motion the frozen encoder hid
+/// is paid for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Candidate<T: Real, G> {
+    q: G,
+    /// `max(0, (u − a)ᵀ(q − q_good))` of the torque held over the period that ended at the
+    /// reading: a debt is charged, a credit is not taken (a spike that lasts two samples looks
+    /// like a catch-up both ways, and the torques of the two differ).
+    work: T,
+    /// The time since it was read, less the period now ending.
+    elapsed: T,
 }
 
 impl<T, G, Sys, F, const D: usize> PassiveController<T, G, Sys, F, D>
@@ -250,6 +271,7 @@ where
             supervision: None,
             rate: None,
             frozen: None,
+            candidate: None,
             last_diagnostics: Diagnostics {
                 potential: T::zero(),
                 lambda1: T::zero(),
@@ -370,6 +392,17 @@ where
     /// The next good sample is checked against the last good one over the time elapsed
     /// since it, so the controller resumes at the first reading that motion can explain;
     /// the periods of zero torque between are balanced exactly.
+    ///
+    /// An encoder frozen while its joint is too slow for the acceleration bound to tell is
+    /// not seen: the controller gives energy its storage does not pay for, until the encoder
+    /// reads again. Its reading then jumps, and the jump is rejected; if the joint at fault
+    /// had not moved since the reading before, the rejected reading is kept, and if the next
+    /// reading continues from it and not from the last good one, it was the truth: it
+    /// becomes the last good reading, and the storage is charged the work the coupling
+    /// torque held before the jump did across it, as the balance would have (a credit is not
+    /// taken). The debt is settled (up to
+    /// the torque's changes while the encoder was frozen, as for an encoder's rounding);
+    /// the books of the past are kept even if the step then fails.
     pub fn step(
         &mut self,
         q: &G,
@@ -377,9 +410,24 @@ where
         applied: Option<&Tangent<T, D>>,
         dt: T,
     ) -> Result<PassiveStepOutput<T, D>> {
+        // A confirmed catch-up's work across the jump, paid by the storage.
+        let mut caught_up = T::zero();
         if let Some(sup) = self.supervision {
+            // A frozen encoder's catch-up confirmed: the books of the past are settled first
+            // (and kept if this step then fails).
+            if let Some(c) = self.confirmed_catch_up(&sup, q, dt) {
+                caught_up = c.work;
+                self.storage -= c.work;
+                self.rate = None;
+                self.frozen = None;
+                self.candidate = None;
+                if let Some(h) = self.held.as_mut() {
+                    h.q = c.q;
+                    h.elapsed = c.elapsed;
+                }
+            }
             if let Some(fault) = self.detect(&sup, q, v, applied, dt) {
-                return self.safe_step(&sup, q, applied, dt, fault);
+                return self.safe_step(&sup, q, applied, dt, fault, caught_up);
             }
         } else if !(dt.is_finite() && dt > T::zero()) {
             return Err(Error::new(
@@ -495,6 +543,7 @@ where
         if self.supervision.is_some() {
             self.rate = increment.map(|(dq, e)| (dq / e, e));
             self.frozen = None;
+            self.candidate = None;
             self.last_diagnostics = diagnostics;
         }
         // The torque applied over the period that just ended (for the encoders' charge).
@@ -518,7 +567,7 @@ where
             diagnostics,
             energy: EnergyAccount {
                 storage,
-                to_robot,
+                to_robot: to_robot + caught_up,
                 add_ons,
                 correction,
                 scale,
@@ -548,10 +597,11 @@ where
         let reading = match &self.held {
             Some(held) => {
                 let dq = held.q.inverse().compose(q).log();
+                let at = held.q.coordinates();
                 match self.frozen {
-                    Some(joint) if dq[joint] == T::zero() => Some(Fault::Frozen { joint }),
+                    Some(joint) if unchanged(dq[joint], at[joint]) => Some(Fault::Frozen { joint }),
                     _ => sup.check_increment(
-                        &dq,
+                        (&dq, &at),
                         held.elapsed + sup.elapsed(dt),
                         self.rate.as_ref(),
                         self.resolution.as_ref(),
@@ -567,6 +617,37 @@ where
         reading.map(|f| (f, false))
     }
 
+    /// The candidate ([`Candidate`]) this reading confirms: it continues from the candidate
+    /// within the bounds, and not from the last good reading.
+    fn confirmed_catch_up(&self, sup: &Supervision<T, D>, q: &G, dt: T) -> Option<Candidate<T, G>> {
+        let c = self.candidate?;
+        let held = self.held.as_ref()?;
+        if !q.coordinates().iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        let period = sup.elapsed(dt);
+        let resolution = self.resolution.as_ref();
+        let from_candidate = c.q.inverse().compose(q).log();
+        let from_good = held.q.inverse().compose(q).log();
+        let fits_candidate = sup
+            .check_increment(
+                (&from_candidate, &c.q.coordinates()),
+                c.elapsed + period,
+                None,
+                resolution,
+            )
+            .is_none();
+        let fits_good = sup
+            .check_increment(
+                (&from_good, &held.q.coordinates()),
+                held.elapsed + period,
+                self.rate.as_ref(),
+                resolution,
+            )
+            .is_none();
+        (fits_candidate && !fits_good).then_some(c)
+    }
+
     /// The step at a fault: the safe torque (zero), the storage charged for what the last
     /// torque may have done unseen, nothing integrated ([`step`](Self::step)).
     fn safe_step(
@@ -576,6 +657,7 @@ where
         applied: Option<&Tangent<T, D>>,
         dt: T,
         (fault, good_positions): (Fault, bool),
+        caught_up: T,
     ) -> Result<PassiveStepOutput<T, D>> {
         let mf = self.controller.law().flywheel().inertia();
         let period = sup.elapsed(dt);
@@ -585,11 +667,32 @@ where
             (T::zero(), T::zero(), T::zero(), T::zero());
         let mut velocity_estimate = self.velocity_estimate;
         let mut rate = self.rate;
+        let mut candidate = self.candidate;
         let held = match &self.held {
             Some(held) => {
                 let u = applied.copied().unwrap_or(held.command);
                 let previous = self.resolution.map(|_| u);
                 storage += held.virtual_add_on;
+                // A reading rejected where the joint had not moved since the last good one
+                // may be a frozen encoder's catch-up: kept until the next reading tells.
+                let at = held.q.coordinates();
+                let still = |j: usize| self.rate.is_some_and(|(w, e)| unchanged(w[j] * e, at[j]));
+                match (fault, candidate.as_mut()) {
+                    (_, Some(c)) => c.elapsed += period,
+                    (Fault::Speed { joint } | Fault::Acceleration { joint }, None)
+                        if !good_positions && still(joint) =>
+                    {
+                        let jump = held.q.inverse().compose(q).log();
+                        candidate = Some(Candidate {
+                            q: *q,
+                            // Never a credit: if the reading was a spike that lasted, the
+                            // work across it and back would not cancel (the torques differ).
+                            work: (u - held.add_on).dot(&jump).max(T::zero()),
+                            elapsed: T::zero(),
+                        });
+                    }
+                    _ => {}
+                }
                 if good_positions {
                     let b = held.balance(q, applied, self.resolution.as_ref());
                     let dq = b.dq;
@@ -628,6 +731,7 @@ where
         self.storage = storage;
         self.velocity_estimate = velocity_estimate;
         self.rate = rate;
+        self.candidate = if good_positions { None } else { candidate };
         if let Fault::Frozen { joint } = fault {
             self.frozen = Some(joint);
         } else if good_positions {
@@ -649,7 +753,7 @@ where
             diagnostics: self.last_diagnostics,
             energy: EnergyAccount {
                 storage,
-                to_robot,
+                to_robot: to_robot + caught_up,
                 add_ons,
                 correction,
                 scale: T::zero(),

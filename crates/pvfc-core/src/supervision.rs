@@ -97,6 +97,13 @@ impl core::fmt::Display for Fault {
     }
 }
 
+/// Whether a joint's reading is unchanged: its increment `dq` from a reading of coordinate
+/// `q` is zero but for the rounding of the arithmetic that formed it (an encoder repeats its
+/// count exactly; a reading composed from coordinates may differ in its last bits).
+pub(crate) fn unchanged<T: Real>(dq: T, q: T) -> bool {
+    dq.abs() <= T::default_epsilon() * cast::<T>(8.0) * (T::one() + q.abs())
+}
+
 /// The bounds a reading is checked against (module documentation).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Supervision<T: Real, const D: usize> {
@@ -180,13 +187,14 @@ impl<T: Real, const D: usize> Supervision<T, D> {
         }
     }
 
-    /// The first fault of an increment `dq` over `elapsed` since the last good reading, with
-    /// `rate` the last good increment's speed and the time it was measured over, and `delta`
-    /// the encoders' resolution (module documentation). A joint whose reading is exactly
-    /// unchanged where the acceleration bound is broken is reported frozen.
+    /// The first fault of an increment `dq` over `elapsed` since the last good reading `at`
+    /// (its coordinates), with `rate` the last good increment's speed and the time it was
+    /// measured over, and `delta` the encoders' resolution (module documentation). A joint
+    /// whose reading is unchanged ([`unchanged`]) where the acceleration bound is broken is
+    /// reported frozen.
     pub(crate) fn check_increment(
         &self,
-        dq: &Tangent<T, D>,
+        (dq, at): (&Tangent<T, D>, &Tangent<T, D>),
         elapsed: T,
         rate: Option<&(Tangent<T, D>, T)>,
         delta: Option<&Tangent<T, D>>,
@@ -203,7 +211,7 @@ impl<T: Real, const D: usize> Supervision<T, D> {
                 let bound = a[i] * elapsed * (elapsed + *ew) * half
                     + resolution(i) * (T::one() + elapsed / *ew);
                 if (dq[i] - w[i] * elapsed).abs() > bound {
-                    return Some(if dq[i] == T::zero() {
+                    return Some(if unchanged(dq[i], at[i]) {
                         Fault::Frozen { joint: i }
                     } else {
                         Fault::Acceleration { joint: i }
@@ -238,6 +246,9 @@ mod tests {
     use super::*;
     use nalgebra::Vector2;
 
+    /// The readings' coordinates (the frozen check's scale).
+    const Z: Vector2<f64> = Vector2::new(0.0, 0.0);
+
     fn sup() -> Supervision<f64, 2> {
         Supervision::new(Vector2::new(2.0, 3.0), 5e-4, 3e-3)
             .unwrap()
@@ -261,17 +272,17 @@ mod tests {
         let s = sup();
         // 2 rad/s over 1 ms: 2 mrad is the most joint 0 can move.
         let ok = Vector2::new(1.99e-3, -2.99e-3);
-        assert_eq!(s.check_increment(&ok, 1e-3, None, None), None);
+        assert_eq!(s.check_increment((&ok, &Z), 1e-3, None, None), None);
         let bad = Vector2::new(1.0e-3, -3.01e-3);
         assert_eq!(
-            s.check_increment(&bad, 1e-3, None, None),
+            s.check_increment((&bad, &Z), 1e-3, None, None),
             Some(Fault::Speed { joint: 1 })
         );
         // Over two periods twice the distance is possible.
-        assert_eq!(s.check_increment(&bad, 2e-3, None, None), None);
+        assert_eq!(s.check_increment((&bad, &Z), 2e-3, None, None), None);
         // The encoder's resolution widens the bound.
         let d = Vector2::new(0.0, 1e-4);
-        assert_eq!(s.check_increment(&bad, 1e-3, None, Some(&d)), None);
+        assert_eq!(s.check_increment((&bad, &Z), 1e-3, None, Some(&d)), None);
     }
 
     #[test]
@@ -280,19 +291,25 @@ mod tests {
         let rate = (Vector2::new(1.5, 0.0), 1e-3);
         // 100 rad/s² changes the speed by 0.1 rad/s in a millisecond.
         let smooth = Vector2::new(1.45e-3, 0.0);
-        assert_eq!(s.check_increment(&smooth, 1e-3, Some(&rate), None), None);
+        assert_eq!(
+            s.check_increment((&smooth, &Z), 1e-3, Some(&rate), None),
+            None
+        );
         let jump = Vector2::new(1.2e-3, 0.0);
         assert_eq!(
-            s.check_increment(&jump, 1e-3, Some(&rate), None),
+            s.check_increment((&jump, &Z), 1e-3, Some(&rate), None),
             Some(Fault::Acceleration { joint: 0 })
         );
         let frozen = Vector2::new(0.0, 0.0);
         assert_eq!(
-            s.check_increment(&frozen, 1e-3, Some(&rate), None),
+            s.check_increment((&frozen, &Z), 1e-3, Some(&rate), None),
             Some(Fault::Frozen { joint: 0 })
         );
-        // After 15 ms at 100 rad/s² the joint could have stopped.
-        assert_eq!(s.check_increment(&frozen, 15e-3, Some(&rate), None), None);
+        // After 30 ms at 100 rad/s² the joint could have stopped and come back.
+        assert_eq!(
+            s.check_increment((&frozen, &Z), 30e-3, Some(&rate), None),
+            None
+        );
     }
 
     #[test]

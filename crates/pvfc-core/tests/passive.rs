@@ -294,6 +294,8 @@ enum Glitch {
     Spike(usize, f64),
     /// The reading of joint `j` is NaN.
     NotANumber(usize),
+    /// The reading of joint `j` keeps the value it had when the freeze began.
+    Freeze(usize),
     /// The period is this long (s); the controller is told so at the next sample.
     Period(f64),
     /// The drive keeps the torque it had (and says so).
@@ -318,13 +320,18 @@ fn run(
     let (mut dt, mut applied, mut last_command) = (h, Vector2::zeros(), Vector2::zeros());
     let (mut work, mut add_ons, mut s0) = (0.0, 0.0, None);
     let mut out = Vec::new();
+    let mut frozen = None;
     for k in 0..steps {
         let g = glitch(k);
         let mut reading = *q.angles();
         match g {
             Some(Glitch::Spike(j, size)) => reading[j] += size,
             Some(Glitch::NotANumber(j)) => reading[j] = f64::NAN,
+            Some(Glitch::Freeze(j)) => reading[j] = *frozen.get_or_insert(reading[j]),
             _ => {}
+        }
+        if !matches!(g, Some(Glitch::Freeze(_))) {
+            frozen = None;
         }
         let report = (k > 0).then_some(&applied);
         let step = ctl.step(&Torus::new(reading), None, report, dt).unwrap();
@@ -417,6 +424,53 @@ fn a_fault_step_returns_the_safe_torque_and_charges_the_unseen_work() {
             Some(Fault::Period)
         );
     }
+}
+
+/// A joint's encoder freezes while the joint is too slow for the acceleration bound to tell
+/// (no fault is reported): the controller pushes a joint it believes still, and gives energy
+/// its storage does not pay. When the encoder reads again, the jump is rejected, the next
+/// reading confirms it, and the work of the torque across it is charged: the debt is settled.
+#[test]
+fn an_undetected_freeze_is_paid_for_when_the_encoder_reads_again() {
+    // Joint 0's speed along the loop without faults; the freeze starts where it is slowest
+    // between 0.3 and 0.9 s.
+    let h = 1e-3;
+    let mut probe = supervised(20.0);
+    let (mut q, mut v) = (Torus::new(Vector2::new(0.0, 0.0)), Vector2::<f64>::zeros());
+    let mut speed = Vec::new();
+    for _ in 0..900 {
+        let out = probe.step(&q, None, None, h).unwrap();
+        speed.push(v[0].abs());
+        (q, v) = plant(q, v, out.torque, h, 10);
+    }
+    let start = (300..900)
+        .min_by(|a, b| speed[*a].total_cmp(&speed[*b]))
+        .unwrap();
+    let mut ctl = supervised(20.0);
+    let run = run(&mut ctl, start + 200, |k| {
+        (k >= start && k < start + 40).then_some(Glitch::Freeze(0))
+    });
+    let debt = run[start..start + 40]
+        .iter()
+        .map(|(_, c)| *c)
+        .fold(f64::MIN, f64::max);
+    assert!(
+        debt > 1e-6,
+        "the freeze created nothing ({debt:e} J): not a test of the debt"
+    );
+    assert!(
+        run[start..start + 40].iter().all(|(f, _)| f.is_none()),
+        "the freeze was detected: not a test of an undetected one"
+    );
+    assert!(
+        run[start + 40..].iter().any(|(f, _)| f.is_some()),
+        "the catch-up was not seen"
+    );
+    let (_, settled) = run[run.len() - 1];
+    assert!(
+        settled <= 1e-9,
+        "{settled:e} J still owed (the debt was {debt:e} J)"
+    );
 }
 
 #[test]

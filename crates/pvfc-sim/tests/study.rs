@@ -394,3 +394,31 @@ fn a_failing_tool_path_analysis_is_the_runs_error_not_an_absent_metric() {
         .expect("a tool path");
     assert!(ok[1].is_some_and(|d| d.is_finite()), "{ok:?}");
 }
+
+/// An integer draw (a fault's joint) takes every integer of its range, each about as often,
+/// and sets an integer key; a range with `low > high` is named.
+#[test]
+fn integer_draws_cover_their_range_and_set_integer_keys() {
+    let base = Scenario::from_file(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/scara_faults.toml"),
+    )
+    .unwrap();
+    let mut j = axis("faults[0].joint");
+    j.draw = Some(Draw::Integer { low: 0, high: 1 });
+    let mut s = spec(vec![j.clone()]);
+    s.samples = Some(200);
+    let runs = s.runs(&base).unwrap();
+    let ones = runs
+        .iter()
+        .filter(|r| r.scenario.faults[0].joint == 1)
+        .count();
+    assert!(
+        runs.iter().all(|r| r.scenario.faults[0].joint <= 1),
+        "a joint outside 0..=1"
+    );
+    assert!((70..=130).contains(&ones), "{ones} of 200 draws are 1");
+    j.draw = Some(Draw::Integer { low: 2, high: 1 });
+    let mut s = spec(vec![j]);
+    s.samples = Some(3);
+    assert!(error(&s, &base).contains("low ≤ high"));
+}

@@ -11,7 +11,7 @@
 //! | `encoder_spike` | the joint's reading is off by `size` | yes | offset (rad, m) |
 //! | `encoder_freeze` | the joint's reading keeps its value of the window's first sample | yes | — |
 //! | `non_finite` | the joint's reading is NaN | yes | — |
-//! | `jitter` | each period is drawn uniformly in `period = [min, max]` (s) | — | — |
+//! | `jitter` | each period is drawn uniformly in `period = [min, max]` (s; within half to a hundred nominal periods) | — | — |
 //! | `missed_period` | the samples in the window do not happen: the drive holds its torque | — | — |
 //! | `dropped_command` | the drive keeps the torque it had | — | — |
 //! | `late_command` | the drive applies the command of the sample before | — | — |
@@ -77,9 +77,11 @@ fn is_unset(p: &(f64, f64)) -> bool {
 }
 
 impl FaultEvent {
-    /// Checks the event for a `dof`-joint robot whose drive has torque limits or not; the
-    /// error names the event (its index in `[[faults]]`) and the key.
-    pub fn validate(&self, index: usize, dof: usize, limited: bool) -> Result<()> {
+    /// Checks the event for a `dof`-joint robot whose drive has torque limits or not, in a
+    /// loop of nominal period `dt` (a jitter's periods must lie within `[dt/2, 100 dt]`: the
+    /// run's size is checked from the nominal period); the error names the event (its index
+    /// in `[[faults]]`) and the key.
+    pub fn validate(&self, index: usize, dof: usize, limited: bool, dt: f64) -> Result<()> {
         let bad = |what: String| Err(SimError::Setting(format!("faults[{index}].{what}")));
         if !(self.at.is_finite() && self.at >= 0.0) {
             return bad(format!("at: {} (finite and ≥ 0, s)", self.at));
@@ -103,9 +105,12 @@ impl FaultEvent {
         match self.kind {
             FaultKind::Jitter => {
                 let (lo, hi) = self.period;
-                if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo <= hi) {
+                let fits = lo.is_finite() && hi.is_finite() && lo <= hi;
+                if !(fits && lo >= 0.5 * dt && hi <= 100.0 * dt) {
                     return bad(format!(
-                        "period: [{lo}, {hi}] (jitter: finite, 0 < min ≤ max, s)"
+                        "period: [{lo}, {hi}] (jitter: min ≤ max, within [{}, {}] s: half to a hundred nominal periods)",
+                        0.5 * dt,
+                        100.0 * dt
                     ));
                 }
             }
@@ -351,24 +356,30 @@ mod tests {
     fn bad_events_are_named() {
         let mut e = event(FaultKind::EncoderSpike, 0.0, 0.0);
         e.joint = 2;
-        let msg = e.validate(3, 2, true).unwrap_err().to_string();
+        let msg = e.validate(3, 2, true, 1e-3).unwrap_err().to_string();
         assert!(msg.contains("faults[3].joint"), "{msg}");
         let mut e = event(FaultKind::Jitter, 0.0, 0.0);
         e.period = (3e-3, 1e-3);
         assert!(e
-            .validate(0, 2, true)
+            .validate(0, 2, true, 1e-3)
             .unwrap_err()
             .to_string()
             .contains("faults[0].period"));
+        e.period = (1e-9, 1e-3);
+        assert!(e
+            .validate(0, 2, true, 1e-3)
+            .unwrap_err()
+            .to_string()
+            .contains("half to a hundred"));
         let e = event(FaultKind::TorqueLimit, 0.0, 0.0);
         assert!(e
-            .validate(0, 2, false)
+            .validate(0, 2, false, 1e-3)
             .unwrap_err()
             .to_string()
             .contains("torque_limit"));
         let e = event(FaultKind::EncoderSpike, f64::NAN, 0.0);
         assert!(e
-            .validate(0, 2, true)
+            .validate(0, 2, true, 1e-3)
             .unwrap_err()
             .to_string()
             .contains("faults[0].at"));

@@ -367,7 +367,7 @@ impl Scenario {
             .as_ref()
             .is_some_and(|p| !p.torque_limit.is_empty());
         for (i, e) in self.faults.iter().enumerate() {
-            e.validate(i, dof, limited)?;
+            e.validate(i, dof, limited, 1.0 / self.controller.rate)?;
         }
         Ok(())
     }

@@ -131,6 +131,29 @@ fn audit(run: &RunView) -> Option<f64> {
     plain.then(|| metrics::energy_audit(run.trace))
 }
 
+/// The slowest recovery from the run's `[[faults]]` (s) and how many events `U` never
+/// recovered from ([`metrics::recovery_time`]: back below ten times its level of the half
+/// second before, held 0.2 s), over the events that end at least a second before the run;
+/// `None` without faults.
+fn recoveries(run: &RunView) -> Option<(f64, usize)> {
+    let s = run.scenario;
+    if s.faults.is_empty() {
+        return None;
+    }
+    let period = 1.0 / s.controller.rate;
+    let mut slowest = 0.0f64;
+    let mut never = 0;
+    let end = run.trace.t.last().copied().unwrap_or(0.0);
+    // An event that ends less than a second before the run does cannot be judged.
+    for e in s.faults.iter().filter(|e| e.at + e.duration + 1.0 <= end) {
+        match metrics::recovery_time(run.trace, e.at, e.duration, period, 0.2) {
+            Some(r) => slowest = slowest.max(r),
+            None => never += 1,
+        }
+    }
+    Some((slowest, never))
+}
+
 /// Every metric a study can keep, in the order of a study's table when it keeps them all.
 pub const METRICS: &[Metric] = &[
     Metric {
@@ -237,6 +260,39 @@ pub const METRICS: &[Metric] = &[
         unit: "m",
         doc: "The joint contour's own largest distance to the Cartesian path (absent for the task-space field, which follows the exact path).",
         eval: |r| r.budget().and_then(|b| b.geometry).map(|g| g.max),
+    },
+    Metric {
+        name: "energy_created",
+        unit: "J",
+        doc: "The most energy the controller created over any stretch of the run: the largest rise of the energy audit κ_a − κ_a(0) − ΣW (absent without the work columns: a run with faults, contact or a disturbance has them).",
+        eval: |r| metrics::energy_created(r.trace),
+    },
+    Metric {
+        name: "energy_owed_at_end",
+        unit: "J",
+        doc: "The energy the controller owes at the end of the run: the rise of the energy audit from its lowest value to its last (a frozen encoder's debt is settled when it reads again; absent without the work columns).",
+        eval: |r| metrics::energy_owed_at_end(r.trace),
+    },
+    Metric {
+        name: "fault_samples",
+        unit: "",
+        doc: "The samples at which the passive controller's supervision reported a fault (absent without [[faults]]).",
+        eval: |r| {
+            (!r.scenario.faults.is_empty())
+                .then(|| r.trace.fault.iter().filter(|c| **c != 0.0).count() as f64)
+        },
+    },
+    Metric {
+        name: "recovery_time",
+        unit: "s",
+        doc: "The slowest return after a [[faults]] event: from the event's end until U stays at most ten times its level of the half second before it, for 0.2 s (absent without faults).",
+        eval: |r| recoveries(r).map(|(t, _)| t),
+    },
+    Metric {
+        name: "unrecovered",
+        unit: "",
+        doc: "The [[faults]] events U did not return from within the run (absent without faults).",
+        eval: |r| recoveries(r).map(|(_, n)| n as f64),
     },
 ];
 

@@ -107,6 +107,14 @@ pub enum Draw {
         /// The standard deviation.
         std: f64,
     },
+    /// The integers `low, low + 1, …, high`, each as likely (for an integer key, such as a
+    /// fault's `joint`).
+    Integer {
+        /// The least.
+        low: i64,
+        /// The largest, `≥ low`.
+        high: i64,
+    },
 }
 
 impl Draw {
@@ -115,6 +123,10 @@ impl Draw {
         match *self {
             Draw::Uniform { low, high } => low + (high - low) * u,
             Draw::Normal { mean, std } => mean + std * normal_quantile(u),
+            Draw::Integer { low, high } => {
+                let span = (high - low + 1) as f64;
+                (low as f64 + (u * span).floor()).min(high as f64)
+            }
         }
     }
 }
@@ -348,12 +360,15 @@ fn check_draw(key: &str, d: Draw) -> Result<()> {
     let ok = match d {
         Draw::Uniform { low, high } => low.is_finite() && high.is_finite() && high > low,
         Draw::Normal { mean, std } => mean.is_finite() && std.is_finite() && std > 0.0,
+        Draw::Integer { low, high } => {
+            low <= high && low.unsigned_abs() < 1 << 52 && high.unsigned_abs() < 1 << 52
+        }
     };
     if ok {
         Ok(())
     } else {
         Err(setting(format!(
-            "axis `{key}`: a uniform draw needs finite low < high, a normal one a finite mean and std > 0 (got {d:?})"
+            "axis `{key}`: a uniform draw needs finite low < high, a normal one a finite mean and std > 0, an integer one low ≤ high (got {d:?})"
         )))
     }
 }

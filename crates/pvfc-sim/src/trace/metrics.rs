@@ -449,3 +449,59 @@ pub fn fault_summary(trace: &Trace) -> Option<FaultSummary> {
         .fold(0.0, f64::max);
     Some(FaultSummary { samples, created })
 }
+
+/// The most energy the controller created over any stretch of a run with the work columns:
+/// `max_{s ≤ t} (a(t) − a(s))` for the audit `a = κ_a − κ_a(0) − ΣW` (J, ≥ 0). The audit of
+/// a passive controller falls (its charges: the encoders', a fault's unseen work); a rise is
+/// energy it gave that its storage did not pay for.
+pub fn energy_created(trace: &Trace) -> Option<f64> {
+    let c = trace.contact.as_ref()?;
+    let mut low = f64::INFINITY;
+    let mut most = 0.0f64;
+    for a in c.audit_residual(&trace.energy) {
+        low = low.min(a);
+        most = most.max(a - low);
+    }
+    Some(most)
+}
+
+/// The energy the controller owes at the end of a run with the work columns: the rise of the
+/// audit from its lowest value to its last, `a(end) − min_t a(t)` (J, ≥ 0). A frozen encoder
+/// that the supervision does not see lets the controller give energy it has not paid for
+/// ([`energy_created`] shows it); the debt is settled when the encoder reads again, so this is
+/// what remains unpaid.
+pub fn energy_owed_at_end(trace: &Trace) -> Option<f64> {
+    let c = trace.contact.as_ref()?;
+    let a = c.audit_residual(&trace.energy);
+    let low = a.iter().copied().fold(f64::INFINITY, f64::min);
+    a.last().map(|end| (end - low).max(0.0))
+}
+
+/// How long `U` takes to come back after a fault: from the end of the event's window
+/// (`[at, at + duration)`, at least one period) to the first sample from which `U` stays at
+/// most ten times its largest value over the half second before the event, for `hold`
+/// seconds (or to the run's end). `None`: it never does within the run.
+pub fn recovery_time(trace: &Trace, at: f64, duration: f64, period: f64, hold: f64) -> Option<f64> {
+    let t = &trace.t;
+    let first = |x: f64| t.iter().position(|s| *s >= x - 1e-9 * period);
+    let k0 = first(at)?;
+    let start = first(at - 0.5).unwrap_or(0).min(k0);
+    let pre = trace.potential[start..k0]
+        .iter()
+        .copied()
+        .fold(0.0, f64::max);
+    let end = first(at + duration.max(period))?;
+    let limit = 10.0 * pre;
+    let mut k = end;
+    while k < t.len() {
+        let until = t[k] + hold;
+        match (k..t.len())
+            .take_while(|&j| t[j] <= until)
+            .find(|&j| trace.potential[j] > limit)
+        {
+            None => return Some(t[k] - t[end]),
+            Some(bad) => k = bad + 1,
+        }
+    }
+    None
+}
