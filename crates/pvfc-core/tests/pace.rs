@@ -2,7 +2,7 @@
 //! `C¹`, its derivative against finite differences, never outside its knots' range), the
 //! drive-limited rates (every torque along the profile within the limits, computed
 //! independently from the model; the profile at a limit wherever it is below the rate asked
-//! for), and the errors.
+//! for, with and without viscous friction), and the errors.
 
 mod common;
 
@@ -95,13 +95,14 @@ fn table_refuses_bad_input() {
 
 /// The torque the motion along the contour needs at `τ` with rate `τ̇` and `τ̈`, from the
 /// model's `M` and `C` written out (`M q̈ + C(q, q̇) q̇`, q̈ = ξ τ̈ + ξ' τ̇²), plus friction
-/// compensation `f ∘ sign(q̇)`.
+/// compensation `f ∘ sign(q̇)` and viscous friction `b ∘ q̇`.
 fn motion_torque(
     scara: &Scara<f64>,
     tau: f64,
     rate: f64,
     accel: f64,
     fric: [f64; 2],
+    viscous: [f64; 2],
 ) -> Vector2<f64> {
     let c = Lissajous::<f64, 2>::paper().sample(tau);
     let v = c.velocity * rate;
@@ -110,13 +111,16 @@ fn motion_torque(
     let cor = scara.coriolis(&c.point, &v);
     let mut t = m * a + cor * v;
     for i in 0..2 {
-        t[i] += fric[i] * v[i].signum() * f64::from(u8::from(v[i] != 0.0));
+        t[i] += fric[i] * v[i].signum() * f64::from(u8::from(v[i] != 0.0)) + viscous[i] * v[i];
     }
     t
 }
 
-#[test]
-fn drive_limited_rates_keep_every_torque_within_the_limits_and_reach_them() {
+/// The drive-limited profile of the paper's Lissajous curve at τ̇ ≤ 4 on 15 / 5 N·m with
+/// headroom 0.8, Coulomb levels 2 / 3 N·m and viscous coefficients `viscous`: every torque
+/// along it (computed independently from the model) within the limits, the profile at a
+/// limit wherever it is below the rate asked for; returns the lap time.
+fn check_profile(viscous: [f64; 2]) -> f64 {
     let scara = Scara::<f64>::pelican();
     let contour = Lissajous::<f64, 2>::paper();
     let fric = [2.0, 3.0];
@@ -126,6 +130,8 @@ fn drive_limited_rates_keep_every_torque_within_the_limits_and_reach_them() {
         .with_headroom(h)
         .unwrap()
         .with_friction_compensation(Vector2::from(fric))
+        .unwrap()
+        .with_viscous_friction(Vector2::from(viscous))
         .unwrap();
     let n = 3000;
     let period = 6.0;
@@ -138,7 +144,7 @@ fn drive_limited_rates_keep_every_torque_within_the_limits_and_reach_them() {
     for j in 0..n {
         let (x0, x1) = (rates[j].powi(2), rates[(j + 1) % n].powi(2));
         let accel = (x1 - x0) / (2.0 * step);
-        let t = motion_torque(&scara, j as f64 * step, rates[j], accel, fric);
+        let t = motion_torque(&scara, j as f64 * step, rates[j], accel, fric, viscous);
         let use_ = (0..2).map(|i| t[i].abs() / (h * l[i])).fold(0.0, f64::max);
         assert!(
             rates[j] <= asked * (1.0 + 1e-12),
@@ -175,6 +181,24 @@ fn drive_limited_rates_keep_every_torque_within_the_limits_and_reach_them() {
     assert!(
         lap > period / asked && lap < period / slowest,
         "lap {lap} s"
+    );
+    lap
+}
+
+#[test]
+fn drive_limited_rates_keep_every_torque_within_the_limits_and_reach_them() {
+    check_profile([0.0, 0.0]);
+}
+
+/// Viscous friction (a term in `√x`) takes its share of the limits: the profile still keeps
+/// every torque within them and reaches them, and the lap is longer than without it.
+#[test]
+fn drive_limited_rates_with_viscous_friction_stay_within_the_limits() {
+    let coulomb_only = check_profile([0.0, 0.0]);
+    let viscous = check_profile([0.5, 0.3]);
+    assert!(
+        viscous > coulomb_only * 1.01,
+        "viscous friction should slow the lap: {viscous} s against {coulomb_only} s"
     );
 }
 
@@ -233,6 +257,20 @@ fn drive_limited_rates_refuse_bad_input_and_drives_that_cannot_hold() {
     );
     assert!(DriveLimits::new(Vector2::new(1.0, -1.0)).is_err());
     assert!(limits.with_headroom(0.0).is_err() && limits.with_headroom(1.5).is_err());
+    assert_eq!(
+        limits
+            .with_viscous_friction(Vector2::new(0.1, -0.1))
+            .unwrap_err()
+            .kind(),
+        ErrorKind::InvalidParameter
+    );
+    assert_eq!(
+        limits
+            .with_viscous_friction(Vector2::new(f64::NAN, 0.1))
+            .unwrap_err()
+            .kind(),
+        ErrorKind::NonFinite
+    );
 }
 
 #[test]

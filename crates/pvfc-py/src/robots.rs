@@ -8,7 +8,7 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
 use pvfc_core::lie::JointKind;
 use pvfc_core::mechanics::Pose;
 use pvfc_sim::model::arm::drive_limited_rates;
-use pvfc_sim::model::pace::PaceSettings;
+use pvfc_sim::model::pace::{DriveFriction, PaceSettings};
 use pvfc_sim::model::robot::Robot as SimRobot;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -282,9 +282,10 @@ impl Robot {
     /// `points` evenly spaced values of `τ` over one period: the time-optimal
     /// parameterisation under the torque limits `torque_limit` (one per joint, > 0), each
     /// used up to `headroom` (in (0, 1]), with the friction compensation
-    /// `friction_compensation` (eq. 35) and, if `gravity`, `g(q)` counted against them, at
-    /// most `rate` (the rate asked for). Shape `(points,)`.
-    #[pyo3(signature = (contour, torque_limit, *, headroom=1.0, friction_compensation=None, gravity=true, rate=1e6, points=4096))]
+    /// `friction_compensation` (eq. 35; or a plant's Coulomb levels), the viscous friction
+    /// `viscous_friction` (a plant's `b_i`, torque `b_i q̇_i`) and, if `gravity`, `g(q)`
+    /// counted against them, at most `rate` (the rate asked for). Shape `(points,)`.
+    #[pyo3(signature = (contour, torque_limit, *, headroom=1.0, friction_compensation=None, viscous_friction=None, gravity=true, rate=1e6, points=4096))]
     #[allow(clippy::too_many_arguments)]
     fn drive_limited_rates<'py>(
         &self,
@@ -293,6 +294,7 @@ impl Robot {
         torque_limit: &Bound<'_, PyAny>,
         headroom: f64,
         friction_compensation: Option<&Bound<'_, PyAny>>,
+        viscous_friction: Option<&Bound<'_, PyAny>>,
         gravity: bool,
         rate: f64,
         points: usize,
@@ -304,18 +306,18 @@ impl Robot {
             headroom,
             level: rate,
         };
-        let friction = friction_compensation
-            .map(|f| self.v(f, "friction_compensation"))
-            .transpose()?;
-        let rates = drive_limited_rates(
-            &self.robot,
-            &spec,
-            &pace,
-            friction.as_deref(),
-            gravity,
-            points,
-        )
-        .map_err(sim_err)?;
+        let friction = DriveFriction {
+            coulomb: friction_compensation
+                .map(|f| self.v(f, "friction_compensation"))
+                .transpose()?
+                .unwrap_or_default(),
+            viscous: viscous_friction
+                .map(|f| self.v(f, "viscous_friction"))
+                .transpose()?
+                .unwrap_or_default(),
+        };
+        let rates = drive_limited_rates(&self.robot, &spec, &pace, &friction, gravity, points)
+            .map_err(sim_err)?;
         Ok(out1(py, rates))
     }
 

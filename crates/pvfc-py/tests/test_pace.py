@@ -120,6 +120,36 @@ def test_the_rates_asked_for_and_the_headroom_bound_the_profile() -> None:
     assert np.all(kept <= full * (1 + 1e-12)) and lap(kept, 3.0) > 1.05 * lap(full, 3.0)
 
 
+def test_viscous_friction_takes_its_share_of_the_limits() -> None:
+    """A plant's viscous friction (a torque ``b q̇``, not affine in ``τ̇²``, which TOPP-RA's
+    ``JointTorqueConstraint`` cannot express): every torque along the profile, from pvfc's RNEA
+    plus Coulomb and viscous friction written out here, is within the limits; wherever the
+    profile is below the rate asked for a joint is at its limit; the lap is longer than with
+    Coulomb friction alone."""
+    robot, contour = ur5(), loop()
+    period = contour.period
+    coulomb = np.array([3.0, 3.0, 2.0, 0.8, 0.8, 0.8])
+    viscous = np.array([5.0, 5.0, 3.0, 1.0, 1.0, 1.0])
+    plain = robot.drive_limited_rates(contour, LIMITS, friction_compensation=coulomb, points=POINTS)
+    rates = robot.drive_limited_rates(
+        contour, LIMITS, friction_compensation=coulomb, viscous_friction=viscous, points=POINTS
+    )
+    step = period / POINTS
+    at_limit = 0
+    for j in range(POINTS):
+        x0, x1 = rates[j] ** 2, rates[(j + 1) % POINTS] ** 2
+        accel = (x1 - x0) / (2.0 * step)
+        q, dq, ddq = (np.asarray(v) for v in contour.sample(j * step))
+        qd = dq * rates[j]
+        torque = robot.rnea(q, qd, dq * accel + ddq * rates[j] ** 2)
+        torque = torque + coulomb * np.sign(qd) + viscous * qd
+        share = np.max(np.abs(torque) / LIMITS)
+        assert share <= 1.0 + 1e-6, f"τ = {j * step:.4f}: {share} of the limits"
+        at_limit += share >= 1.0 - 1e-6
+    assert at_limit >= 0.99 * POINTS, f"{at_limit} of {POINTS} points at a limit"
+    assert lap(rates, period) > 1.01 * lap(plain, period)
+
+
 def test_bad_input_is_a_named_error() -> None:
     robot, contour = ur5(), loop()
     with pytest.raises(ValueError, match="torque_limit"):
@@ -130,6 +160,8 @@ def test_bad_input_is_a_named_error() -> None:
         robot.drive_limited_rates(contour, -LIMITS)
     with pytest.raises(TypeError, match="contour"):
         robot.drive_limited_rates("circle", LIMITS)
+    with pytest.raises(pvfc.PvfcError, match="viscous"):
+        robot.drive_limited_rates(contour, LIMITS, viscous_friction=-np.ones(6))
 
 
 def test_a_controller_paced_at_a_joint_speed_moves_its_field_at_that_speed() -> None:

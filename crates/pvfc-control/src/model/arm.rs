@@ -8,7 +8,7 @@ use crate::error::{Result, SimError};
 use crate::model::arm_field::{ArmField, FieldSpec};
 use crate::model::evaluation::Evaluation;
 pub use crate::model::joint_contour::{DynJointContour, JointContour, JointContourSpec};
-use crate::model::pace::{energy_for_pace, uniform_pacing, PaceSettings};
+use crate::model::pace::{energy_for_pace, uniform_pacing, DriveFriction, PaceSettings};
 use crate::model::robot::{ChainModel, Robot};
 use nalgebra::SVector;
 use pvfc_core::augmented::AugmentedState;
@@ -302,13 +302,14 @@ fn first_step_is_finite<const N: usize>(ctl: &ArmControllerN<N>, s: &ArmSettings
 
 /// The fastest rates `τ̇` the drives allow at `points` evenly spaced points of one period of
 /// the joint contour `contour` for `robot` (`pvfc_core::pace::drive_limited_rates`): `pace`'s
-/// torque limits and headroom, at most `pace.level`, with the controller's friction
-/// compensation (eq. 35) and gravity compensation (if `gravity`) counted against the limits.
+/// torque limits and headroom, at most `pace.level`, with `friction` (a controller's
+/// compensation, eq. 35, or a plant's Coulomb and viscous friction) and gravity (if
+/// `gravity`) counted against the limits.
 pub fn drive_limited_rates(
     robot: &Robot,
     contour: &JointContourSpec,
     pace: &PaceSettings,
-    friction: Option<&[f64]>,
+    friction: &DriveFriction,
     gravity: bool,
     points: usize,
 ) -> Result<Vec<f64>> {
@@ -324,7 +325,7 @@ pub fn drive_limited_rates(
     let mut rates = vec![pace.level; points];
     crate::on_joints!(ChainModel, robot.model(), c, N => {
         let built = contour.build(c.kinds())?;
-        let limits = pace.limits::<N>(friction, gravity)?.ok_or_else(|| {
+        let limits = pace.limits_against::<N>(friction, gravity)?.ok_or_else(|| {
             setting("torque_limit: the drive-limited rates need the drives' limits".into())
         })?;
         pvfc_core::pace::drive_limited_rates(c.as_ref(), &built, &limits, period, &mut rates)?;
@@ -333,17 +334,21 @@ pub fn drive_limited_rates(
 }
 
 /// The least time of one lap of the settings' joint contour that `pace`'s drives allow at
-/// full use of their limits ([`PaceSettings::minimum_lap`]), for `robot` with the settings'
-/// friction and gravity compensation.
-pub fn minimum_lap(robot: &Robot, s: &ArmSettings, pace: &PaceSettings) -> Result<f64> {
+/// full use of their limits ([`PaceSettings::minimum_lap`]), for `robot` under gravity
+/// against the plant's friction `plant`.
+pub fn minimum_lap(
+    robot: &Robot,
+    s: &ArmSettings,
+    pace: &PaceSettings,
+    plant: &DriveFriction,
+) -> Result<f64> {
     let period = s
         .contour
         .period()
         .ok_or_else(|| setting("contour: a lap needs a closed contour (a period)".into()))?;
-    let friction = s.friction_compensation.as_deref();
     crate::on_joints!(ChainModel, robot.model(), c, N => {
         let contour = s.contour.build(c.kinds())?;
-        pace.minimum_lap(c.as_ref(), &contour, period, friction, s.gravity_compensation)
+        pace.minimum_lap(c.as_ref(), &contour, period, plant, true)
     })
 }
 

@@ -75,6 +75,28 @@ impl PaceSettings {
         Ok(Some(limits))
     }
 
+    /// The limits of an `N`-joint robot whose drives overcome `friction` (Coulomb and
+    /// viscous) and, if `gravity`, `g(q)` on top of the motion's torque; `None` without
+    /// limits.
+    pub fn limits_against<const N: usize>(
+        &self,
+        friction: &DriveFriction,
+        gravity: bool,
+    ) -> Result<Option<DriveLimits<f64, N>>> {
+        let coulomb = (!friction.coulomb.is_empty()).then_some(friction.coulomb.as_slice());
+        let Some(limits) = self.limits::<N>(coulomb, gravity)? else {
+            return Ok(None);
+        };
+        if friction.viscous.is_empty() {
+            return Ok(Some(limits));
+        }
+        let b = super::fixed::<N>(&friction.viscous, "friction.viscous")?;
+        limits
+            .with_viscous_friction(b)
+            .map(Some)
+            .map_err(|e| SimError::Setting(format!("friction.viscous: {e}")))
+    }
+
     /// The rates `τ̇` asked for at [`PACE_GRID`] points of the period: `level`, or the path
     /// speed's.
     fn asked<G, Sys, X, const N: usize>(
@@ -182,15 +204,18 @@ impl PaceSettings {
     }
 
     /// The least time of one lap of `contour` (period `period`) that the drives allow at
-    /// full use of their limits (headroom 1, whatever this pace keeps, and no speed asked
-    /// for): the time-optimal parameterisation's lap on [`PACE_GRID`] points, against which a
-    /// controller's lap time is measured.
+    /// full use of their limits (headroom 1, whatever this pace keeps) against `plant`'s
+    /// friction (and gravity, if `gravity`), at no rate above the one this pace asks for
+    /// (its level, or its speed along the path): the time-optimal parameterisation's lap on
+    /// [`PACE_GRID`] points, against which a controller's lap time is measured. With the
+    /// plant's own friction (not a controller's compensation of it) it is the least lap any
+    /// controller can make on that plant at that demand.
     pub fn minimum_lap<G, Sys, X, const N: usize>(
         &self,
         system: &Sys,
         contour: &X,
         period: f64,
-        friction: Option<&[f64]>,
+        plant: &DriveFriction,
         gravity: bool,
     ) -> Result<f64>
     where
@@ -199,21 +224,29 @@ impl PaceSettings {
         X: Contour<f64, G, N>,
     {
         let full = PaceSettings {
-            speed: None,
             headroom: 1.0,
-            // A rate no drive reaches: the profile is then the drives' alone.
-            level: 1e6,
             ..self.clone()
         };
-        let limits = full.limits::<N>(friction, gravity)?.ok_or_else(|| {
+        let limits = full.limits_against::<N>(plant, gravity)?.ok_or_else(|| {
             SimError::Setting(
                 "pace.torque_limit: a lap's least time needs the drives' limits".into(),
             )
         })?;
-        let mut rates = vec![full.level; PACE_GRID];
+        let mut rates = full.asked(system, contour, period)?;
         drive_limited_rates(system, contour, &limits, period, &mut rates)?;
         Ok(lap_time(&rates, period))
     }
+}
+
+/// The friction the drives overcome along a contour: per-joint Coulomb levels and viscous
+/// coefficients (either empty: none). A plant's, for the least lap time any controller can
+/// make on it ([`PaceSettings::minimum_lap`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DriveFriction {
+    /// Coulomb levels `f_i ≥ 0` (N·m, N).
+    pub coulomb: Vec<f64>,
+    /// Viscous coefficients `b_i ≥ 0` (N·m·s/rad, N·s/m).
+    pub viscous: Vec<f64>,
 }
 
 /// The energy level `Ē` that a field paced by `pace` along `contour` needs, with a margin of

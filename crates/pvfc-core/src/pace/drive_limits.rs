@@ -10,7 +10,12 @@
 //! `c = g(x_d) + f ∘ sign(ξ_d)`
 //!
 //! (`g` when the controller compensates gravity, `f` its friction compensation, both torques
-//! the drive must deliver on top of the coupling's). Each joint's limit `|T_i| ≤ h L_i`, with a
+//! the drive must deliver on top of the coupling's). Viscous friction `B q̇ = B ξ_d √x` adds a
+//! term in `√x` (`d(τ) √x`, `d = B ξ_d`): the torque is then no longer affine in `x`, and the
+//! passes below stay exact for the bounds they test at each `x` (each bound is computed at the
+//! `x` it is asked for) but the bisection on `x` assumes the admissible `x` still form an
+//! interval from 0, which holds while `b x + d √x` is monotone in `x` on each joint (always when
+//! `b` and `d` have the same sign). Each joint's limit `|T_i| ≤ h L_i`, with a
 //! headroom `h ∈ (0, 1]` kept for the correction of errors, bounds `u` between two affine
 //! functions of `x`. On a grid `τ_j = jΔ` with `x_{j+1} = x_j + 2Δ u_j`, the profile is:
 //! 1. the largest `x_j` at which some `u` is admissible (the maximum-velocity curve), capped by
@@ -36,6 +41,7 @@ pub struct DriveLimits<T: Real, const D: usize> {
     torque: Tangent<T, D>,
     headroom: T,
     friction: Tangent<T, D>,
+    viscous: Tangent<T, D>,
     gravity: bool,
 }
 
@@ -54,6 +60,7 @@ impl<T: Real, const D: usize> DriveLimits<T, D> {
             torque,
             headroom: T::one(),
             friction: Tangent::zeros(),
+            viscous: Tangent::zeros(),
             gravity: false,
         })
     }
@@ -74,14 +81,24 @@ impl<T: Real, const D: usize> DriveLimits<T, D> {
     /// The controller's friction compensation `f_i ≥ 0` (eq. 35), which the drives deliver on
     /// top of the motion's torque.
     pub fn with_friction_compensation(mut self, friction: Tangent<T, D>) -> Result<Self> {
-        ensure_finite(friction.iter(), "DriveLimits: friction compensation")?;
-        if friction.iter().any(|f| *f < T::zero()) {
-            return Err(Error::new(
-                ErrorKind::InvalidParameter,
-                "DriveLimits: friction compensation must be ≥ 0",
-            ));
-        }
+        non_negative(
+            &friction,
+            "DriveLimits: friction compensation",
+            "DriveLimits: friction compensation must be ≥ 0",
+        )?;
         self.friction = friction;
+        Ok(self)
+    }
+
+    /// Viscous friction `B = diag(b_i)`, `b_i ≥ 0`, that the drives overcome on top of the
+    /// motion's torque (`B q̇`; a plant's, when the least lap time on it is asked for).
+    pub fn with_viscous_friction(mut self, viscous: Tangent<T, D>) -> Result<Self> {
+        non_negative(
+            &viscous,
+            "DriveLimits: viscous friction",
+            "DriveLimits: viscous friction must be ≥ 0",
+        )?;
+        self.viscous = viscous;
         Ok(self)
     }
 
@@ -102,11 +119,27 @@ impl<T: Real, const D: usize> DriveLimits<T, D> {
     }
 }
 
-/// The torque of the motion at one point of the contour: `T = a u + b x + c` and the limits.
+/// `NonFinite` (`what`) for a non-finite entry, `InvalidParameter` (`negative`) for a
+/// negative one.
+fn non_negative<T: Real, const D: usize>(
+    v: &Tangent<T, D>,
+    what: &'static str,
+    negative: &'static str,
+) -> Result<()> {
+    ensure_finite(v.iter(), what)?;
+    if v.iter().any(|x| *x < T::zero()) {
+        return Err(Error::new(ErrorKind::InvalidParameter, negative));
+    }
+    Ok(())
+}
+
+/// The torque of the motion at one point of the contour: `T = a u + b x + d √x + c` and the
+/// limits.
 struct Row<T: Real, const D: usize> {
     a: Tangent<T, D>,
     b: Tangent<T, D>,
     c: Tangent<T, D>,
+    d: Tangent<T, D>,
     limit: Tangent<T, D>,
 }
 
@@ -135,6 +168,7 @@ impl<T: Real, const D: usize> Row<T, D> {
             a: m * s.velocity,
             b: m * s.acceleration + c * s.velocity,
             c: offset,
+            d: limits.viscous.component_mul(&s.velocity),
             limit: limits.torque * limits.headroom,
         }
     }
@@ -143,8 +177,9 @@ impl<T: Real, const D: usize> Row<T, D> {
     fn bounds(&self, x: T) -> Option<(T, T)> {
         let mut lo: Option<T> = None;
         let mut hi: Option<T> = None;
+        let root = x.max(T::zero()).sqrt();
         for i in 0..D {
-            let rest = self.b[i] * x + self.c[i];
+            let rest = self.b[i] * x + self.d[i] * root + self.c[i];
             let (below, above) = (-self.limit[i] - rest, self.limit[i] - rest);
             let a = self.a[i];
             if a == T::zero() {

@@ -204,6 +204,7 @@ class Robot:
         *,
         headroom: float = 1.0,
         friction_compensation: Optional[_ArrayLike] = None,
+        viscous_friction: Optional[_ArrayLike] = None,
         gravity: bool = True,
         rate: float = 1e6,
         points: int = 4096,
