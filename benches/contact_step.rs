@@ -64,13 +64,13 @@ fn contact_step(c: &mut Criterion) {
 }
 
 /// The same for a URDF arm in 3-D: one RKMK4 step of the UR5's closed loop
-/// (`scenarios/ur5_deburr.toml`: gravity, its compensation, the tool pressing on the box) with
+/// (`scenarios/ur5_press.toml`: gravity, its compensation, the tool pressing on the box) with
 /// the 3-D contact (`contact::spatial`) at every stage. The target: ≤ 20 µs.
 fn spatial_contact_step(c: &mut Criterion) {
     use nalgebra::SVector;
     use pvfc::sim::contact::spatial::SpatialWorld;
     use pvfc::sim::scenario::Scenario;
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/ur5_deburr.toml");
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/ur5_press.toml");
     let mut s = Scenario::from_file(&path).expect("the deburring scenario parses");
     s.duration = 3.0;
     let run = simulate(&s, &mut |_| {}).expect("the deburring scenario runs");

@@ -354,7 +354,7 @@ pub fn claims(r: &Runs) -> Result<Vec<Claim>> {
     contact_claims(r, &mut push)?;
     crate::report_digital::digital_claims(r, &mut push)?;
     // The 3-D arm runs are part of `pvfc reproduce`, not of every set of runs.
-    if r.run(PresetId::Arm3d(Arm3dCase::Deburr)).is_ok() {
+    if r.run(PresetId::Arm3d(Arm3dCase::Press)).is_ok() {
         crate::report_arms::arm_claims(r, &mut push)?;
     }
     if r.run(PresetId::ToolPath(ToolPathCase::Free)).is_ok() {

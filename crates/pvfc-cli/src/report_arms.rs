@@ -1,5 +1,5 @@
 //! The claims of the 3-D contact scenarios of a URDF arm
-//! ([`arms_3d`](pvfc_sim::scenario::presets::arms_3d)): a UR5 deburring a box's top, at a wall it cannot
+//! ([`arms_3d`](pvfc_sim::scenario::presets::arms_3d)): a UR5 pressing its tool into a box's top, at a wall it cannot
 //! pass and pushed on the forearm, each beside the timed tracker; the audit, the passivity
 //! margins, the forces and the Cartesian path error in millimetres.
 
@@ -10,12 +10,12 @@ use pvfc_sim::trace::metrics::ContactSummary;
 use pvfc_sim::trace::path_budget::path_budget;
 
 /// The PVFC runs: the three scenarios (the passive digital controller at 1 kHz) and the
-/// deburring run in continuous time.
+/// press run in continuous time.
 const PVFC_RUNS: [Arm3dCase; 4] = [
-    Arm3dCase::Deburr,
+    Arm3dCase::Press,
     Arm3dCase::Wall,
     Arm3dCase::Push,
-    Arm3dCase::DeburrContinuous,
+    Arm3dCase::PressContinuous,
 ];
 
 fn pair(r: &Runs, case: Arm3dCase) -> Result<(ContactSummary, ContactSummary)> {
@@ -71,7 +71,7 @@ pub(crate) fn arm_claims(
     );
     let mut ok = true;
     let mut rows = Vec::new();
-    for case in [Arm3dCase::Deburr, Arm3dCase::Wall] {
+    for case in [Arm3dCase::Press, Arm3dCase::Wall] {
         let (p, t) = pair(r, case)?;
         ok &= t.peak_force > p.peak_force && t.energy_pumped > p.energy_pumped;
         rows.push(format!(
@@ -106,8 +106,8 @@ pub(crate) fn arm_claims(
         true,
     );
     let mut rows = Vec::new();
-    let deburr = PresetId::Arm3d(Arm3dCase::Deburr);
-    for name in [deburr.name(), deburr.timed_name()] {
+    let press = PresetId::Arm3d(Arm3dCase::Press);
+    for name in [press.name(), press.timed_name()] {
         let (s, t) = r.named(&name)?;
         let system = r.chain_system(s)?;
         let b = path_budget(s, &system.robot, t)?.ok_or_else(|| {
@@ -119,7 +119,7 @@ pub(crate) fn arm_claims(
             (Some(s), Some(n)) => (s, n),
             _ => {
                 return Err(SimError::Setting(format!(
-                    "run `{name}`: the deburring path is not planar"
+                    "run `{name}`: the pressed path is not planar"
                 )))
             }
         };
@@ -146,7 +146,7 @@ pub(crate) fn arm_claims(
     }
     push(
         "arm3d.cartesian",
-        "Deburring: the tool path's error budget, in the user's units",
+        "Pressing 3 mm into a workpiece: the tool path's error budget, in the user's units (the deburring at machining accuracy is toolpath.ur5's)",
         "the joint contour's own distance to the path (geometry); over the steady passes, the tool's distance to the path along the workpiece's surface (mean, 95th percentile, max), its mean offset normal to the surface (the press-in the contact force asks for, not an error), the 3-D distance and the speed along the path (information, not a pass/fail)",
         rows.join("; "),
         true,

@@ -74,7 +74,7 @@ def test_contact_example_script(repo, tmp_path):
 def test_urdf_arm_contact_3d_from_python(repo):
     """A UR5 pressing its tool on a table ([contact_3d]): 3-D force and tool columns, one
     torque per joint, gravity's work in the account, and the audit at integration error."""
-    d = pvfc.Scenario.from_file(repo / "scenarios" / "ur5_deburr.toml").to_dict()
+    d = pvfc.Scenario.from_file(repo / "scenarios" / "ur5_press.toml").to_dict()
     d["duration"] = 2.0
     r = pvfc.simulate(pvfc.Scenario.from_dict(d, base_dir=repo / "scenarios"))
     c = r.contact

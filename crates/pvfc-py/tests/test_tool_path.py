@@ -89,7 +89,7 @@ def test_a_bad_tolerance_is_an_error():
 
 
 def test_the_budget_of_a_run_splits_the_surface_from_the_normal(repo):
-    s = pvfc.Scenario.from_file(repo / "scenarios" / "ur5_deburr_fine.toml")
+    s = pvfc.Scenario.from_file(repo / "scenarios" / "ur5_deburr.toml")
     d = s.to_dict()
     d["plant"]["urdf"] = str(repo / "models" / "ur5" / "ur5_robot.urdf")
     d["contour"]["cartesian"]["tolerance"] = 1e-4  # fewer samples: a quicker test

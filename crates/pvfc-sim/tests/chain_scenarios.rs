@@ -310,12 +310,12 @@ fn a_urdf_arm_on_a_table_keeps_its_energy_audit() {
 
 #[cfg(feature = "contact")]
 #[test]
-fn the_deburring_scenario_runs_beside_its_timed_baseline() {
-    let mut s = Scenario::from_file(&file("ur5_deburr.toml")).unwrap();
+fn the_press_scenario_runs_beside_its_timed_baseline() {
+    let mut s = Scenario::from_file(&file("ur5_press.toml")).unwrap();
     s.duration = 4.0;
     let runs = pvfc_sim::run::run_scenario(&s, &mut |_| {}).unwrap();
     assert_eq!(runs.len(), 2);
-    assert_eq!(runs[1].name, "ur5_deburr-timed");
+    assert_eq!(runs[1].name, "ur5_press-timed");
     for t in &runs {
         let c = t.contact.as_ref().unwrap();
         let peak = c.normal_force.iter().fold(0.0_f64, |m, f| m.max(*f));

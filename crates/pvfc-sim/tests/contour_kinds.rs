@@ -40,7 +40,7 @@ fn the_form_before_kinds_reads_as_the_new_one() {
                 .replace("\npoints = [", "\nwaypoints = [")
         }),
         // A Cartesian path's spacing (fixed samples) outside its table.
-        ("ur5_deburr.toml", &|t| {
+        ("ur5_press.toml", &|t| {
             t.replace(
                 "[contour.cartesian]\nspacing = 0.5    # τ between waypoints: one pass is τ = 12\n",
                 "[contour]\nspacing = 0.5\n\n[contour.cartesian]\n",

@@ -81,39 +81,39 @@ impl Digital {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum Arm3dCase {
-    /// `ur5_deburr`.
-    Deburr,
+    /// `ur5_press`: the tool pressed 3 mm into a workpiece's compliant top along the path.
+    Press,
     /// `ur5_wall`.
     Wall,
     /// `ur5_push`.
     Push,
-    /// `ur5_deburr_continuous`: the deburring run in continuous time.
-    DeburrContinuous,
+    /// `ur5_press_continuous`: the press run in continuous time.
+    PressContinuous,
 }
 
 impl Arm3dCase {
-    /// The cases read from files, each beside its timed baseline, deburring first.
-    pub const FILES: [Arm3dCase; 3] = [Arm3dCase::Deburr, Arm3dCase::Wall, Arm3dCase::Push];
+    /// The cases read from files, each beside its timed baseline, the press first.
+    pub const FILES: [Arm3dCase; 3] = [Arm3dCase::Press, Arm3dCase::Wall, Arm3dCase::Push];
 
-    /// Its short name (`deburr`, `wall`, `push`, `deburr_continuous`).
+    /// Its short name (`press`, `wall`, `push`, `press_continuous`).
     pub fn label(self) -> &'static str {
         match self {
-            Arm3dCase::Deburr => "deburr",
+            Arm3dCase::Press => "press",
             Arm3dCase::Wall => "wall",
             Arm3dCase::Push => "push",
-            Arm3dCase::DeburrContinuous => "deburr_continuous",
+            Arm3dCase::PressContinuous => "press_continuous",
         }
     }
 }
 
 /// The UR5's tool paths at machining accuracy (`scenarios/ur5_cartesian.toml`,
-/// `scenarios/ur5_deburr_fine.toml`).
+/// `scenarios/ur5_deburr.toml`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum ToolPathCase {
     /// `ur5_cartesian`: the rounded rectangle in free space, with joint friction.
     Free,
-    /// `ur5_deburr_fine`: the rounded rectangle pressed into a workpiece.
+    /// `ur5_deburr`: the rounded rectangle 0.5 mm into a workpiece, at machining accuracy.
     Deburr,
 }
 
@@ -329,7 +329,7 @@ impl PresetId {
             PresetId::Satellite => "satellite".into(),
             PresetId::Arm3d(a) => format!("ur5_{}", a.label()),
             PresetId::ToolPath(ToolPathCase::Free) => "ur5_cartesian".into(),
-            PresetId::ToolPath(ToolPathCase::Deburr) => "ur5_deburr_fine".into(),
+            PresetId::ToolPath(ToolPathCase::Deburr) => "ur5_deburr".into(),
             PresetId::ToolPathTask(case) => format!("{}_task", PresetId::ToolPath(case).name()),
             PresetId::Ur5Saturated {
                 path: SaturatedPath::Rectangle,
@@ -408,7 +408,7 @@ impl PresetId {
         v.extend(ROBUSTNESS_GAINS.map(|gamma_energy| PresetId::Robustness { gamma_energy }));
         v.push(PresetId::Satellite);
         v.extend(Arm3dCase::FILES.map(PresetId::Arm3d));
-        v.push(PresetId::Arm3d(Arm3dCase::DeburrContinuous));
+        v.push(PresetId::Arm3d(Arm3dCase::PressContinuous));
         v.extend(ToolPathCase::ALL.map(PresetId::ToolPath));
         v.extend(ToolPathCase::ALL.map(PresetId::ToolPathTask));
         for path in SaturatedPath::ALL {

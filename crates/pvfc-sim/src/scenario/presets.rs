@@ -724,9 +724,9 @@ pub fn scenario_dir() -> std::path::PathBuf {
 }
 
 /// The 3-D contact scenarios of a UR5, read from [`scenario_dir`]
-/// (`ur5_deburr.toml`, `ur5_wall.toml`, `ur5_push.toml`; their URDF is `models/ur5`), each
-/// beside its timed baseline, and the deburring run again in continuous time
-/// (`ur5_deburr_continuous`: the closed loop's own audit, without sampling).
+/// (`ur5_press.toml`, `ur5_wall.toml`, `ur5_push.toml`; their URDF is `models/ur5`), each
+/// beside its timed baseline, and the press run again in continuous time
+/// (`ur5_press_continuous`: the closed loop's own audit, without sampling).
 pub fn arms_3d() -> crate::error::Result<Vec<Scenario>> {
     let dir = scenario_dir();
     let mut v = Arm3dCase::FILES
@@ -736,7 +736,7 @@ pub fn arms_3d() -> crate::error::Result<Vec<Scenario>> {
         })
         .collect::<crate::error::Result<Vec<_>>>()?;
     let mut continuous = v[0].clone();
-    continuous.name = PresetId::Arm3d(Arm3dCase::DeburrContinuous).name();
+    continuous.name = PresetId::Arm3d(Arm3dCase::PressContinuous).name();
     continuous.description = format!("{}, in continuous time", continuous.description);
     continuous.simulation.mode = Mode::Continuous;
     continuous.controller.passive = None;
@@ -746,7 +746,7 @@ pub fn arms_3d() -> crate::error::Result<Vec<Scenario>> {
 }
 
 /// The UR5's tool paths at machining accuracy, read from [`scenario_dir`]
-/// (`ur5_cartesian.toml`, `ur5_deburr_fine.toml`), each beside its timed baseline, then the
+/// (`ur5_cartesian.toml`, `ur5_deburr.toml`), each beside its timed baseline, then the
 /// same paths with the task-space field ([`tool_path_task`]), then the rectangle and the
 /// circle (`ur5_circle.toml`) on saturating drives ([`ur5_saturated`]).
 pub fn tool_paths() -> crate::error::Result<Vec<Scenario>> {
