@@ -66,6 +66,11 @@ enum Command {
         /// Skip the figures.
         #[arg(long)]
         no_figures: bool,
+        /// Run this controller instead of the study's own (`pvfc`, `timed`,
+        /// `speed_scaling`: the base's baseline tracker) on the same runs; the table is
+        /// then NAME-CONTROLLER.
+        #[arg(long)]
+        controller: Option<String>,
     },
     /// Write the built-in scenarios as TOML files.
     Presets {
@@ -116,7 +121,15 @@ fn main() -> ExitCode {
             threads,
             limit,
             no_figures,
-        } => sweep(&study, &out, threads, limit, !no_figures),
+            controller,
+        } => sweep(
+            &study,
+            &out,
+            threads,
+            limit,
+            !no_figures,
+            controller.as_deref(),
+        ),
         Command::Presets { out } => write_presets(&out),
     };
     match result {
@@ -184,7 +197,11 @@ fn sweep(
     threads: Option<usize>,
     limit: Option<usize>,
     figures: bool,
+    controller: Option<&str>,
 ) -> Result<(), SimError> {
+    let controller = controller
+        .map(str::parse::<pvfc_sim::study::spec::StudyController>)
+        .transpose()?;
     let threads = threads.unwrap_or_else(pvfc_sim::study::runner::default_threads);
     let pb = ProgressBar::new(0);
     pb.set_style(
@@ -200,10 +217,17 @@ fn sweep(
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
     );
-    let o = pvfc_cli::sweep::sweep(study, out, threads, limit, &mut |done, total| {
-        pb.set_length(total as u64);
-        pb.set_position(done as u64);
-    })?;
+    let o = pvfc_cli::sweep::sweep_with(
+        study,
+        controller,
+        out,
+        threads,
+        limit,
+        &mut |done, total| {
+            pb.set_length(total as u64);
+            pb.set_position(done as u64);
+        },
+    )?;
     pb.finish();
     println!(
         "{}: {} runs ({} ran now on {threads} threads in {:.1} s, {:.2} runs/s; {} from the table; {} failed): {} and {}",

@@ -5,12 +5,8 @@
 
 use crate::canvas::{figure, panel, Series, Style};
 use crate::runs::Runs;
-use pvfc_core::prelude::Scara;
 use pvfc_sim::error::Result;
 use pvfc_sim::error::SimError;
-use pvfc_sim::model::arm::minimum_lap;
-use pvfc_sim::model::pace::DriveFriction;
-use pvfc_sim::scenario::plant::RobotKind;
 use pvfc_sim::scenario::preset_id::{Fig1Contour, PresetId, SaturatedPath, FIG1_SATURATED_SPEEDS};
 use pvfc_sim::scenario::presets::{FIG1_TORQUE_LIMITS, UR5_TORQUE_LIMITS};
 use pvfc_sim::scenario::Scenario;
@@ -140,35 +136,6 @@ pub fn speed_point(s: &Scenario, t: &Trace, demanded: f64) -> Result<SpeedPoint>
     })
 }
 
-/// The least lap time the drives of run `s` allow on its contour at no rate above its
-/// demanded one, at full use of their limits against its plant's own friction (Coulomb and
-/// viscous; a Stribeck peak, which only adds torque near rest, is left out, so the lap is
-/// never longer than the true least) and, on a serial chain, gravity: the time-optimal
-/// parameterisation ([`PaceSettings::minimum_lap`](pvfc_sim::model::pace::PaceSettings::minimum_lap)),
-/// the least lap any controller can make on that plant at that demand.
-pub fn minimum_lap_of(r: &Runs, s: &Scenario) -> Result<f64> {
-    let pace = s
-        .drive_pace()?
-        .ok_or_else(|| SimError::Setting(format!("run `{}` has no drive-limited pace", s.name)))?;
-    let plant = DriveFriction {
-        coulomb: s.plant.friction.coulomb.clone(),
-        viscous: s.plant.friction.viscous.clone(),
-    };
-    match s.plant.robot.kind() {
-        RobotKind::Scara => pace.minimum_lap(
-            &Scara::new(s.scara()?)?,
-            &s.contour()?,
-            s.period(),
-            &plant,
-            false,
-        ),
-        _ => {
-            let system = r.chain_system(s)?;
-            minimum_lap(&system.robot, &system.settings, &pace, &plant)
-        }
-    }
-}
-
 /// The SCARA's points on `contour`, by demanded speed.
 pub fn sweep(r: &Runs, contour: Fig1Contour) -> Result<Sweep> {
     let mut out = Sweep::default();
@@ -199,7 +166,11 @@ pub(crate) fn fig1_saturated_claims(
         let w = sweep(r, contour)?;
         let least = FIG1_SATURATED_SPEEDS
             .iter()
-            .map(|&speed| minimum_lap_of(r, &r.run(PresetId::Fig1Saturated { contour, speed })?.0))
+            .map(|&speed| {
+                r.run(PresetId::Fig1Saturated { contour, speed })?
+                    .0
+                    .least_lap()
+            })
             .collect::<Result<Vec<f64>>>()?;
         let holds = verdict(&w);
         let rows: Vec<String> = (0..w.pvfc.len())
@@ -293,10 +264,9 @@ pub(crate) fn ur5_saturated_claims(
             .speeds()
             .into_iter()
             .map(|speed| {
-                minimum_lap_of(
-                    r,
-                    &r.named(&PresetId::Ur5Saturated { path, speed }.name())?.0,
-                )
+                r.named(&PresetId::Ur5Saturated { path, speed }.name())?
+                    .0
+                    .least_lap()
             })
             .collect::<Result<Vec<f64>>>()?;
         let holds = verdict(&w);

@@ -4,7 +4,7 @@
 
 use pvfc_sim::error::{Result, SimError};
 use pvfc_sim::study::runner::{run_study, StudyRow};
-use pvfc_sim::study::spec::StudySpec;
+use pvfc_sim::study::spec::{StudyController, StudySpec};
 use pvfc_sim::study::{arrow, table};
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -64,7 +64,26 @@ pub fn sweep(
     limit: Option<usize>,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<SweepOutcome> {
-    let (spec, base) = StudySpec::from_file(study)?;
+    sweep_with(study, None, out, threads, limit, progress)
+}
+
+/// [`sweep`] with the study's controller set to `controller` (when given and not the
+/// study's own): the same runs with a baseline tracker instead of PVFC (or the reverse),
+/// into `out/NAME-CONTROLLER.csv` (`timed`, `speed_scaling`, `pvfc`), so that every
+/// controller is measured on the same draws.
+pub fn sweep_with(
+    study: &Path,
+    controller: Option<StudyController>,
+    out: &Path,
+    threads: usize,
+    limit: Option<usize>,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<SweepOutcome> {
+    let (mut spec, base) = StudySpec::from_file(study)?;
+    if let Some(c) = controller.filter(|c| *c != spec.controller) {
+        spec.controller = c;
+        spec.name = format!("{}-{}", spec.name, c.label());
+    }
     let runs = spec.runs(&base)?;
     let metrics = spec.metrics()?;
     let names: Vec<&str> = metrics.iter().map(|m| m.name).collect();

@@ -5,11 +5,12 @@
 use pvfc_sim::error::SimError;
 use pvfc_sim::scenario::{presets, Scenario};
 use pvfc_sim::study::sample::{latin_hypercube, normal_quantile, SplitMix64};
-use pvfc_sim::study::spec::{Axis, Draw, Range, StudySpec};
+use pvfc_sim::study::spec::{Axis, Draw, Range, StudyController, StudySpec};
 
 fn axis(key: &str) -> Axis {
     Axis {
         key: key.into(),
+        also: Vec::new(),
         values: None,
         range: None,
         draw: None,
@@ -26,6 +27,7 @@ fn spec(axes: Vec<Axis>) -> StudySpec {
         latin_hypercube: false,
         metrics: Vec::new(),
         set: Default::default(),
+        controller: Default::default(),
     }
 }
 
@@ -421,4 +423,81 @@ fn integer_draws_cover_their_range_and_set_integer_keys() {
     let mut s = spec(vec![j]);
     s.samples = Some(3);
     assert!(error(&s, &base).contains("low ≤ high"));
+}
+
+/// An axis's tied keys (`also`) take its value on every run; its column is its key's.
+#[test]
+fn an_axis_sets_its_tied_keys_to_the_same_value() {
+    let base = presets::fig8(100);
+    let mut a = a_values("plant.friction.coulomb[0]", vec![1.0, 4.0]);
+    a.also = vec!["plant.friction.coulomb[1]".into()];
+    let runs = spec(vec![a]).runs(&base).unwrap();
+    assert_eq!(runs.len(), 2);
+    for (r, c) in runs.iter().zip([1.0, 4.0]) {
+        assert_eq!(r.scenario.plant.friction.coulomb, vec![c, c]);
+        assert_eq!(
+            r.parameters,
+            vec![("plant.friction.coulomb[0]".to_string(), c)]
+        );
+    }
+    let mut bad = a_values("controller.energy", vec![1.0]);
+    bad.also = vec!["controller.no_such_key".into()];
+    assert!(error(&spec(vec![bad]), &base).contains("no_such_key"));
+}
+
+/// `controller = "timed"` / `"speed_scaling"` runs the base's tracker at its `tau_rate`: a
+/// base without `[baseline]`, without `tau_rate`, or (for the speed-scaling one) without
+/// `speed_scaling` is named before anything runs; the tracker's run has its trace, the
+/// tracker's share of samples at a limit and the distance to the contour.
+#[test]
+fn a_study_runs_a_baseline_tracker_on_the_same_runs() {
+    use pvfc_sim::study::metrics::select;
+    use pvfc_sim::study::runner::run_one;
+    let base = presets::fig1_saturated(pvfc_sim::scenario::preset_id::Fig1Contour::Circle, 300);
+    let mut s = spec(vec![a_values("controller.self_pacing", vec![100.0])]);
+    s.metrics = vec![
+        "limit_share".into(),
+        "contour_distance_mean".into(),
+        "pass_duration".into(),
+    ];
+    let metrics = s.metrics().unwrap();
+    let mut shares = Vec::new();
+    for c in [
+        StudyController::Pvfc,
+        StudyController::Timed,
+        StudyController::SpeedScaling,
+    ] {
+        s.controller = c;
+        let runs = s.runs(&base).unwrap();
+        assert_eq!(runs[0].controller, c);
+        let row = run_one(&runs[0], &metrics);
+        assert!(row.error.is_none(), "{c:?}: {:?}", row.error);
+        let [share, distance, lap] = [row.metrics[0], row.metrics[1], row.metrics[2]]
+            .map(|m| m.unwrap_or_else(|| panic!("{c:?}: a metric is absent: {row:?}")));
+        assert!((0.0..=1.0).contains(&share) && distance >= 0.0 && lap > 0.0);
+        shares.push((share, distance));
+    }
+    // At r = 3 on 15 / 5 N·m (fig1.saturated): the timed tracker is at its limits nearly
+    // always and leaves the contour; PVFC never is, and stays on it.
+    let (pvfc, timed) = (shares[0], shares[1]);
+    assert!(pvfc.0 < 0.05 && timed.0 > 0.5, "shares {pvfc:?} {timed:?}");
+    assert!(timed.1 > 10.0 * pvfc.1, "distances {pvfc:?} {timed:?}");
+    // What a tracker's study needs.
+    let mut no_rate = base.clone();
+    no_rate.baseline.as_mut().unwrap().tau_rate = None;
+    s.controller = StudyController::Timed;
+    assert!(error(&s, &no_rate).contains("tau_rate"));
+    let mut no_scaling = base.clone();
+    no_scaling.baseline.as_mut().unwrap().speed_scaling = None;
+    s.controller = StudyController::SpeedScaling;
+    assert!(error(&s, &no_scaling).contains("speed_scaling"));
+    let mut none = base;
+    none.baseline = None;
+    assert!(error(&s, &none).contains("[baseline]"));
+    assert!("tracker".parse::<StudyController>().is_err());
+    assert_eq!(
+        "speed_scaling".parse::<StudyController>().unwrap(),
+        StudyController::SpeedScaling
+    );
+    let _ = select(&["limit_share".into()]).unwrap();
 }

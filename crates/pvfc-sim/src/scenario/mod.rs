@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 pub mod build;
+pub mod least_lap;
 pub mod legacy;
 pub mod plant;
 pub use pvfc_control::model::contour::{AttitudeContourSpec, ContourSpec};

@@ -154,6 +154,49 @@ fn recoveries(run: &RunView) -> Option<(f64, usize)> {
     Some((slowest, never))
 }
 
+/// The share of the last complete pass's samples at which a joint's torque is at its limit:
+/// the tracker's `baseline.torque_limit` for a tracker's run, the passive controller's
+/// `torque_limit` for PVFC's; `None` without limits or a complete pass.
+fn limit_share(run: &RunView) -> Option<f64> {
+    let s = run.scenario;
+    let t = run.trace;
+    let tracker = t.name.ends_with(crate::trace::TIMED_SUFFIX)
+        || t.name.ends_with(crate::trace::SCALED_SUFFIX);
+    let limits = if tracker {
+        s.baseline.as_ref().map(|b| b.torque_limit.as_slice())
+    } else {
+        s.controller
+            .passive
+            .as_ref()
+            .map(|p| p.torque_limit.as_slice())
+    }
+    .filter(|l| !l.is_empty())?;
+    let pass = metrics::last_pass(t, s.period())?;
+    let n = pass.len();
+    let hits = t
+        .torque
+        .rows(pass)
+        .filter(|u| {
+            u.iter()
+                .zip(limits)
+                .any(|(u, l)| u.abs() >= l * (1.0 - 1e-9))
+        })
+        .count();
+    (n > 0).then(|| hits as f64 / n as f64)
+}
+
+/// The distance of `q` to a SCARA's joint contour over the last complete pass (rad): mean
+/// and largest ([`metrics::contour_following`]); `None` for other robots.
+fn contour_distance(run: &RunView) -> Option<(f64, f64)> {
+    let s = run.scenario;
+    if !matches!(s.plant.robot, RobotSpec::Scara(_)) {
+        return None;
+    }
+    let contour = s.contour().ok()?;
+    let pass = metrics::last_pass(run.trace, s.period())?;
+    Some(metrics::contour_following(run.trace, &contour, s.period(), pass).error)
+}
+
 /// Every metric a study can keep, in the order of a study's table when it keeps them all.
 pub const METRICS: &[Metric] = &[
     Metric {
@@ -188,6 +231,21 @@ pub const METRICS: &[Metric] = &[
         unit: "s",
         doc: "The time of the last complete pass of the contour.",
         eval: |r| metrics::pass_duration(r.trace, r.scenario.period()),
+    },
+    Metric {
+        name: "least_lap",
+        unit: "s",
+        doc: "The least lap any controller can make on the run's plant at its demand (Scenario::least_lap: the time-optimal parameterisation under the drives' limits, against the plant's friction and model error; absent without a drive-limited pace).",
+        eval: |r| r.scenario.least_lap().ok(),
+    },
+    Metric {
+        name: "lap_ratio",
+        unit: "",
+        doc: "The time of the last complete pass ÷ least_lap: 1 is the fastest any controller can go on that plant at that demand.",
+        eval: |r| {
+            let lap = metrics::pass_duration(r.trace, r.scenario.period())?;
+            Some(lap / r.scenario.least_lap().ok()?)
+        },
     },
     Metric {
         name: "mean_tau_rate",
@@ -250,6 +308,12 @@ pub const METRICS: &[Metric] = &[
         eval: |r| r.budget().map(|b| b.distance.max),
     },
     Metric {
+        name: "tool_surface_mean",
+        unit: "m",
+        doc: "The tool's mean distance to a planar path within its plane (along the surface), over the steady passes.",
+        eval: |r| r.budget().and_then(|b| b.surface).map(|s| s.mean),
+    },
+    Metric {
         name: "tool_surface_max",
         unit: "m",
         doc: "The tool's largest distance to a planar path within its plane (along the surface), over the steady passes.",
@@ -260,6 +324,24 @@ pub const METRICS: &[Metric] = &[
         unit: "m",
         doc: "The joint contour's own largest distance to the Cartesian path (absent for the task-space field, which follows the exact path).",
         eval: |r| r.budget().and_then(|b| b.geometry).map(|g| g.max),
+    },
+    Metric {
+        name: "contour_distance_mean",
+        unit: "rad",
+        doc: "The mean distance of the SCARA's joints to the contour over the last complete pass (absent for other robots).",
+        eval: |r| contour_distance(r).map(|d| d.0),
+    },
+    Metric {
+        name: "contour_distance_max",
+        unit: "rad",
+        doc: "The largest distance of the SCARA's joints to the contour over the last complete pass.",
+        eval: |r| contour_distance(r).map(|d| d.1),
+    },
+    Metric {
+        name: "limit_share",
+        unit: "",
+        doc: "The share of the last complete pass's samples with a joint's torque at its limit (the tracker's limits for a tracker's run, the passive controller's for PVFC's; absent without limits).",
+        eval: limit_share,
     },
     Metric {
         name: "energy_created",

@@ -1,7 +1,7 @@
-//! Running a study: each run's PVFC loop and the metrics kept of it, in parallel on this
-//! machine's threads. A run that fails, or panics, is a row with its error; the study goes on.
+//! Running a study: each run's loop (PVFC's, or a baseline tracker's) and the metrics kept of
+//! it, in parallel on this machine's threads. A run that fails, or panics, is a row with its error; the study goes on.
 
-use crate::run::simulate_system;
+use crate::run::{simulate_system, simulate_tracker};
 use crate::scenario::System;
 use crate::study::metrics::{Metric, RunView};
 use crate::study::spec::StudyRun;
@@ -23,14 +23,27 @@ pub struct StudyRow {
     pub error: Option<String>,
 }
 
-/// Runs one run of a study (its PVFC loop) and computes `metrics` of it. Never fails: an
-/// error, or a panic, is the row's `error`.
+/// Runs one run of a study (its controller's loop) and computes `metrics` of it. Never fails:
+/// an error, or a panic, is the row's `error`.
 pub fn run_one(run: &StudyRun, metrics: &[&Metric]) -> StudyRow {
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(
         || -> crate::Result<Vec<Option<f64>>> {
             let s = &run.scenario;
             let system = System::build(s)?;
-            let trace = simulate_system(s, &system, &mut |_| {})?;
+            let trace = match (run.controller.tracker(), &s.baseline) {
+                (Some(tracker), Some(b)) => {
+                    let rate = b.tau_rate.ok_or_else(|| {
+                        crate::SimError::Setting("baseline.tau_rate: not given".into())
+                    })?;
+                    simulate_tracker(s, &system, b, rate, tracker, &mut |_| {})?
+                }
+                (Some(_), None) => {
+                    return Err(crate::SimError::Setting(
+                        "a tracker's run needs [baseline]".into(),
+                    ))
+                }
+                (None, _) => simulate_system(s, &system, &mut |_| {})?,
+            };
             RunView::new(s, &trace, system.chain().map(|a| &a.robot)).values(metrics)
         },
     ));

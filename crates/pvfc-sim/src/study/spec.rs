@@ -24,7 +24,10 @@ use std::path::{Path, PathBuf};
 ///
 /// With only `values` and `range` axes the runs are their grid (every combination, the last
 /// axis fastest). With only `draw` axes they are `samples` random draws from `seed`, or a
-/// Latin hypercube of `samples` points with `latin_hypercube = true`.
+/// Latin hypercube of `samples` points with `latin_hypercube = true`. `controller = "timed"`
+/// or `"speed_scaling"` runs the base scenario's baseline tracker instead of PVFC (its
+/// `[baseline]` must give `tau_rate`, and `speed_scaling` for the second), so that a tracker
+/// is tuned and measured by the same studies as PVFC.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StudySpec {
@@ -54,6 +57,85 @@ pub struct StudySpec {
     /// of them when empty.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub metrics: Vec<String>,
+    /// The controller the runs run: PVFC, or the base scenario's timed or speed-scaling
+    /// tracker.
+    #[serde(default, skip_serializing_if = "StudyController::is_pvfc")]
+    pub controller: StudyController,
+}
+
+/// The controller a study's runs run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StudyController {
+    /// PVFC, as the scenario sets it up.
+    #[default]
+    Pvfc,
+    /// The scenario's timed tracker (`[baseline]`, at its `tau_rate`).
+    Timed,
+    /// The scenario's speed-scaling tracker (`[baseline]` with `speed_scaling`, at its
+    /// `tau_rate`).
+    SpeedScaling,
+}
+
+impl std::str::FromStr for StudyController {
+    type Err = SimError;
+
+    /// `pvfc`, `timed` or `speed_scaling`.
+    fn from_str(s: &str) -> Result<Self> {
+        [
+            StudyController::Pvfc,
+            StudyController::Timed,
+            StudyController::SpeedScaling,
+        ]
+        .into_iter()
+        .find(|c| c.label() == s)
+        .ok_or_else(|| {
+            setting(format!(
+                "controller `{s}`: one of pvfc, timed, speed_scaling"
+            ))
+        })
+    }
+}
+
+impl StudyController {
+    /// Its name in a study's file (`pvfc`, `timed`, `speed_scaling`).
+    pub fn label(self) -> &'static str {
+        match self {
+            StudyController::Pvfc => "pvfc",
+            StudyController::Timed => "timed",
+            StudyController::SpeedScaling => "speed_scaling",
+        }
+    }
+
+    /// Whether it is PVFC (the default).
+    pub fn is_pvfc(&self) -> bool {
+        *self == StudyController::Pvfc
+    }
+
+    /// The tracker it names, `None` for PVFC.
+    pub fn tracker(self) -> Option<crate::run::Tracker> {
+        match self {
+            StudyController::Pvfc => None,
+            StudyController::Timed => Some(crate::run::Tracker::Timed),
+            StudyController::SpeedScaling => Some(crate::run::Tracker::SpeedScaling),
+        }
+    }
+
+    /// Why `s` cannot run this controller, if it cannot: a tracker needs `[baseline]` with
+    /// `tau_rate` (a study's tracker runs at a rate of its own, not at a PVFC run's), and the
+    /// speed-scaling one its `speed_scaling` table.
+    fn missing(self, s: &Scenario) -> Option<&'static str> {
+        let b = match (self, &s.baseline) {
+            (StudyController::Pvfc, _) => return None,
+            (_, None) => return Some("a tracker's study needs the base's [baseline]"),
+            (_, Some(b)) => b,
+        };
+        if b.tau_rate.is_none() {
+            return Some("a tracker's study needs baseline.tau_rate (the rate it runs at)");
+        }
+        (self == StudyController::SpeedScaling && b.speed_scaling.is_none())
+            .then_some("controller = \"speed_scaling\" needs [baseline.speed_scaling]")
+    }
 }
 
 /// One axis: a scenario key by its dotted path, and its values.
@@ -62,6 +144,10 @@ pub struct StudySpec {
 pub struct Axis {
     /// The key, e.g. `controller.self_pacing` or `plant.friction.coulomb[1]`.
     pub key: String,
+    /// More keys set to the same value on every run (a model error shared by several links,
+    /// a gain shared by every joint); the table's column is `key`'s.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub also: Vec<String>,
     /// The values as a list.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub values: Option<Vec<f64>>,
@@ -141,6 +227,8 @@ pub struct StudyRun {
     pub parameters: Vec<(String, f64)>,
     /// The scenario to run.
     pub scenario: Scenario,
+    /// The controller to run on it.
+    pub controller: StudyController,
 }
 
 fn is_empty_path(p: &Path) -> bool {
@@ -299,7 +387,9 @@ impl StudySpec {
             let mut t = table.clone();
             let mut parameters = Vec::with_capacity(values.len());
             for ((a, v), &p) in self.axes.iter().zip(&values).zip(&picks) {
-                set_key(&mut t, &a.key, v[p]).map_err(|e| setting(format!("axis {e}")))?;
+                for key in std::iter::once(&a.key).chain(&a.also) {
+                    set_key(&mut t, key, v[p]).map_err(|e| setting(format!("axis {e}")))?;
+                }
                 parameters.push((a.key.clone(), v[p]));
             }
             let mut scenario: Scenario = t
@@ -318,10 +408,14 @@ impl StudySpec {
                     set.join(", ")
                 ))
             })?;
+            if let Some(why) = self.controller.missing(&scenario) {
+                return Err(setting(format!("study `{}`: {why}", self.name)));
+            }
             runs.push(StudyRun {
                 index,
                 parameters,
                 scenario,
+                controller: self.controller,
             });
         }
         Ok(runs)
