@@ -401,8 +401,9 @@ where
     /// becomes the last good reading, and the storage is charged the work the coupling
     /// torque held before the jump did across it, as the balance would have (a credit is not
     /// taken). The debt is settled (up to
-    /// the torque's changes while the encoder was frozen, as for an encoder's rounding);
-    /// the books of the past are kept even if the step then fails.
+    /// the torque's changes while the encoder was frozen, as for an encoder's rounding).
+    /// If the step then fails, nothing changes, the catch-up's settlement included: the
+    /// candidate stays for the next reading to confirm.
     pub fn step(
         &mut self,
         q: &G,
@@ -412,10 +413,18 @@ where
     ) -> Result<PassiveStepOutput<T, D>> {
         // A confirmed catch-up's work across the jump, paid by the storage.
         let mut caught_up = T::zero();
+        // What the settlement changes, to put back if the step then fails.
+        let mut undo = None;
         if let Some(sup) = self.supervision {
-            // A frozen encoder's catch-up confirmed: the books of the past are settled first
-            // (and kept if this step then fails).
+            // A frozen encoder's catch-up confirmed: the books of the past are settled first.
             if let Some(c) = self.confirmed_catch_up(&sup, q, dt) {
+                undo = Some((
+                    self.storage,
+                    self.rate,
+                    self.frozen,
+                    self.candidate,
+                    self.held,
+                ));
                 caught_up = c.work;
                 self.storage -= c.work;
                 self.rate = None;
@@ -426,6 +435,31 @@ where
                     h.elapsed = c.elapsed;
                 }
             }
+        }
+        let out = self.step_settled(q, v, applied, dt, caught_up);
+        if let (Err(_), Some((storage, rate, frozen, candidate, held))) = (&out, undo) {
+            (
+                self.storage,
+                self.rate,
+                self.frozen,
+                self.candidate,
+                self.held,
+            ) = (storage, rate, frozen, candidate, held);
+        }
+        out
+    }
+
+    /// [`step`](Self::step) after a catch-up's settlement (`caught_up`: the work it
+    /// charged): the fault check, then the safe step or the law's.
+    fn step_settled(
+        &mut self,
+        q: &G,
+        v: Option<&Tangent<T, D>>,
+        applied: Option<&Tangent<T, D>>,
+        dt: T,
+        caught_up: T,
+    ) -> Result<PassiveStepOutput<T, D>> {
+        if let Some(sup) = self.supervision {
             if let Some(fault) = self.detect(&sup, q, v, applied, dt) {
                 return self.safe_step(&sup, q, applied, dt, fault, caught_up);
             }
@@ -459,8 +493,7 @@ where
             (to_robot, add_ons, quantisation) = (b.to_robot, b.add_ons, b.quantisation);
             storage = storage - to_robot + held.virtual_add_on - quantisation;
             if v.is_none() {
-                let alpha = self.filter / (self.filter + elapsed);
-                velocity_estimate = velocity_estimate * alpha + dq * ((T::one() - alpha) / elapsed);
+                velocity_estimate = self.filtered_velocity(&dq, elapsed);
             }
             increment = Some((dq, elapsed));
         }
@@ -577,6 +610,14 @@ where
             },
             fault: None,
         })
+    }
+
+    /// The velocity estimate after an increment `dq` read over `elapsed`: the backward
+    /// difference through the first-order filter of time constant `T_f`,
+    /// `v̂ ← α v̂ + (1 − α) dq / elapsed`, `α = T_f / (T_f + elapsed)`.
+    fn filtered_velocity(&self, dq: &Tangent<T, D>, elapsed: T) -> Tangent<T, D> {
+        let alpha = self.filter / (self.filter + elapsed);
+        self.velocity_estimate * alpha + dq * ((T::one() - alpha) / elapsed)
     }
 
     /// The fault of a sample, if any, and whether its positions are good (the order:
@@ -699,9 +740,7 @@ where
                     let elapsed = held.elapsed + period;
                     (to_robot, add_ons, quantisation) = (b.to_robot, b.add_ons, b.quantisation);
                     storage = storage - to_robot - quantisation;
-                    let alpha = self.filter / (self.filter + elapsed);
-                    velocity_estimate =
-                        velocity_estimate * alpha + dq * ((T::one() - alpha) / elapsed);
+                    velocity_estimate = self.filtered_velocity(&dq, elapsed);
                     rate = Some((dq / elapsed, elapsed));
                     Some((*q, T::zero(), previous))
                 } else {

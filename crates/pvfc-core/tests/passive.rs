@@ -531,3 +531,60 @@ proptest! {
         prop_assert!(run[1199].0.is_none());
     }
 }
+
+/// A step that fails right after a frozen encoder's catch-up is confirmed changes nothing:
+/// the settlement is put back, and the same reading then settles it.
+#[test]
+fn a_failed_step_at_a_catch_up_changes_nothing() {
+    let h = 1e-3;
+    let mut probe = supervised(20.0);
+    let (mut q, mut v) = (Torus::new(Vector2::new(0.0, 0.0)), Vector2::<f64>::zeros());
+    let mut speed = Vec::new();
+    for _ in 0..900 {
+        let out = probe.step(&q, None, None, h).unwrap();
+        speed.push(v[0].abs());
+        (q, v) = plant(q, v, out.torque, h, 10);
+    }
+    let start = (300..900)
+        .min_by(|a, b| speed[*a].total_cmp(&speed[*b]))
+        .unwrap();
+    // The loop of `run`, the drive applying what it was told, with joint 0's encoder frozen
+    // over [start, start + 40): the truth read again at start + 40 is rejected, and the
+    // reading at start + 41 confirms it.
+    let mut ctl = supervised(20.0);
+    let (mut q, mut v) = (Torus::new(Vector2::new(0.0, 0.0)), Vector2::<f64>::zeros());
+    let mut applied = Vector2::zeros();
+    let mut frozen = None;
+    for k in 0..start + 41 {
+        let mut reading = *q.angles();
+        if (start..start + 40).contains(&k) {
+            reading[0] = *frozen.get_or_insert(reading[0]);
+        }
+        let report = (k > 0).then_some(&applied);
+        let out = ctl.step(&Torus::new(reading), None, report, h).unwrap();
+        applied = out.torque;
+        (q, v) = plant(q, v, applied, h, 10);
+    }
+    let reading = Torus::new(*q.angles());
+    let mut settled = ctl;
+    let ok = settled.step(&reading, None, Some(&applied), h).unwrap();
+    assert!(
+        ok.fault.is_none() && ok.energy.to_robot > 0.0,
+        "the catch-up is not confirmed here: not a test of its undo ({ok:?})"
+    );
+    // A torque report whose work overflows what the storage can hold fails the step.
+    let before = ctl;
+    let m = f64::MAX;
+    let huge = [[m, m], [-m, -m], [m, -m], [-m, m]]
+        .map(Vector2::from)
+        .into_iter()
+        .find(|u| {
+            let mut c = ctl;
+            c.step(&reading, None, Some(u), h).is_err()
+        })
+        .expect("no torque report overflows: not a test of the undo");
+    assert!(ctl.step(&reading, None, Some(&huge), h).is_err());
+    assert_eq!(ctl, before, "a failed step changed the controller");
+    // The same reading then settles the catch-up as it would have.
+    assert_eq!(ctl.step(&reading, None, Some(&applied), h).unwrap(), ok);
+}
