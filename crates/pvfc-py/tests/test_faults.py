@@ -74,5 +74,5 @@ def test_supervision_arguments_are_checked() -> None:
         pvfc.PassiveController(s, period=(1e-3, 2e-3))
     with pytest.raises(ValueError, match="max_speed"):
         pvfc.PassiveController(s, max_speed=[4.0], period=(1e-3, 2e-3))
-    with pytest.raises(Exception, match="speed bound"):
+    with pytest.raises(Exception, match="max_speed: each finite and > 0"):
         pvfc.PassiveController(s, max_speed=[4.0, -1.0], period=(1e-3, 2e-3))

@@ -492,8 +492,38 @@ pub struct SupervisionOptions {
 }
 
 impl SupervisionOptions {
-    /// The core's bounds for an `N`-joint arm (lengths and numbers checked, named).
+    /// Checks the bounds for a `dof`-joint arm: one speed (and acceleration) bound per joint,
+    /// each finite and > 0, and `0 < min ≤ max` for the period; the error names the key
+    /// (`supervision.max_speed`, …).
+    pub fn validate(&self, dof: usize) -> Result<()> {
+        let lists = [
+            ("max_speed", Some(&self.max_speed)),
+            ("max_acceleration", self.max_acceleration.as_ref()),
+        ];
+        for (name, list) in lists {
+            let Some(list) = list else { continue };
+            if list.len() != dof {
+                return Err(setting(format!(
+                    "supervision.{name}: {} entries for a {dof}-joint robot",
+                    list.len()
+                )));
+            }
+            if !list.iter().all(|x| x.is_finite() && *x > 0.0) {
+                return Err(setting(format!("supervision.{name}: each finite and > 0")));
+            }
+        }
+        let (lo, hi) = self.period;
+        if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo <= hi) {
+            return Err(setting(
+                "supervision.period: [min, max] finite, 0 < min ≤ max (s)".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The core's bounds for an `N`-joint arm (checked by [`validate`](Self::validate)).
     pub fn build<const N: usize>(&self) -> Result<Supervision<f64, N>> {
+        self.validate(N)?;
         let s = Supervision::new(
             fixed::<N>(&self.max_speed, "max_speed")?,
             self.period.0,

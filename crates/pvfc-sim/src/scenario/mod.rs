@@ -273,30 +273,10 @@ impl PassiveSpec {
             return bad("controller.passive.reserve: finite and ≥ 0 (J)");
         }
         if let Some(s) = &self.supervision {
-            let lists = [
-                ("max_speed", Some(&s.max_speed)),
-                ("max_acceleration", s.max_acceleration.as_ref()),
-            ];
-            for (name, list) in lists {
-                let Some(list) = list else { continue };
-                if list.len() != dof {
-                    return Err(SimError::Setting(format!(
-                        "controller.passive.supervision.{name}: {} entries for a {dof}-joint robot",
-                        list.len()
-                    )));
-                }
-                if !list.iter().all(|x| x.is_finite() && *x > 0.0) {
-                    return bad(&format!(
-                        "controller.passive.supervision.{name}: each finite and > 0"
-                    ));
-                }
-            }
-            let (lo, hi) = s.period;
-            if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo <= hi) {
-                return bad(
-                    "controller.passive.supervision.period: [min, max] finite, 0 < min ≤ max (s)",
-                );
-            }
+            s.validate(dof).map_err(|e| match e {
+                SimError::Setting(m) => SimError::Setting(format!("controller.passive.{m}")),
+                e => e,
+            })?;
         }
         Ok(())
     }

@@ -435,7 +435,6 @@ pub struct FaultSummary {
 
 /// The [`FaultSummary`] of a run with the work columns (`None` without them).
 pub fn fault_summary(trace: &Trace) -> Option<FaultSummary> {
-    let c = trace.contact.as_ref()?;
     let mut samples = [0; 5];
     for code in &trace.fault {
         let i = *code as usize;
@@ -443,11 +442,37 @@ pub fn fault_summary(trace: &Trace) -> Option<FaultSummary> {
             samples[i - 1] += 1;
         }
     }
-    let created = c
-        .audit_residual(&trace.energy)
-        .into_iter()
-        .fold(0.0, f64::max);
-    Some(FaultSummary { samples, created })
+    Some(FaultSummary {
+        samples,
+        created: audit_rises(trace)?.highest,
+    })
+}
+
+/// What the energy audit `a = κ_a − κ_a(0) − ΣW` of a run with the work columns did, from
+/// one pass over it: its largest value, its largest rise over any stretch, and its rise from
+/// its lowest value to its last (J).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct AuditRises {
+    highest: f64,
+    created: f64,
+    owed_at_end: Option<f64>,
+}
+
+fn audit_rises(trace: &Trace) -> Option<AuditRises> {
+    let c = trace.contact.as_ref()?;
+    let a = c.audit_residual(&trace.energy);
+    let (mut low, mut created, mut highest) = (f64::INFINITY, 0.0f64, 0.0f64);
+    for x in &a {
+        low = low.min(*x);
+        created = created.max(x - low);
+        highest = highest.max(*x);
+    }
+    let owed_at_end = a.last().map(|end| (end - low).max(0.0));
+    Some(AuditRises {
+        highest,
+        created,
+        owed_at_end,
+    })
 }
 
 /// The most energy the controller created over any stretch of a run with the work columns:
@@ -455,14 +480,7 @@ pub fn fault_summary(trace: &Trace) -> Option<FaultSummary> {
 /// a passive controller falls (its charges: the encoders', a fault's unseen work); a rise is
 /// energy it gave that its storage did not pay for.
 pub fn energy_created(trace: &Trace) -> Option<f64> {
-    let c = trace.contact.as_ref()?;
-    let mut low = f64::INFINITY;
-    let mut most = 0.0f64;
-    for a in c.audit_residual(&trace.energy) {
-        low = low.min(a);
-        most = most.max(a - low);
-    }
-    Some(most)
+    audit_rises(trace).map(|r| r.created)
 }
 
 /// The energy the controller owes at the end of a run with the work columns: the rise of the
@@ -471,10 +489,7 @@ pub fn energy_created(trace: &Trace) -> Option<f64> {
 /// ([`energy_created`] shows it); the debt is settled when the encoder reads again, so this is
 /// what remains unpaid.
 pub fn energy_owed_at_end(trace: &Trace) -> Option<f64> {
-    let c = trace.contact.as_ref()?;
-    let a = c.audit_residual(&trace.energy);
-    let low = a.iter().copied().fold(f64::INFINITY, f64::min);
-    a.last().map(|end| (end - low).max(0.0))
+    audit_rises(trace)?.owed_at_end
 }
 
 /// How long `U` takes to come back after a fault: from the end of the event's window
