@@ -481,7 +481,7 @@ fn a_model_error_keeps_the_audit_and_shows_in_the_force() {
     let mut nominal = ur5_on_a_table(Mode::Sampled);
     nominal.duration = 2.0;
     let mut heavy = nominal.clone();
-    chain_of(&mut heavy).mass_scale = Some(vec![1.0, 1.0, 1.2, 1.0, 1.0, 1.0]);
+    heavy.plant.mass_scale = Some(vec![1.0, 1.0, 1.2, 1.0, 1.0, 1.0]);
     heavy.validate().unwrap();
     let sys = ArmSystem::build(&heavy).unwrap();
     let (q, v) = (
@@ -518,7 +518,7 @@ fn a_model_error_keeps_the_audit_and_shows_in_the_force() {
         (vec![1.1; 6], Mode::Continuous),
     ] {
         let mut s = heavy.clone();
-        chain_of(&mut s).mass_scale = Some(scale);
+        s.plant.mass_scale = Some(scale);
         s.simulation.mode = mode;
         if mode == Mode::Continuous {
             s.controller.passive = None;
@@ -526,21 +526,59 @@ fn a_model_error_keeps_the_audit_and_shows_in_the_force() {
         let e = s.validate().unwrap_err().to_string();
         assert!(e.contains("plant.mass_scale"), "{e}");
     }
-    // The SCARA has no mass_scale key: the file is refused, naming it.
-    let text = std::fs::read_to_string(file("fig8_R100.toml"))
-        .unwrap()
-        .replace("[plant]\n", "[plant]\nmass_scale = [1.1, 1.1]\n");
-    let e = Scenario::from_toml(&text, Path::new("fig8.toml"))
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("plant.mass_scale"), "{e}");
 }
 
-/// The serial chain of a chain's scenario, to edit.
-#[cfg(feature = "contact")]
-fn chain_of(s: &mut Scenario) -> &mut pvfc_sim::scenario::ChainSpec {
-    match &mut s.plant.robot {
-        pvfc_sim::scenario::RobotSpec::SerialChain(c) => c,
-        other => panic!("not a serial chain: {other:?}"),
+/// A SCARA's model error (`plant.mass_scale`, one factor per link): the simulated arm is the
+/// scaled one while PVFC and the trackers keep the model, so the runs differ from the
+/// nominal ones; PVFC still follows the contour; a rigid body has no links to scale; the
+/// continuous mode (which integrates the controller's own model) refuses it.
+#[test]
+fn a_scara_model_error_changes_the_plant_not_the_controller() {
+    use pvfc_sim::scenario::preset_id::Fig1Contour;
+    use pvfc_sim::scenario::presets::fig1_saturated;
+    use pvfc_sim::trace::metrics::mean_potential_over_pass;
+    let mut nominal = fig1_saturated(Fig1Contour::Circle, 100);
+    nominal.duration = 15.0;
+    let mut off = nominal.clone();
+    off.plant.mass_scale = Some(vec![1.15, 0.85]);
+    let text = off.to_toml().unwrap();
+    assert!(text.contains("mass_scale = [1.15, 0.85]"), "{text}");
+    let back = Scenario::from_toml(&text, Path::new("off.toml")).unwrap();
+    assert_eq!(back.plant.mass_scale, off.plant.mass_scale);
+    let a = pvfc_sim::run::run_scenario(&nominal, &mut |_| {}).unwrap();
+    let b = pvfc_sim::run::run_scenario(&off, &mut |_| {}).unwrap();
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(&b) {
+        assert_ne!(x.q, y.q, "{}: the model error changed nothing", x.name);
     }
+    let u = |t: &pvfc_sim::Trace| mean_potential_over_pass(t, nominal.period()).unwrap();
+    println!(
+        "mean U: nominal {:.2e}, 15 % off {:.2e}",
+        u(&a[0]),
+        u(&b[0])
+    );
+    assert!(
+        u(&b[0]) < 1e-4,
+        "PVFC left the contour: mean U {:.2e}",
+        u(&b[0])
+    );
+    // Bad factors and the continuous mode are named.
+    for scale in [vec![1.0], vec![1.0, -1.0], vec![f64::NAN, 1.0]] {
+        let mut s = off.clone();
+        s.plant.mass_scale = Some(scale);
+        let e = pvfc_sim::run::run_scenario(&s, &mut |_| {})
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("plant.mass_scale"), "{e}");
+    }
+    let mut continuous = off.clone();
+    continuous.simulation.mode = Mode::Continuous;
+    continuous.controller.passive = None;
+    continuous.controller.pace = None;
+    continuous.baseline = None;
+    let e = pvfc_sim::run::run_scenario(&continuous, &mut |_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("sampled mode"), "{e}");
 }
+

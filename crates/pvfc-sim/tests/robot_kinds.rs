@@ -104,7 +104,10 @@ fn the_form_before_kind_still_reads_with_a_deprecation() {
 fn keys_of_another_kind_are_refused_by_name() {
     let cases = [
         ("kind = \"scara\"\nurdf = \"models/ur5/ur5_robot.urdf\"", "plant.urdf"),
-        ("kind = \"scara\"\nmass_scale = [1.0, 1.0]", "plant.mass_scale"),
+        (
+            "kind = \"rigid_body\"\ninertia = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]\nmass_scale = [1.0]",
+            "plant.mass_scale",
+        ),
         ("kind = \"scara\"\ntcp = { xyz = [0.0, 0.0, 0.1] }", "plant.tcp"),
         ("kind = \"serial_chain\"\narm = \"pelican\"", "plant.arm"),
         ("kind = \"serial_chain\"", "plant.urdf"),

@@ -8,16 +8,14 @@
 //! ×(0.85, 1.15, …) 0.020 / 0.064 against 0.026 / 0.084.
 
 use pvfc_sim::run::run_scenario;
-use pvfc_sim::scenario::{RobotSpec, Scenario};
+use pvfc_sim::scenario::Scenario;
 use pvfc_sim::trace::path_budget::path_budget;
 use std::path::Path;
 
 fn mean_along_surface(mass_scale: Option<Vec<f64>>) -> (f64, f64) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
     let mut s = Scenario::from_file(&dir.join("ur5_cartesian.toml")).expect("the scenario");
-    if let RobotSpec::SerialChain(c) = &mut s.plant.robot {
-        c.mass_scale = mass_scale;
-    }
+    s.plant.mass_scale = mass_scale;
     let robot = s.robot().expect("the robot");
     let runs = run_scenario(&s, &mut |_| {}).expect("PVFC and the timed tracker");
     assert_eq!(runs.len(), 2);

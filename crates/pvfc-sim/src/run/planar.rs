@@ -98,12 +98,14 @@ fn sampled<E: Environment + ?Sized>(
     with_contact: bool,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
+    // The controller has the model `arm`; the simulated arm has the scenario's model error.
     let ctl = s.controller_with(arm)?;
+    let plant = s.plant_scara(arm)?;
     match &s.controller.passive {
-        None => simulate_sampled(s, arm, env, with_contact, ctl, progress),
+        None => simulate_sampled(s, plant, env, with_contact, ctl, progress),
         Some(spec) => {
             let drive = crate::run::stepper::PassiveDrive::new(ctl, spec, [true; 2])?;
-            simulate_sampled(s, arm, env, true, drive, progress)
+            simulate_sampled(s, plant, env, true, drive, progress)
         }
     }
 }
@@ -143,7 +145,8 @@ impl<E: Environment + ?Sized> Surroundings<Torus<f64, 2>, 2> for Planar<'_, E> {
     }
 }
 
-/// The SCARA's sampled-data loop ([`loops::sampled`]) with the controller `ctl`.
+/// The SCARA's sampled-data loop ([`loops::sampled`]) with the controller `ctl` on the
+/// simulated arm `arm`.
 fn simulate_sampled<E: Environment + ?Sized, S: Stepper<Torus<f64, 2>, 2>>(
     s: &Scenario,
     arm: Scara<f64>,
@@ -177,6 +180,8 @@ fn simulate_continuous<E: Environment + ?Sized>(
     with_contact: bool,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
+    // (A model error is refused here: the continuous loop integrates the controller's model.)
+    s.plant_scara(arm)?;
     let ctl = s.controller_with(arm)?;
     let q = Torus::new(joint_vector::<2>(&s.initial.q, "initial.q")?);
     let v = joint_vector::<2>(&s.initial.v, "initial.v")?;
@@ -273,9 +278,11 @@ fn timed_in(
         Ok((u, nav.value(&err)))
     };
     let columns = columns(s, with_contact);
+    // The tracker's computed torque has the model `arm`; the simulated arm the model error.
+    let plant = s.plant_scara(arm)?;
     loops::timed(
         s,
-        &arm,
+        &plant,
         &mut planar,
         (q, v),
         columns,

@@ -243,15 +243,44 @@ impl Scenario {
     /// finite and > 0; the sampled mode only), or `robot` itself without a model error.
     pub fn plant_robot(&self, robot: &Robot) -> Result<Robot> {
         let c = self.plant.chain("plant.mass_scale")?;
-        let Some(scale) = &c.mass_scale else {
+        let Some(scale) = self.mass_scale(robot.dof(), &robot.description().name)? else {
             return Ok(robot.clone());
         };
-        let n = robot.dof();
+        let mut d = robot.description().clone();
+        for (link, k) in d.links.iter_mut().zip(scale) {
+            link.mass *= k;
+            link.inertia *= *k;
+        }
+        self.with_gravity(c, Robot::from_description(d)?)
+    }
+
+    /// The simulated SCARA of a scenario whose controller's model is `arm`: `arm` with each
+    /// link's mass and inertia about its centre of mass times `plant.mass_scale` (two
+    /// factors, finite and > 0; the sampled mode only), or `arm` itself without a model error.
+    pub fn plant_scara(&self, arm: Scara<f64>) -> Result<Scara<f64>> {
+        let Some(scale) = self.mass_scale(2, "SCARA")? else {
+            return Ok(arm);
+        };
+        let mut p = *arm.parameters();
+        (p.m1, p.i1, p.m2, p.i2) = (
+            p.m1 * scale[0],
+            p.i1 * scale[0],
+            p.m2 * scale[1],
+            p.i2 * scale[1],
+        );
+        Ok(Scara::new(p)?)
+    }
+
+    /// `plant.mass_scale` checked for an `n`-joint arm called `name`: one factor per link,
+    /// each finite and > 0, in the sampled mode; `None` without a model error.
+    fn mass_scale(&self, n: usize, name: &str) -> Result<Option<&[f64]>> {
+        let Some(scale) = &self.plant.mass_scale else {
+            return Ok(None);
+        };
         if scale.len() != n || !scale.iter().all(|k| k.is_finite() && *k > 0.0) {
             return Err(SimError::Setting(format!(
-                "plant.mass_scale: {} factors for the {n}-joint robot {}; one per link, finite and > 0",
+                "plant.mass_scale: {} factors for the {n}-joint robot {name}; one per link, finite and > 0",
                 scale.len(),
-                robot.description().name
             )));
         }
         if self.simulation.mode != Mode::Sampled {
@@ -259,12 +288,7 @@ impl Scenario {
                 "plant.mass_scale: a model error needs the sampled mode (the continuous mode integrates the controller's own model)".into(),
             ));
         }
-        let mut d = robot.description().clone();
-        for (link, k) in d.links.iter_mut().zip(scale) {
-            link.mass *= k;
-            link.inertia *= *k;
-        }
-        self.with_gravity(c, Robot::from_description(d)?)
+        Ok(Some(scale))
     }
 
     /// The settings of a URDF arm's controller (reads the URDF; with a robot at hand, or

@@ -128,11 +128,6 @@ pub struct ChainSpec {
     pub base: Option<String>,
     /// Gravity in the base frame (m/s²; default `(0, 0, −9.80665)`).
     pub gravity: Option<[f64; 3]>,
-    /// A model error, one positive finite factor per link of the chain (one per joint): the
-    /// simulated arm's link masses and rotational inertias are the URDF's times these, while
-    /// the controller (its coupling, gravity compensation and field) keeps the URDF's model.
-    /// Sampled mode only.
-    pub mass_scale: Option<Vec<f64>>,
     /// The tool centre point in the tip link's frame (`tcp = { xyz = [...], rpy = [...] }`;
     /// default: the tip link's origin): the point and frame that follow the path.
     pub tcp: Option<PoseSpec>,
@@ -147,7 +142,6 @@ impl ChainSpec {
             tip: None,
             base: None,
             gravity: None,
-            mass_scale: None,
             tcp: None,
         }
     }
@@ -186,6 +180,11 @@ pub struct PlantSpec {
     /// A disturbance torque on the joints (section II's robustness): part of the plant's
     /// environment, unknown to the controller, its work in `work_contact`.
     pub disturbance: Option<Disturbance>,
+    /// A model error of an arm (a SCARA or a serial chain), one positive finite factor per
+    /// link (one per joint): the simulated arm's link masses and rotational inertias are the
+    /// model's times these, while the controller (its coupling, compensation and field) and
+    /// the trackers keep the model. Sampled mode only.
+    pub mass_scale: Option<Vec<f64>>,
 }
 
 impl Default for PlantSpec {
@@ -202,6 +201,7 @@ impl PlantSpec {
             robot,
             friction: JointFriction::default(),
             disturbance: None,
+            mass_scale: None,
         }
     }
 
@@ -274,11 +274,6 @@ impl PlantFile {
             ("tip", self.tip.is_some(), RobotKind::SerialChain),
             ("base", self.base.is_some(), RobotKind::SerialChain),
             ("gravity", self.gravity.is_some(), RobotKind::SerialChain),
-            (
-                "mass_scale",
-                self.mass_scale.is_some(),
-                RobotKind::SerialChain,
-            ),
             ("tcp", self.tcp.is_some(), RobotKind::SerialChain),
             ("inertia", self.inertia.is_some(), RobotKind::RigidBody),
             (
@@ -325,7 +320,6 @@ impl TryFrom<PlantFile> for PlantSpec {
                     tip: f.tip,
                     base: f.base,
                     gravity: f.gravity,
-                    mass_scale: f.mass_scale,
                     tcp: f.tcp,
                 }),
                 RobotKind::RigidBody => RobotSpec::RigidBody(match (f.inertia, f.rigid_body) {
@@ -340,10 +334,17 @@ impl TryFrom<PlantFile> for PlantSpec {
                     }
                 }),
             };
+        if f.mass_scale.is_some() && kind == RobotKind::RigidBody {
+            return Err(
+                "plant.mass_scale: a model error per link is for arms (kind = \"scara\" or \"serial_chain\")"
+                    .into(),
+            );
+        }
         Ok(PlantSpec {
             robot,
             friction: f.friction,
             disturbance: f.disturbance,
+            mass_scale: f.mass_scale,
         })
     }
 }
@@ -354,6 +355,7 @@ impl From<PlantSpec> for PlantFile {
             kind: Some(p.robot.kind()),
             friction: p.friction,
             disturbance: p.disturbance,
+            mass_scale: p.mass_scale,
             ..PlantFile::default()
         };
         match p.robot {
@@ -363,7 +365,6 @@ impl From<PlantSpec> for PlantFile {
                 f.tip = c.tip;
                 f.base = c.base;
                 f.gravity = c.gravity;
-                f.mass_scale = c.mass_scale;
                 f.tcp = c.tcp;
             }
             RobotSpec::RigidBody(b) => f.inertia = Some(b.inertia),
