@@ -2,23 +2,29 @@
 """The fair study of PVFC and the trackers users would pick, at the drives' limit (issue 51).
 
     python3 scripts/fair_study.py [--pvfc target/release/pvfc] [--out results/fair] [--check]
+                                  [--setting NAME ...]
 
-For each setting (the UR5 rectangle at 8 times its speed and the UR5 circle at 20 times its
-speed, on saturating drives with Stribeck friction: examples/studies/bases/):
+For each setting (a base scenario in examples/studies/bases/: the SCARA's circle and the
+paper's Lissajous curve, the UR5's rectangle and circle, each on saturating drives with
+Coulomb + Stribeck friction compensated at 80 % and a model error per link), it writes its
+studies into OUT as TOML files (`pvfc sweep` runs them; a user can run them again):
 
-1. Tunes each baseline on the tuning set (four model errors): the timed tracker's PD gains
-   (examples/studies/tune_timed_ur5.toml, on the setting's base) and the speed-scaling
-   tracker's threshold and time constant (tune_speed_scaling_ur5.toml). A setting that fails on any tuning condition is
-   out. The timed tracker keeps the gains with the least mean distance along the surface; the
-   speed-scaling tracker is kept twice: tuned for accuracy (the least mean distance) and tuned
-   for pace (the least mean lap ÷ least lap, ties broken by distance).
-2. Runs PVFC and each tuned tracker on the held-out conditions (heldout_ur5.toml: 32 plants
-   with other link masses and friction levels), each through `pvfc sweep --controller` with
-   the tuned settings as the study's `set`.
-3. Prints, per controller, over the held-out runs: mean and largest distance along the
-   surface (mm), the mean and largest lap ÷ the least lap any controller can make on that
-   plant at that demand, the mean share of samples at a torque limit, and failures; then
-   issue 51's verdicts on this setting. With --check, exits 1 if a verdict fails.
+1. tuning (`tune_timed_NAME`, `tune_speed_scaling_NAME`): each baseline on the tuning set of
+   four model errors (the even links' masses and inertias × 0.85 or 1.15, the odd links'
+   × 0.85 or 1.15): the timed tracker's PD gains (one `kp` and one `kd` for every joint, over
+   a grid) and the speed-scaling tracker's threshold and time constant. A setting that fails
+   on any tuning condition is out. The timed tracker keeps the gains with the least mean
+   distance to the contour; the speed-scaling tracker is kept twice, at the two ends of its
+   trade-off: tuned for accuracy (the least mean distance) and tuned for pace (the least
+   mean lap ÷ least lap, ties broken by distance).
+2. held out (`heldout_NAME_I`): PVFC and each tuned tracker on 32 other plants, a Latin
+   hypercube over each link's mass (× 0.85–1.15) and each joint's Coulomb friction
+   (× 0.8–1.2), the tuned settings as the study's `set`.
+3. the table, per controller over the held-out runs: mean and largest distance to the
+   contour (along the surface for a tool path, in mm; in joint space for the SCARA, in
+   mrad), the mean and largest lap ÷ the least lap any controller can make on that plant at
+   that demand, the mean share of samples at a torque limit, and failures; then issue 51's
+   verdicts. With --check, exits 1 if a verdict fails.
 """
 
 import argparse
@@ -31,37 +37,118 @@ from pathlib import Path
 from typing import Dict, List, Optional, Tuple
 
 REPO = Path(__file__).resolve().parents[1]
-STUDIES = REPO / "examples" / "studies"
-SETTINGS = {
-    "ur5_rectangle": "ur5_rectangle_saturated.toml",
-    "ur5_circle": "ur5_circle_saturated.toml",
+BASES = REPO / "examples" / "studies" / "bases"
+METRICS = ["pass_duration", "lap_ratio", "limit_share"]
+
+# Per setting: its base, its joints' nominal Coulomb levels, the distance metric (and its unit
+# and scale for the table), and the timed tracker's grid of gains.
+SETTINGS: Dict[str, dict] = {
+    "scara_circle": {
+        "base": "scara_circle_saturated.toml",
+        "coulomb": [2.5, 3.5],
+        "distance": "contour_distance",
+        "unit": "mrad",
+        "kp": [100.0, 400.0, 1600.0, 6400.0],
+        "kd": [10.0, 20.0, 40.0, 80.0, 160.0],
+    },
+    "scara_lissajous": {
+        "base": "scara_lissajous_saturated.toml",
+        "coulomb": [2.5, 3.5],
+        "distance": "contour_distance",
+        "unit": "mrad",
+        "kp": [100.0, 400.0, 1600.0, 6400.0],
+        "kd": [10.0, 20.0, 40.0, 80.0, 160.0],
+    },
+    "ur5_rectangle": {
+        "base": "ur5_rectangle_saturated.toml",
+        "coulomb": [3.0, 3.0, 2.0, 0.8, 0.8, 0.8],
+        "distance": "tool_surface",
+        "unit": "mm",
+        "kp": [1000.0, 2500.0, 10000.0, 40000.0],
+        "kd": [100.0, 200.0, 400.0, 800.0],
+    },
+    "ur5_circle": {
+        "base": "ur5_circle_saturated.toml",
+        "coulomb": [3.0, 3.0, 2.0, 0.8, 0.8, 0.8],
+        "distance": "tool_surface",
+        "unit": "mm",
+        "kp": [1000.0, 2500.0, 10000.0, 40000.0],
+        "kd": [100.0, 200.0, 400.0, 800.0],
+    },
 }
+THRESHOLDS = [0.3, 0.5, 0.7, 0.9, 0.95]
+TIME_CONSTANTS = [0.02, 0.05, 0.1, 0.2, 0.5]
 
 
-def sweep(pvfc: str, study: Path, out: Path) -> None:
-    cmd = [pvfc, "sweep", str(study), "--out", str(out), "--no-figures"]
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+def toml_list(xs: List) -> str:
+    return "[" + ", ".join(f'"{x}"' if isinstance(x, str) else repr(x) for x in xs) + "]"
 
 
-def rows(path: Path) -> List[Dict[str, str]]:
-    with path.open(encoding="utf-8") as f:
+def axis(key: str, also: List[str], values: Optional[List[float]] = None, draw: Optional[Tuple[float, float]] = None) -> str:
+    text = f'\n[[axis]]\nkey = "{key}"\n'
+    if also:
+        text += f"also = {toml_list(also)}\n"
+    if values is not None:
+        text += f"values = {toml_list(values)}\n"
+    if draw is not None:
+        text += f"draw = {{ uniform = {{ low = {draw[0]!r}, high = {draw[1]!r} }} }}\n"
+    return text
+
+
+def study(
+    out: Path,
+    name: str,
+    setting: dict,
+    controller: str,
+    axes: str,
+    head: str = "",
+    assignments: Optional[Dict[str, float]] = None,
+) -> Path:
+    """A study file of `setting` in `out`."""
+    d = setting["distance"]
+    text = (
+        f'name = "{name}"\nbase = "{(BASES / setting["base"]).as_posix()}"\n'
+        f'controller = "{controller}"\n'
+        f"metrics = {toml_list([d + '_mean', d + '_max'] + METRICS)}\n{head}"
+    )
+    if assignments:
+        text += "set = { " + ", ".join(f'"{k}" = {v!r}' for k, v in assignments.items()) + " }\n"
+    path = out / f"{name}.toml"
+    path.write_text(text + axes, encoding="utf-8")
+    return path
+
+
+def conditions(dof: int) -> str:
+    """The tuning set: the even links × 0.85 or 1.15, the odd links × 0.85 or 1.15."""
+    even = [f"plant.mass_scale[{i}]" for i in range(2, dof, 2)]
+    odd = [f"plant.mass_scale[{i}]" for i in range(3, dof, 2)]
+    return axis("plant.mass_scale[0]", even, [0.85, 1.15]) + axis("plant.mass_scale[1]", odd, [0.85, 1.15])
+
+
+def sweep(pvfc: str, path: Path, out: Path) -> List[Dict[str, str]]:
+    subprocess.run(
+        [pvfc, "sweep", str(path), "--out", str(out), "--no-figures"],
+        check=True,
+        stdout=subprocess.DEVNULL,
+    )
+    with (out / f"{path.stem}.csv").open(encoding="utf-8") as f:
         return list(csv.DictReader(f))
 
 
 def value(row: Dict[str, str], key: str) -> Optional[float]:
     text = row.get(key, "")
-    return float(text) if text not in ("", None) and not row.get("error") else None
+    return float(text) if text and not row.get("error") else None
 
 
-def settings(table: List[Dict[str, str]], keys: Tuple[str, ...]) -> Dict[Tuple[float, ...], dict]:
-    """Per setting of `keys`: mean distance, mean lap ratio, and whether every tuning
-    condition ran."""
+def by_setting(table: List[Dict[str, str]], keys: Tuple[str, ...], distance: str) -> Dict[Tuple[float, ...], dict]:
+    """Per setting of `keys`: mean distance and mean lap ratio over the tuning conditions,
+    and whether it ran on every one."""
     groups: Dict[Tuple[float, ...], List[Dict[str, str]]] = defaultdict(list)
     for r in table:
         groups[tuple(float(r[k]) for k in keys)].append(r)
     out = {}
     for k, group in groups.items():
-        errors = [e for e in (value(r, "tool_surface_mean") for r in group) if e is not None]
+        errors = [e for e in (value(r, distance + "_mean") for r in group) if e is not None]
         laps = [x for x in (value(r, "lap_ratio") for r in group) if x is not None]
         ok = len(errors) == len(group) and len(laps) == len(group)
         out[k] = {
@@ -72,100 +159,94 @@ def settings(table: List[Dict[str, str]], keys: Tuple[str, ...]) -> Dict[Tuple[f
     return out
 
 
-def study_copy(
-    out: Path,
-    template: str,
-    name: str,
-    base: str,
-    controller: Optional[str] = None,
-    assignments: Optional[Dict[str, float]] = None,
-) -> Path:
-    """examples/studies/`template` as study `name` on the base `base` (in bases/), with
-    `controller` and `assignments` set on every run if given: written into `out`."""
-    text = (STUDIES / template).read_text(encoding="utf-8")
-    lines = []
-    for line in text.splitlines():
-        if line.startswith("name = "):
-            line = f'name = "{name}"'
-        elif line.startswith("base = "):
-            line = f'base = "{(STUDIES / "bases" / base).as_posix()}"'
-        elif line.startswith("controller = ") and controller:
-            continue
-        lines.append(line)
-        if line.startswith("metrics = "):
-            if controller:
-                lines.append(f'controller = "{controller}"')
-            if assignments:
-                pairs = ", ".join(f'"{k}" = {v!r}' for k, v in assignments.items())
-                lines.append(f"set = {{ {pairs} }}")
-    study = out / f"{name}.toml"
-    study.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    return study
+def summary(table: List[Dict[str, str]], distance: str) -> dict:
+    ran = [r for r in table if value(r, distance + "_mean") is not None]
 
-
-def summary(table: List[Dict[str, str]]) -> dict:
-    ran = [r for r in table if value(r, "tool_surface_mean") is not None]
     def col(k: str) -> List[float]:
         return [v for v in (value(r, k) for r in ran) if v is not None]
+
+    nan = float("nan")
     return {
-        "runs": len(table),
         "failed": len(table) - len(ran),
-        "mean": statistics.mean(col("tool_surface_mean")) * 1e3 if ran else float("nan"),
-        "max": max(col("tool_surface_max")) * 1e3 if ran else float("nan"),
-        "lap": statistics.mean(col("lap_ratio")) if ran else float("nan"),
-        "lap_max": max(col("lap_ratio")) if ran else float("nan"),
-        "limit": statistics.mean(col("limit_share")) if ran else float("nan"),
+        "mean": statistics.mean(col(distance + "_mean")) * 1e3 if ran else nan,
+        "max": max(col(distance + "_max")) * 1e3 if ran else nan,
+        "lap": statistics.mean(col("lap_ratio")) if ran else nan,
+        "lap_max": max(col("lap_ratio")) if ran else nan,
+        "limit": statistics.mean(col("limit_share")) if ran else nan,
     }
 
 
-def setting(pvfc: str, out: Path, label: str, base: str) -> List[Tuple[str, bool]]:
+def run_setting(pvfc: str, out: Path, label: str, setting: dict) -> List[Tuple[str, bool]]:
     """Tunes, runs the held-out plants and prints the table of one setting; its verdicts."""
-    tune_t = study_copy(out, "tune_timed_ur5.toml", f"tune_timed_{label}", base)
-    tune_s = study_copy(out, "tune_speed_scaling_ur5.toml", f"tune_speed_scaling_{label}", base)
-    sweep(pvfc, tune_t, out)
-    sweep(pvfc, tune_s, out)
-    timed = settings(rows(out / f"tune_timed_{label}.csv"), ("baseline.kp[0]", "baseline.kd[0]"))
-    scaled = settings(
-        rows(out / f"tune_speed_scaling_{label}.csv"),
+    dof = len(setting["coulomb"])
+    d = setting["distance"]
+    joints = lambda key: [f"{key}[{i}]" for i in range(1, dof)]  # noqa: E731
+    tune_t = study(
+        out,
+        f"tune_timed_{label}",
+        setting,
+        "timed",
+        axis("baseline.kp[0]", joints("baseline.kp"), setting["kp"])
+        + axis("baseline.kd[0]", joints("baseline.kd"), setting["kd"])
+        + conditions(dof),
+    )
+    tune_s = study(
+        out,
+        f"tune_speed_scaling_{label}",
+        setting,
+        "speed_scaling",
+        axis("baseline.speed_scaling.threshold", [], THRESHOLDS)
+        + axis("baseline.speed_scaling.time_constant", [], TIME_CONSTANTS)
+        + conditions(dof),
+    )
+    timed = by_setting(sweep(pvfc, tune_t, out), ("baseline.kp[0]", "baseline.kd[0]"), d)
+    scaled = by_setting(
+        sweep(pvfc, tune_s, out),
         ("baseline.speed_scaling.threshold", "baseline.speed_scaling.time_constant"),
+        d,
     )
     usable_t = {k: v for k, v in timed.items() if v["ok"]}
     usable_s = {k: v for k, v in scaled.items() if v["ok"]}
     if not usable_t or not usable_s:
-        print(f"{label}: no tuning setting ran on every tuning condition")
+        print(f"{label}: no tuning setting of a tracker ran on every tuning condition")
         return [(f"{label}: a tuning setting of each tracker ran on every condition", False)]
     kp, kd = min(usable_t, key=lambda k: usable_t[k]["error"])
     accurate = min(usable_s, key=lambda k: usable_s[k]["error"])
     fast = min(usable_s, key=lambda k: (usable_s[k]["lap"], usable_s[k]["error"]))
-    print(f"\n{label} ({base}): tuning set of {len(timed)} timed and {len(scaled)} speed-scaling settings, 4 conditions each")
-    print(f"  timed: kp = {kp:g}, kd = {kd:g} (tuning mean {usable_t[(kp, kd)]['error'] * 1e3:.3f} mm)")
+    unit = setting["unit"]
+    print(f"\n{label} ({setting['base']}): tuning set of {len(timed)} timed and {len(scaled)} speed-scaling settings, 4 conditions each")
+    print(f"  timed: kp = {kp:g}, kd = {kd:g} (tuning mean {usable_t[(kp, kd)]['error'] * 1e3:.4f} {unit})")
     for what, k in (("accuracy", accurate), ("pace", fast)):
         v = usable_s[k]
         print(
-            f"  speed-scaling, tuned for {what}: threshold {k[0]:g}, time constant {k[1]:g} s (tuning mean {v['error'] * 1e3:.3f} mm, lap {v['lap']:.3f}× the least)"
+            f"  speed-scaling, tuned for {what}: threshold {k[0]:g}, time constant {k[1]:g} s (tuning mean {v['error'] * 1e3:.4f} {unit}, lap {v['lap']:.3f}× the least)"
         )
-    gains = {f"baseline.kp[{i}]": kp for i in range(6)}
-    gains.update({f"baseline.kd[{i}]": kd for i in range(6)})
+    gains = {f"baseline.kp[{i}]": kp for i in range(dof)}
+    gains.update({f"baseline.kd[{i}]": kd for i in range(dof)})
 
     def scaling(k: Tuple[float, ...]) -> Dict[str, float]:
         return {"baseline.speed_scaling.threshold": k[0], "baseline.speed_scaling.time_constant": k[1]}
 
+    plants = "".join(axis(f"plant.mass_scale[{i}]", [], draw=(0.85, 1.15)) for i in range(dof)) + "".join(
+        axis(f"plant.friction.coulomb[{i}]", [], draw=(round(0.8 * c, 6), round(1.2 * c, 6)))
+        for i, c in enumerate(setting["coulomb"])
+    )
+    head = "samples = 32\nseed = 51\nlatin_hypercube = true\n"
     runs = {
-        "PVFC": ("pvfc", {}),
+        "PVFC": ("pvfc", None),
         "timed (tuned gains)": ("timed", gains),
         "speed-scaling (tuned for accuracy)": ("speed_scaling", scaling(accurate)),
         "speed-scaling (tuned for pace)": ("speed_scaling", scaling(fast)),
     }
     s: Dict[str, dict] = {}
     for i, (name, (controller, assignments)) in enumerate(runs.items()):
-        study = study_copy(out, "heldout_ur5.toml", f"heldout_{label}_{i}", base, controller, assignments)
-        sweep(pvfc, study, out)
-        s[name] = summary(rows(out / f"heldout_{label}_{i}.csv"))
-    print("  held-out conditions (32 plants), distance along the surface in mm:")
-    print(f"    {'controller':36} {'mean':>8} {'max':>8} {'lap/least':>10} {'lap max':>8} {'at limit':>9} {'failed':>7}")
+        path = study(out, f"heldout_{label}_{i}", setting, controller, plants, head, assignments)
+        s[name] = summary(sweep(pvfc, path, out), d)
+    print(f"  held-out conditions (32 plants), distance in {unit}:")
+    print(f"    {'controller':36} {'mean':>9} {'max':>8} {'lap/least':>10} {'lap max':>8} {'at limit':>9} {'failed':>7}")
     for name, v in s.items():
         print(
-            f"    {name:36} {v['mean']:8.4f} {v['max']:8.3f} {v['lap']:10.3f} {v['lap_max']:8.3f} {100 * v['limit']:8.1f}% {v['failed']:7d}"
+            f"    {name:36} {v['mean']:9.4f} {v['max']:8.3f} {v['lap']:10.3f} {v['lap_max']:8.3f} {100 * v['limit']:8.1f}% {v['failed']:7d}"
         )
     pv = s["PVFC"]
     return [
@@ -184,12 +265,13 @@ def main() -> int:
     p.add_argument("--pvfc", default=str(REPO / "target" / "release" / "pvfc"))
     p.add_argument("--out", default="results/fair")
     p.add_argument("--check", action="store_true")
+    p.add_argument("--setting", action="append", choices=sorted(SETTINGS), help="only these settings (default: all)")
     a = p.parse_args()
     out = Path(a.out).resolve()
     out.mkdir(parents=True, exist_ok=True)
     verdicts: List[Tuple[str, bool]] = []
-    for label, base in SETTINGS.items():
-        verdicts += setting(a.pvfc, out, label, base)
+    for label in a.setting or list(SETTINGS):
+        verdicts += run_setting(a.pvfc, out, label, SETTINGS[label])
     print()
     for what, ok in verdicts:
         print(f"  [{'holds' if ok else 'FAILS'}] {what}")

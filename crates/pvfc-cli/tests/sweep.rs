@@ -190,5 +190,5 @@ fn the_example_studies_expand_into_valid_runs() {
             seen += 1;
         }
     }
-    assert_eq!(seen, 7);
+    assert_eq!(seen, 4);
 }

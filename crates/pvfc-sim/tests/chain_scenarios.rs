@@ -581,4 +581,3 @@ fn a_scara_model_error_changes_the_plant_not_the_controller() {
         .to_string();
     assert!(e.contains("sampled mode"), "{e}");
 }
-

@@ -28,7 +28,7 @@ impl Scenario {
         };
         match &self.plant.robot {
             RobotSpec::Scara(_) => pace.minimum_lap(
-                &Scara::new(self.scara()?)?,
+                &self.plant_scara(Scara::new(self.scara()?)?)?,
                 &self.contour()?,
                 self.period(),
                 &plant,
