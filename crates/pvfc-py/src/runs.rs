@@ -142,6 +142,15 @@ impl Scenario {
         self.s.duration
     }
 
+    /// The least lap time (s) any controller can make on the scenario's plant at its demanded
+    /// speed: the time-optimal parameterisation of its contour under the drives' limits
+    /// (`[controller.pace]` and torque limits), against the plant's own Coulomb and viscous
+    /// friction and model error (`plant.mass_scale`), and gravity on a serial chain. A run's
+    /// lap time ÷ this is how near the drives' limit it went.
+    fn least_lap(&self, py: Python<'_>) -> PyResult<f64> {
+        py.detach(|| self.s.least_lap()).map_err(sim_err)
+    }
+
     fn __repr__(&self) -> String {
         format!("Scenario({:?}, duration={})", self.s.name, self.s.duration)
     }

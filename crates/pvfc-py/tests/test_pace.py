@@ -238,3 +238,25 @@ def test_bad_paces_are_named_errors() -> None:
             pvfc.Controller.compose(robot, contour, pace=pace)
     with pytest.raises(pvfc.PvfcError, match="pace.speed"):
         pvfc.Controller.compose(robot, contour, pace={"joint_speed": -1.0})
+
+
+def test_a_scenarios_least_lap_is_its_plants() -> None:
+    """``Scenario.least_lap()``: the fig1_saturated circle's least lap at r = 4 on its plant
+    (Coulomb 2.5 / 3.5 and viscous 0.1 N·m·s/rad against 15 / 5 N·m) is longer than on a
+    plant whose friction were only the controller's compensation (2 / 3), longer again with a
+    heavier second link (``plant.mass_scale``), and a scenario without a drive-limited pace
+    says so."""
+    s = pvfc.Scenario.preset("fig1_saturated_r4")
+    lap = s.least_lap()
+    d = s.to_dict()
+    d["plant"]["friction"] = {"coulomb": [2.0, 3.0], "viscous": [0.0, 0.0]}
+    light = pvfc.Scenario.from_dict(d).least_lap()
+    assert 0 < light < lap
+    d = s.to_dict()
+    d["plant"]["mass_scale"] = [1.0, 1.15]
+    heavy = pvfc.Scenario.from_dict(d).least_lap()
+    assert heavy > lap
+    # τ̇ never above r = 4 on the period 6: at least 1.5 s.
+    assert lap >= 6.0 / 4.0
+    with pytest.raises(pvfc.PvfcError, match="drive-limited pace"):
+        pvfc.Scenario.preset("fig8_R100").least_lap()
