@@ -566,6 +566,9 @@ fn a_scara_model_error_changes_the_plant_not_the_controller() {
     for scale in [vec![1.0], vec![1.0, -1.0], vec![f64::NAN, 1.0]] {
         let mut s = off.clone();
         s.plant.mass_scale = Some(scale);
+        // Before anything runs (a study checks every run so), and at the run.
+        let e = s.validate().unwrap_err().to_string();
+        assert!(e.contains("plant.mass_scale"), "{e}");
         let e = pvfc_sim::run::run_scenario(&s, &mut |_| {})
             .unwrap_err()
             .to_string();

@@ -180,6 +180,7 @@ impl Scenario {
         if let Some(d) = &self.plant.disturbance {
             d.validate_for(2)?;
         }
+        self.plant_scara(Scara::new(self.scara()?)?)?;
         self.controller()?;
         Ok(())
     }
