@@ -42,39 +42,25 @@ METRICS = ["pass_duration", "lap_ratio", "limit_share"]
 
 # Per setting: its base, its joints' nominal Coulomb levels, the distance metric (and its unit
 # and scale for the table), and the timed tracker's grid of gains.
+SCARA = {
+    "coulomb": [2.5, 3.5],
+    "distance": "contour_distance",
+    "unit": "mrad",
+    "kp": [100.0, 400.0, 1600.0, 6400.0],
+    "kd": [10.0, 20.0, 40.0, 80.0, 160.0],
+}
+UR5 = {
+    "coulomb": [3.0, 3.0, 2.0, 0.8, 0.8, 0.8],
+    "distance": "tool_surface",
+    "unit": "mm",
+    "kp": [1000.0, 2500.0, 10000.0, 40000.0],
+    "kd": [100.0, 200.0, 400.0, 800.0],
+}
 SETTINGS: Dict[str, dict] = {
-    "scara_circle": {
-        "base": "scara_circle_saturated.toml",
-        "coulomb": [2.5, 3.5],
-        "distance": "contour_distance",
-        "unit": "mrad",
-        "kp": [100.0, 400.0, 1600.0, 6400.0],
-        "kd": [10.0, 20.0, 40.0, 80.0, 160.0],
-    },
-    "scara_lissajous": {
-        "base": "scara_lissajous_saturated.toml",
-        "coulomb": [2.5, 3.5],
-        "distance": "contour_distance",
-        "unit": "mrad",
-        "kp": [100.0, 400.0, 1600.0, 6400.0],
-        "kd": [10.0, 20.0, 40.0, 80.0, 160.0],
-    },
-    "ur5_rectangle": {
-        "base": "ur5_rectangle_saturated.toml",
-        "coulomb": [3.0, 3.0, 2.0, 0.8, 0.8, 0.8],
-        "distance": "tool_surface",
-        "unit": "mm",
-        "kp": [1000.0, 2500.0, 10000.0, 40000.0],
-        "kd": [100.0, 200.0, 400.0, 800.0],
-    },
-    "ur5_circle": {
-        "base": "ur5_circle_saturated.toml",
-        "coulomb": [3.0, 3.0, 2.0, 0.8, 0.8, 0.8],
-        "distance": "tool_surface",
-        "unit": "mm",
-        "kp": [1000.0, 2500.0, 10000.0, 40000.0],
-        "kd": [100.0, 200.0, 400.0, 800.0],
-    },
+    "scara_circle": {**SCARA, "base": "scara_circle_saturated.toml"},
+    "scara_lissajous": {**SCARA, "base": "scara_lissajous_saturated.toml"},
+    "ur5_rectangle": {**UR5, "base": "ur5_rectangle_saturated.toml"},
+    "ur5_circle": {**UR5, "base": "ur5_circle_saturated.toml"},
 }
 THRESHOLDS = [0.3, 0.5, 0.7, 0.9, 0.95]
 TIME_CONSTANTS = [0.02, 0.05, 0.1, 0.2, 0.5]
