@@ -5,8 +5,9 @@
                                   [--setting NAME ...]
 
 For each setting (a base scenario in examples/studies/bases/: the SCARA's circle and the
-paper's Lissajous curve, the UR5's rectangle and circle, each on saturating drives with
-Coulomb + Stribeck friction compensated at 80 % and a model error per link), it writes its
+paper's Lissajous curve, the UR5's rectangle and circle, the Panda's tilted circle, each on
+saturating drives with Coulomb + Stribeck friction compensated at 80 % and a model error per
+link), it writes its
 studies into OUT as TOML files (`pvfc sweep` runs them; a user can run them again):
 
 1. tuning (`tune_timed_NAME`, `tune_speed_scaling_NAME`): each baseline on the tuning set of
@@ -56,11 +57,13 @@ UR5 = {
     "kp": [1000.0, 2500.0, 10000.0, 40000.0],
     "kd": [100.0, 200.0, 400.0, 800.0],
 }
+PANDA = {**UR5, "coulomb": [1.5, 1.5, 1.5, 1.5, 0.8, 0.8, 0.8]}
 SETTINGS: Dict[str, dict] = {
     "scara_circle": {**SCARA, "base": "scara_circle_saturated.toml"},
     "scara_lissajous": {**SCARA, "base": "scara_lissajous_saturated.toml"},
     "ur5_rectangle": {**UR5, "base": "ur5_rectangle_saturated.toml"},
     "ur5_circle": {**UR5, "base": "ur5_circle_saturated.toml"},
+    "panda_circle": {**PANDA, "base": "panda_circle_saturated.toml"},
 }
 THRESHOLDS = [0.3, 0.5, 0.7, 0.9, 0.95]
 TIME_CONSTANTS = [0.02, 0.05, 0.1, 0.2, 0.5]

@@ -202,6 +202,14 @@ typedef struct pvfc_passive_options {
   double min_period;
   // Supervision: the longest period accepted (s, ≥ `min_period`; with `max_speed`).
   double max_period;
+  // The pace throttle's time constant (s, > 0; needs `torque_limit`): the field's pace is
+  // slowed while the command uses more than `pace_throttle_threshold` of a limit, never
+  // below `pace_throttle_floor`. 0: no throttle.
+  double pace_throttle_time_constant;
+  // The share of a limit above which the throttle slows the pace, in [0, 1).
+  double pace_throttle_threshold;
+  // The least scale of the pace, in (0, 1].
+  double pace_throttle_floor;
 } pvfc_passive_options;
 
 // The energy account of one passive step (J).
@@ -503,6 +511,13 @@ enum pvfc_status pvfc_passive_step(struct pvfc_passive *p,
 // # Safety
 // `p` is NULL or a live handle.
 double pvfc_passive_storage(const struct pvfc_passive *p);
+
+// The scale of the field's pace the next step uses: the pace throttle's, in
+// `[floor, 1]`, 1 without a throttle (NaN for NULL).
+//
+// # Safety
+// `p` is NULL or a live handle.
+double pvfc_passive_pace_scale(const struct pvfc_passive *p);
 
 // Frees a passive controller (NULL: nothing).
 //

@@ -433,6 +433,8 @@ class PassiveController {
   }
   /// The storage as accounted (J).
   double storage() const noexcept { return pvfc_passive_storage(h_.get()); }
+  /// The scale of the field's pace the next step uses (the pace throttle's; 1 without one).
+  double pace_scale() const noexcept { return pvfc_passive_pace_scale(h_.get()); }
 
  private:
   detail::Handle<pvfc_passive, pvfc_passive_destroy> h_;

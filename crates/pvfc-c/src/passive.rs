@@ -4,6 +4,7 @@ use crate::args::*;
 use crate::controller::pvfc_controller;
 use crate::status::*;
 use pvfc_control::model::arm::{PassiveArm, PassiveOptions, SupervisionOptions};
+use pvfc_control::model::pace::SpeedScaling;
 use pvfc_core::supervision::Fault;
 
 /// The options of the passive digital controller. Get them from
@@ -36,6 +37,14 @@ pub struct pvfc_passive_options {
     pub min_period: f64,
     /// Supervision: the longest period accepted (s, ≥ `min_period`; with `max_speed`).
     pub max_period: f64,
+    /// The pace throttle's time constant (s, > 0; needs `torque_limit`): the field's pace is
+    /// slowed while the command uses more than `pace_throttle_threshold` of a limit, never
+    /// below `pace_throttle_floor`. 0: no throttle.
+    pub pace_throttle_time_constant: f64,
+    /// The share of a limit above which the throttle slows the pace, in [0, 1).
+    pub pace_throttle_threshold: f64,
+    /// The least scale of the pace, in (0, 1].
+    pub pace_throttle_floor: f64,
 }
 
 /// Default passive options: no limits, exact positions, no filter, no reserve.
@@ -52,6 +61,9 @@ pub extern "C" fn pvfc_passive_options_default() -> pvfc_passive_options {
         max_acceleration: std::ptr::null(),
         min_period: 0.0,
         max_period: 0.0,
+        pace_throttle_time_constant: 0.0,
+        pace_throttle_threshold: 0.8,
+        pace_throttle_floor: 0.05,
     }
 }
 
@@ -162,6 +174,11 @@ pub unsafe extern "C" fn pvfc_passive_new(
             velocity_filter: o.velocity_filter,
             reserve: o.reserve,
             supervision,
+            pace_throttle: (o.pace_throttle_time_constant != 0.0).then_some(SpeedScaling {
+                threshold: o.pace_throttle_threshold,
+                time_constant: o.pace_throttle_time_constant,
+                floor: o.pace_throttle_floor,
+            }),
         };
         let p = c.passive(&options)?;
         unsafe { give(out, pvfc_passive { p }) }
@@ -254,6 +271,17 @@ pub unsafe extern "C" fn pvfc_passive_step(
 pub unsafe extern "C" fn pvfc_passive_storage(p: *const pvfc_passive) -> f64 {
     // SAFETY: NULL or a live handle.
     unsafe { p.as_ref() }.map_or(f64::NAN, |p| p.p.storage())
+}
+
+/// The scale of the field's pace the next step uses: the pace throttle's, in
+/// `[floor, 1]`, 1 without a throttle (NaN for NULL).
+///
+/// # Safety
+/// `p` is NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn pvfc_passive_pace_scale(p: *const pvfc_passive) -> f64 {
+    // SAFETY: NULL or a live handle.
+    unsafe { p.as_ref() }.map_or(f64::NAN, |p| p.p.pace_scale())
 }
 
 /// Frees a passive controller (NULL: nothing).

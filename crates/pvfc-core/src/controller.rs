@@ -244,6 +244,12 @@ where
         self.nominal.as_mut()
     }
 
+    /// Scales the field's pace on line by `s ∈ (0, 1]` (between steps;
+    /// [`PvfcLaw::set_pace_scale`]): `true` when the field took it.
+    pub fn set_pace_scale(&mut self, scale: T) -> bool {
+        self.law.set_pace_scale(scale)
+    }
+
     /// The full augmented torque at a full augmented state (coupling + add-ons), and the
     /// coupling output: a pure function.
     pub fn evaluate(

@@ -229,6 +229,12 @@ where
         &self.field
     }
 
+    /// Scales the field's pace on line by `s ∈ (0, 1]` ([`VelocityField::set_pace_scale`];
+    /// the coupling stays workless whatever the field): `true` when the field took it.
+    pub fn set_pace_scale(&mut self, scale: T) -> bool {
+        self.field.set_pace_scale(scale)
+    }
+
     /// The flywheel.
     pub fn flywheel(&self) -> &Flywheel<T> {
         &self.flywheel

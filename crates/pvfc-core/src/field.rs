@@ -334,6 +334,15 @@ pub trait VelocityField<T: Real, G: LieGroup<T, D>, const D: usize> {
     fn period(&self) -> Option<T> {
         None
     }
+
+    /// Scales the field's pace on line by `s ∈ (0, 1]`: `V_I = s σ(τ) λ₁(U)` and the
+    /// feed-forward of `V_G` with it (the lever of a [`crate::pace::PaceThrottle`]; the
+    /// coupling stays workless whatever the field). `true` when the field has such a scale
+    /// and took `s`; the default has none.
+    fn set_pace_scale(&mut self, scale: T) -> bool {
+        let _ = scale;
+        false
+    }
 }
 
 impl<T, G, X, N, S, const D: usize, O> VelocityField<T, G, D>
@@ -354,5 +363,9 @@ where
     #[inline]
     fn period(&self) -> Option<T> {
         self.contour.period()
+    }
+
+    fn set_pace_scale(&mut self, scale: T) -> bool {
+        self.pacing.set_pace_scale(scale)
     }
 }

@@ -36,6 +36,14 @@ pub trait SelfPacing<T: Real> {
 
     /// The gains at the navigation-function value `U` and the contour parameter `τ`.
     fn gains(&self, u: T, tau: T) -> PacingGains<T>;
+
+    /// Scales `λ₁` on line by `s ∈ (0, 1]` (a [`crate::pace::PaceThrottle`]'s lever), if the
+    /// strategy has a scale ([`crate::pace::Paced`] with a [`crate::pace::Throttled`]
+    /// profile): `true` when it did. The default refuses.
+    fn set_pace_scale(&mut self, scale: T) -> bool {
+        let _ = scale;
+        false
+    }
 }
 
 /// Eq. (21): `λ₁ = exp(−R U)`, `λ₂ = 2 − exp(−R U)`. `R = 0` turns self-pacing off

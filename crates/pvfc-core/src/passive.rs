@@ -57,7 +57,10 @@
 //!   term, and pays for a smooth torque almost nothing.
 //! - Per-joint torque limits ([`with_torque_limits`](PassiveController::with_torque_limits))
 //!   clamp the command; the torque the drive reports as applied (or the clamped command) is
-//!   what the balance uses, so saturation costs tracking, never passivity.
+//!   what the balance uses, so saturation costs tracking, never passivity. With a pace
+//!   throttle ([`with_pace_throttle`](PassiveController::with_pace_throttle),
+//!   [`crate::pace::throttle`]) the share of a limit the command uses slows the field's pace
+//!   for the next step, so that the field asks for what the drives can give.
 //!
 //! The robot's configuration group must have coordinates ([`VectorGroup`]: the torus, `ℝⁿ`,
 //! a serial chain's joint space): the work of a held joint torque is then exactly
@@ -71,6 +74,7 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::field::VelocityField;
 use crate::lie::Tangent;
 use crate::mechanics::MechanicalSystem;
+use crate::pace::PaceThrottle;
 use crate::scalar::cast;
 use crate::supervision::{unchanged, Fault, Supervision};
 use crate::Real;
@@ -129,6 +133,9 @@ pub struct PassiveStepOutput<T: Real, const D: usize> {
     /// The fault detected at this sample, if any ([`Supervision`]); the torque is then the
     /// safe torque, zero.
     pub fault: Option<Fault>,
+    /// The scale `s` of the field's pace this step's torque was computed at (a
+    /// [`PaceThrottle`]'s; 1 without one).
+    pub pace_scale: T,
 }
 
 /// What the controller remembers of the period it is holding a torque over.
@@ -228,6 +235,8 @@ pub struct PassiveController<T: Real, G, Sys, F, const D: usize> {
     last_diagnostics: Diagnostics<T>,
     /// A rejected reading that may be the truth after a frozen encoder ([`Candidate`]).
     candidate: Option<Candidate<T, G>>,
+    /// The pace scaled on the torque margin, if any.
+    throttle: Option<PaceThrottle<T>>,
 }
 
 /// A reading rejected where the joint at fault had not moved since the reading before (an
@@ -272,6 +281,7 @@ where
             rate: None,
             frozen: None,
             candidate: None,
+            throttle: None,
             last_diagnostics: Diagnostics {
                 potential: T::zero(),
                 lambda1: T::zero(),
@@ -295,6 +305,37 @@ where
     /// The bounds the samples are checked against, if any.
     pub fn supervision(&self) -> Option<&Supervision<T, D>> {
         self.supervision.as_ref()
+    }
+
+    /// Scales the field's pace on the torque margin ([`crate::pace::throttle`]): after every
+    /// step, the largest share of a limit the command used before the clamp,
+    /// `max_i |T_i|/L_i`, moves the throttle's scale, which the field's pace takes for the
+    /// next step. Needs the torque limits ([`with_torque_limits`](Self::with_torque_limits)
+    /// first) and a field with a pace scale ([`VelocityField::set_pace_scale`]: a
+    /// [`crate::pace::Paced`] pacing with a [`crate::pace::Throttled`] profile); either
+    /// missing is an `InvalidParameter` error. Passivity is untouched: the scale is a
+    /// parameter of the field, and the coupling is workless whatever the field.
+    pub fn with_pace_throttle(mut self, throttle: PaceThrottle<T>) -> Result<Self> {
+        if self.limits.is_none() {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "PassiveController: a pace throttle reads the torque limits: set them first",
+            ));
+        }
+        if !self.controller.set_pace_scale(throttle.scale()) {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "PassiveController: the field has no pace scale for a throttle (a Paced \
+                 pacing with a Throttled profile has)",
+            ));
+        }
+        self.throttle = Some(throttle);
+        Ok(self)
+    }
+
+    /// The pace throttle, if any (its scale is the one the next step's torque uses).
+    pub fn pace_throttle(&self) -> Option<&PaceThrottle<T>> {
+        self.throttle.as_ref()
     }
 
     /// Per-joint torque limits `|u_i| ≤ limit_i` (each > 0, finite).
@@ -529,6 +570,24 @@ where
         };
         let mut command = torque.robot;
         let mut saturated = false;
+        // The throttle's next scale, from the share of a limit the command uses unclamped.
+        let pace = match (&self.throttle, &self.limits) {
+            (Some(throttle), Some(limits)) => {
+                let share = command
+                    .iter()
+                    .zip(limits.iter())
+                    .fold(T::zero(), |m, (u, l)| {
+                        let r = u.abs() / *l;
+                        if r > m || !r.is_finite() {
+                            r
+                        } else {
+                            m
+                        }
+                    });
+                Some((throttle.scale(), throttle.next(share, dt)))
+            }
+            _ => None,
+        };
         if let Some(limits) = &self.limits {
             // Two comparisons per joint, not `max`/`min` (calls to libm's `fmaxf`/`fminf` on
             // a Cortex-M4: ~46 instructions a step). A NaN passes through unclamped, and the
@@ -571,6 +630,11 @@ where
         }
         // Commit.
         *self.controller.state_mut() = next;
+        if let (Some(throttle), Some((_, scale))) = (self.throttle.as_mut(), pace) {
+            throttle.set_scale(scale);
+            // The field took this scale when the throttle was set; it takes any in (0, 1].
+            self.controller.set_pace_scale(throttle.scale());
+        }
         self.storage = storage;
         self.velocity_estimate = velocity_estimate;
         if self.supervision.is_some() {
@@ -609,6 +673,7 @@ where
                 unseen: T::zero(),
             },
             fault: None,
+            pace_scale: pace.map_or(T::one(), |(s, _)| s),
         })
     }
 
@@ -801,6 +866,7 @@ where
                 unseen,
             },
             fault: Some(fault),
+            pace_scale: self.throttle.as_ref().map_or(T::one(), |t| t.scale()),
         })
     }
 }

@@ -529,4 +529,8 @@ where
     fn period(&self) -> Option<T> {
         self.path.period()
     }
+
+    fn set_pace_scale(&mut self, scale: T) -> bool {
+        self.pacing.set_pace_scale(scale)
+    }
 }

@@ -7,6 +7,9 @@ use proptest::prelude::*;
 use pvfc_core::passive::PassiveController;
 use pvfc_core::prelude::*;
 
+mod common;
+use common::held::{kinetic, plant};
+
 type Field = SuspendedField<
     f64,
     Torus<f64, 2>,
@@ -31,36 +34,6 @@ fn controller(energy: f64, gamma: f64) -> Controller<f64, Torus<f64, 2>, Scara<f
     )
     .unwrap();
     Controller::new(law)
-}
-
-/// The plant over one held period: RK4 in `n` substeps under `u + f_e`, frictionless.
-fn plant(
-    q: Torus<f64, 2>,
-    v: Vector2<f64>,
-    u: Vector2<f64>,
-    h: f64,
-    n: usize,
-) -> (Torus<f64, 2>, Vector2<f64>) {
-    let arm = Scara::<f64>::pelican();
-    let dt = h / n as f64;
-    let (mut q, mut v) = (q, v);
-    let acc = |q: &Torus<f64, 2>, v: &Vector2<f64>| arm.acceleration(q, v, &u).unwrap();
-    for _ in 0..n {
-        let a1 = acc(&q, &v);
-        let (q2, v2) = (q.retract(&v, 0.5 * dt), v + a1 * (0.5 * dt));
-        let a2 = acc(&q2, &v2);
-        let (q3, v3) = (q.retract(&v2, 0.5 * dt), v + a2 * (0.5 * dt));
-        let a3 = acc(&q3, &v3);
-        let (q4, v4) = (q.retract(&v3, dt), v + a3 * dt);
-        let a4 = acc(&q4, &v4);
-        q = q.retract(&((v + v2 * 2.0 + v3 * 2.0 + v4) / 6.0), dt);
-        v += (a1 + a2 * 2.0 + a3 * 2.0 + a4) * (dt / 6.0);
-    }
-    (q, v)
-}
-
-fn kinetic(q: &Torus<f64, 2>, v: &Vector2<f64>) -> f64 {
-    Scara::<f64>::pelican().kinetic_energy(q, v)
 }
 
 proptest! {

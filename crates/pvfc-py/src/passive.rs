@@ -14,6 +14,7 @@ use pvfc_core::supervision::Fault;
 use pvfc_sim::model::arm::{
     ArmController as SimArm, PassiveArm, PassiveOptions, SupervisionOptions,
 };
+use pvfc_sim::model::pace::SpeedScaling;
 use pvfc_sim::scenario::PaperPassiveController;
 use pvfc_sim::scenario::System;
 use pyo3::exceptions::PyTypeError;
@@ -40,6 +41,11 @@ enum Inner {
 /// period out of bounds, a reading no motion can make or a frozen encoder is a fault, not an
 /// exception: `step` returns the safe torque (zeros), `fault` says which, and the
 /// controller resumes at the next good sample.
+///
+/// With `pace_throttle=(threshold, time_constant, floor)` (and torque limits) the field's
+/// pace is slowed on the torque margin: while the command uses more than `threshold` of a
+/// limit, the pace's scale falls towards 0 (never below `floor`) with the time constant (s),
+/// and it comes back to 1 when the margin returns (`pace_scale`). Passivity is untouched.
 #[pyclass(module = "pvfc")]
 pub(crate) struct PassiveController {
     ctl: Inner,
@@ -55,7 +61,7 @@ fn pair(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vector2<f64>> {
 #[pymethods]
 impl PassiveController {
     #[new]
-    #[pyo3(signature = (controller, torque_limit=None, encoder_resolution=None, velocity_filter=None, reserve=None, max_speed=None, max_acceleration=None, period=None))]
+    #[pyo3(signature = (controller, torque_limit=None, encoder_resolution=None, velocity_filter=None, reserve=None, max_speed=None, max_acceleration=None, period=None, pace_throttle=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         controller: &Bound<'_, PyAny>,
@@ -66,6 +72,7 @@ impl PassiveController {
         max_speed: Option<&Bound<'_, PyAny>>,
         max_acceleration: Option<&Bound<'_, PyAny>>,
         period: Option<(f64, f64)>,
+        pace_throttle: Option<(f64, f64, f64)>,
     ) -> PyResult<Self> {
         let overrides = Overrides {
             torque_limit,
@@ -73,6 +80,11 @@ impl PassiveController {
             velocity_filter,
             reserve,
             supervision: (max_speed, max_acceleration, period),
+            pace_throttle: pace_throttle.map(|(threshold, time_constant, floor)| SpeedScaling {
+                threshold,
+                time_constant,
+                floor,
+            }),
         };
         let ctl = if let Ok(scenario) = controller.cast::<Scenario>() {
             let mut s = scenario.borrow().s.clone();
@@ -217,6 +229,16 @@ impl PassiveController {
         }
     }
 
+    /// The scale of the field's pace the next step uses: the pace throttle's, in
+    /// `[floor, 1]` (1 without `pace_throttle`).
+    #[getter]
+    fn pace_scale(&self) -> f64 {
+        match &self.ctl {
+            Inner::Scara(c) => c.pace_throttle().map_or(1.0, |t| t.scale()),
+            Inner::Arm(c) => c.pace_scale(),
+        }
+    }
+
     /// The storage ½τ̇² + ½M_F q̇_F² as accounted (J).
     #[getter]
     fn storage(&self) -> f64 {
@@ -251,6 +273,8 @@ struct Overrides<'a, 'py> {
     reserve: Option<f64>,
     /// `max_speed`, `max_acceleration`, `period`.
     supervision: SupervisionArgs<'a, 'py>,
+    /// `pace_throttle`: `(threshold, time_constant, floor)`.
+    pace_throttle: Option<SpeedScaling>,
 }
 
 /// The supervision's arguments: `max_speed`, `max_acceleration`, `period`.
@@ -311,6 +335,9 @@ fn arm(ctl: &SimArm, mut base: PassiveOptions, o: &Overrides<'_, '_>) -> PyResul
     if let Some(s) = o.supervision(n)? {
         base.supervision = Some(s);
     }
+    if let Some(t) = o.pace_throttle {
+        base.pace_throttle = Some(t);
+    }
     ctl.passive(&base).map_err(sim_err)
 }
 
@@ -337,6 +364,11 @@ fn scara(
     }
     if let Some(s) = o.supervision(2)? {
         ctl = ctl.with_supervision(s.build::<2>().map_err(sim_err)?);
+    }
+    if let Some(t) = o.pace_throttle {
+        ctl = ctl
+            .with_pace_throttle(t.throttle("pace_throttle").map_err(sim_err)?)
+            .map_err(core_err)?;
     }
     Ok(ctl)
 }

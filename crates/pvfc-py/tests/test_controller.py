@@ -211,6 +211,36 @@ def test_the_passive_mode_of_a_scara_controller_is_the_scenarios() -> None:
     assert a.storage == b.storage
 
 
+def test_a_throttled_pace_slows_on_the_torque_margin_as_the_scenario_runs() -> None:
+    """`[controller.passive.pace_throttle]` (the fair study's SCARA circle, on a plant with more
+    friction than planned) is what `PassiveController(scenario)` does at the run's samples;
+    its pace slows below 1 where the drive nears its limit. `pace_throttle=` sets it on a
+    controller; it needs torque limits, and a bad setting is a named error."""
+    d = pvfc.Scenario.from_file(ROOT / "examples" / "studies" / "bases" / "scara_circle_saturated.toml").to_dict()
+    assert d["controller"]["passive"]["pace_throttle"]["threshold"] == 0.97
+    d["duration"] = 3.0
+    d["plant"]["friction"]["coulomb"] = [2.5, 4.2]
+    s = pvfc.Scenario.from_dict(d, base_dir=ROOT / "examples" / "studies" / "bases")
+    r = pvfc.simulate(s)
+    p = pvfc.PassiveController(s)
+    assert p.pace_scale == 1.0
+    worst = 0.0
+    for k in range(len(r) - 1):
+        worst = max(worst, float(np.abs(p.step(r.q[k], r.qdot[k], 1e-3) - r.torque[k]).max()))
+    assert worst == 0.0
+    assert 0.05 <= p.pace_scale < 0.99
+    # The same throttle given as an argument, on a controller of the scenario.
+    t = tuple(d["controller"]["passive"]["pace_throttle"][k] for k in ("threshold", "time_constant", "floor"))
+    c = pvfc.PassiveController(pvfc.Controller(s), torque_limit=[15.0, 5.0], pace_throttle=t)
+    for k in range(len(r) - 1):
+        c.step(r.q[k], r.qdot[k], 1e-3)
+    assert c.pace_scale == p.pace_scale
+    with pytest.raises(pvfc.PvfcError, match="torque limits"):
+        pvfc.PassiveController(pvfc.Controller(s), pace_throttle=t)
+    with pytest.raises(pvfc.PvfcError, match="threshold"):
+        pvfc.PassiveController(s, pace_throttle=(1.0, 0.1, 0.1))
+
+
 def replayed(s: pvfc.Scenario, counts: Optional[float]) -> float:
     """The largest difference between the torques of a sampled run with `[controller.passive]`
     and those of `pvfc.PassiveController(scenario)` stepped at the run's samples (positions

@@ -129,6 +129,7 @@ fn a_urdf_arm_runs_with_the_passive_digital_controller() {
         velocity_filter: 0.002,
         reserve: 0.0,
         supervision: None,
+        pace_throttle: None,
     });
     s.validate().unwrap();
     let t = simulate(&s, &mut |_| {}).unwrap();

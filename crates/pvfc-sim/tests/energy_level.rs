@@ -33,6 +33,7 @@ fn scenario(filter: f64, positions_only: bool, nominal: Option<f64>) -> Scenario
         velocity_filter: filter,
         reserve: 0.0,
         supervision: None,
+        pace_throttle: None,
     });
     s.controller.nominal_speed = nominal.map(|c| NominalSpeedSpec { c, r: 1.0 });
     s

@@ -210,6 +210,36 @@ int main(int argc, char **argv) {
     pvfc_passive_destroy(sup);
   }
 
+  /* The pace throttle: on drives too weak for the command (here for gravity alone) the
+   * field's pace falls below 1; it needs torque limits, and a bad setting is named. */
+  {
+    const double weak[DOF] = {2, 2, 2, 1, 1, 1};
+    pvfc_passive_options throttled = pvfc_passive_options_default();
+    throttled.pace_throttle_time_constant = 0.05;
+    throttled.pace_throttle_threshold = 0.8;
+    throttled.pace_throttle_floor = 0.05;
+    pvfc_passive *thr = NULL;
+    CHECK_ERROR(pvfc_passive_new(ctl, &throttled, &thr), PVFC_ERROR_INVALID_ARGUMENT,
+                "torque_limit");
+    CHECK(thr == NULL);
+    throttled.torque_limit = weak;
+    throttled.n = DOF;
+    throttled.pace_throttle_threshold = 1.0;
+    CHECK_ERROR(pvfc_passive_new(ctl, &throttled, &thr), PVFC_ERROR_INVALID_ARGUMENT,
+                "pace_throttle.threshold");
+    throttled.pace_throttle_threshold = 0.8;
+    CHECK(pvfc_passive_new(ctl, &throttled, &thr) == PVFC_OK);
+    CHECK(pvfc_passive_pace_scale(thr) == 1.0);
+    for (int k = 0; k < 20; k++)
+      CHECK(pvfc_passive_step(thr, q, NULL, NULL, DOF, 1e-3, torque, DOF, &account) ==
+            PVFC_OK);
+    const double scale = pvfc_passive_pace_scale(thr);
+    CHECK(scale >= 0.05 && scale < 0.9);
+    CHECK(pvfc_passive_pace_scale(passive) == 1.0);
+    CHECK(isnan(pvfc_passive_pace_scale(NULL)));
+    pvfc_passive_destroy(thr);
+  }
+
   /* Dynamics: M symmetric, rnea(q, v, 0) = C v + g. */
   double m[DOF * DOF], c[DOF * DOF], g[DOF], tau[DOF], zero[DOF] = {0};
   const double vel[DOF] = {0.4, -0.3, 0.2, 0.5, -0.6, 0.1};

@@ -192,6 +192,25 @@ TEST(Passive, StaysWithinItsTorqueLimits) {
   EXPECT_THROW(pvfc::PassiveController(ctl, o), pvfc::WrongSizeError);
 }
 
+TEST(Passive, AThrottledPaceSlowsOnWeakDrives) {
+  const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
+  const pvfc::Controller ctl = pvfc::Controller::waypoints(robot, kWaypoints, 1.5, {}, settings());
+  const std::array<double, 6> weak = {2, 2, 2, 1, 1, 1};
+  pvfc::PassiveOptions o;
+  o.torque_limit = weak.data();
+  o.n = weak.size();
+  o.pace_throttle_time_constant = 0.05;
+  pvfc::PassiveController p(ctl, o);
+  EXPECT_EQ(p.pace_scale(), 1.0);
+  const std::array<double, 6> q = {0.1, -1.1, 1.3, -1.7, -1.5, 0.1};
+  std::array<double, 6> torque{};
+  for (int k = 0; k < 20; ++k) p.step(q, 1e-3, torque);
+  EXPECT_LT(p.pace_scale(), 0.9);
+  EXPECT_GE(p.pace_scale(), o.pace_throttle_floor);
+  o.pace_throttle_floor = 0.0;
+  EXPECT_THROW(pvfc::PassiveController(ctl, o), pvfc::InvalidArgumentError);
+}
+
 TEST(Passive, AFaultIsTheSafeTorqueNotAnException) {
   const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
   const pvfc::Controller ctl = pvfc::Controller::waypoints(robot, kWaypoints, 1.5, {}, settings());

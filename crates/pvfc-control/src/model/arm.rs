@@ -8,7 +8,9 @@ use crate::error::{Result, SimError};
 use crate::model::arm_field::{ArmField, FieldSpec};
 use crate::model::evaluation::Evaluation;
 pub use crate::model::joint_contour::{DynJointContour, JointContour, JointContourSpec};
-use crate::model::pace::{energy_for_pace, uniform_pacing, DriveFriction, PaceSettings};
+use crate::model::pace::{
+    energy_for_pace, uniform_pacing, DriveFriction, PaceSettings, SpeedScaling,
+};
 use crate::model::robot::{ChainModel, Robot};
 use nalgebra::SVector;
 use pvfc_core::augmented::AugmentedState;
@@ -208,7 +210,7 @@ pub fn arm_controller<const N: usize>(
         if energy == 0.0 {
             energy = energy_for_pace(&chain, &contour, &table, period);
         }
-        *pacing.profile_mut() = Some(table);
+        *pacing.profile_mut().profile_mut() = Some(table);
     }
     if energy == 0.0 {
         return Err(setting(
@@ -474,6 +476,9 @@ pub struct PassiveOptions {
     /// The bounds every sample is checked against; `None`: no supervision (a non-finite
     /// reading is an error, every other reading is believed).
     pub supervision: Option<SupervisionOptions>,
+    /// The field's pace scaled on the torque margin (needs `torque_limit`); `None`: the
+    /// pace as planned.
+    pub pace_throttle: Option<SpeedScaling>,
 }
 
 /// The bounds of [`Supervision`] as plain data: what a reading can be, for the passive
@@ -559,6 +564,14 @@ impl PassiveOptions {
         }
         if let Some(s) = &self.supervision {
             p = p.with_supervision(s.build::<N>()?);
+        }
+        if let Some(t) = &self.pace_throttle {
+            if self.torque_limit.is_none() {
+                return Err(SimError::Setting(
+                    "pace_throttle reads the drives' limits: give torque_limit".into(),
+                ));
+            }
+            p = p.with_pace_throttle(t.throttle("pace_throttle")?)?;
         }
         Ok(p)
     }
@@ -657,6 +670,12 @@ impl PassiveArm {
     /// Whether every sample is checked against bounds ([`SupervisionOptions`]).
     pub fn supervised(&self) -> bool {
         crate::on_joints!(PassiveArm, self, c, N => c.supervision().is_some())
+    }
+
+    /// The scale of the field's pace the next step uses (the pace throttle's, in
+    /// `[floor, 1]`; 1 without a throttle).
+    pub fn pace_scale(&self) -> f64 {
+        crate::on_joints!(PassiveArm, self, c, N => c.pace_throttle().map_or(1.0, |t| t.scale()))
     }
 
     /// The internal states `(τ, τ̇, q̇_F, laps)`.

@@ -62,6 +62,13 @@ impl<const N: usize> ArmField<N> {
 }
 
 impl<const N: usize> VelocityField<f64, JointSpace<f64, N>, N> for ArmField<N> {
+    fn set_pace_scale(&mut self, scale: f64) -> bool {
+        match self {
+            ArmField::Joint(f) => f.set_pace_scale(scale),
+            ArmField::Task { field, .. } => field.set_pace_scale(scale),
+        }
+    }
+
     #[inline(always)]
     fn sample(
         &self,

@@ -7,7 +7,7 @@ use crate::error::{Result, SimError};
 use crate::model::feeds::FeedProfile;
 use pvfc_core::contour::{Contour, VectorGroup};
 use pvfc_core::mechanics::MechanicalSystem;
-use pvfc_core::pace::{drive_limited_rates, DriveLimits, PaceProfile, PaceTable, Paced};
+use pvfc_core::pace::{drive_limited_rates, DriveLimits, PaceProfile, PaceTable, Paced, Throttled};
 use pvfc_core::pacing::ExponentialPacing;
 
 /// The knots of a controller's pace profile.
@@ -19,8 +19,9 @@ pub const PACE_GRID: usize = 16 * PACE_KNOTS;
 /// A controller's pace profile: none (the paper's uniform pace) or a table.
 pub type PaceProfileTable = Option<PaceTable<f64, PACE_KNOTS>>;
 
-/// The self-pacing of the simulator's fields: eq. (21) with an optional pace profile.
-pub type FieldPacing = Paced<ExponentialPacing<f64>, PaceProfileTable>;
+/// The self-pacing of the simulator's fields: eq. (21) with an optional pace profile, which
+/// a [`pvfc_core::pace::PaceThrottle`] may scale on line.
+pub type FieldPacing = Paced<ExponentialPacing<f64>, Throttled<f64, PaceProfileTable>>;
 
 /// The speed asked for along the contour, on the contour at energy level 1.
 #[derive(Clone, Debug, PartialEq)]
@@ -290,5 +291,69 @@ pub fn lap_time(rates: &[f64], period: f64) -> f64 {
 
 /// Eq. (21)'s self-pacing with parameter `r`, at the uniform pace.
 pub fn uniform_pacing(r: f64) -> Result<FieldPacing> {
-    Ok(Paced::new(ExponentialPacing::new(r)?, None))
+    Ok(Paced::new(ExponentialPacing::new(r)?, Throttled::new(None)))
+}
+
+/// A speed scaling on the drives' torque margin, as plain data: the rule of
+/// [`PaceThrottle`](pvfc_core::pace::PaceThrottle). The scale `s ∈ [floor, 1]` follows, with
+/// time constant `time_constant`, the target `min(1, (1 − u)/(1 − threshold))` for the
+/// largest share `u = max_i |T_i|/L_i` of a limit the (unclamped) command uses: 1 while every
+/// torque is below `threshold` of its limit, 0 at the limit. The scaled joint-trajectory
+/// controllers of UR and ros2_control slow a trajectory's time this way, from the drives'
+/// speed-scaling factor: `[baseline.speed_scaling]` slows the timed tracker's path time by
+/// `s`; `[controller.passive.pace_throttle]` slows PVFC's field (its pace `σ`) by `s`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SpeedScaling {
+    /// The share of a limit above which the pace slows, in [0, 1).
+    pub threshold: f64,
+    /// The time constant of the scaling (s, > 0).
+    pub time_constant: f64,
+    /// The least scaling, in (0, 1].
+    pub floor: f64,
+}
+
+impl Default for SpeedScaling {
+    fn default() -> Self {
+        SpeedScaling {
+            threshold: 0.8,
+            time_constant: 0.05,
+            floor: 0.02,
+        }
+    }
+}
+
+impl SpeedScaling {
+    /// Checks the numbers as `[baseline.speed_scaling]`.
+    pub fn validate(&self) -> Result<()> {
+        self.validate_as("baseline.speed_scaling")
+    }
+
+    /// Checks the numbers; an error names the key as `key.threshold`, ….
+    pub fn validate_as(&self, key: &str) -> Result<()> {
+        let bad = |what: String| Err(SimError::Setting(what));
+        if !(self.threshold.is_finite() && (0.0..1.0).contains(&self.threshold)) {
+            return bad(format!("{key}.threshold = {}: in [0, 1)", self.threshold));
+        }
+        if !(self.time_constant.is_finite() && self.time_constant > 0.0) {
+            return bad(format!(
+                "{key}.time_constant = {}: finite and > 0 (s)",
+                self.time_constant
+            ));
+        }
+        if !(self.floor.is_finite() && self.floor > 0.0 && self.floor <= 1.0) {
+            return bad(format!("{key}.floor = {}: in (0, 1]", self.floor));
+        }
+        Ok(())
+    }
+
+    /// The core's throttle of this rule, at the scale 1 (checked as `key`).
+    pub fn throttle(&self, key: &str) -> Result<pvfc_core::pace::PaceThrottle<f64>> {
+        self.validate_as(key)?;
+        Ok(pvfc_core::pace::PaceThrottle::new(
+            self.threshold,
+            self.time_constant,
+            self.floor,
+        )?)
+    }
 }

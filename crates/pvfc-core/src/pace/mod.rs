@@ -24,9 +24,11 @@
 
 pub mod drive_limits;
 pub mod table;
+pub mod throttle;
 
 pub use drive_limits::{drive_limited_rates, DriveLimits};
 pub use table::PaceTable;
+pub use throttle::{PaceThrottle, Throttled};
 
 use crate::pacing::{PacingGains, SelfPacing};
 use crate::Real;
@@ -35,6 +37,13 @@ use crate::Real;
 pub trait PaceProfile<T: Real> {
     /// `(σ(τ), dσ/dτ)`.
     fn pace(&self, tau: T) -> (T, T);
+
+    /// Scales the profile on line by `s ∈ (0, 1]` (a [`PaceThrottle`]'s lever), if it can:
+    /// `true` when it did. The default has no scale and refuses.
+    fn set_scale(&mut self, scale: T) -> bool {
+        let _ = scale;
+        false
+    }
 }
 
 /// The paper's pace: `σ ≡ 1`.
@@ -56,6 +65,11 @@ impl<T: Real, P: PaceProfile<T>> PaceProfile<T> for Option<P> {
             Some(p) => p.pace(tau),
             None => (T::one(), T::zero()),
         }
+    }
+
+    #[inline]
+    fn set_scale(&mut self, scale: T) -> bool {
+        self.as_mut().is_some_and(|p| p.set_scale(scale))
     }
 }
 
@@ -113,5 +127,10 @@ impl<T: Real, S: SelfPacing<T>, P: PaceProfile<T>> SelfPacing<T> for Paced<S, P>
             dlambda2: g.dlambda2,
             dlambda1_dtau: dsigma * g.lambda1 + sigma * g.dlambda1_dtau,
         }
+    }
+
+    #[inline]
+    fn set_pace_scale(&mut self, scale: T) -> bool {
+        self.profile.set_scale(scale)
     }
 }

@@ -1,6 +1,7 @@
 //! Helpers shared by the property tests: scalar-dependent tolerances and conversions.
 #![allow(dead_code)]
 
+pub mod held;
 pub mod setups;
 
 use nalgebra::SVector;

@@ -3,8 +3,9 @@
 //! [`SpeedScaling`]).
 
 use crate::error::{Result, SimError};
-use crate::scenario::{BaselineSpec, Scenario, SpeedScaling};
+use crate::scenario::{BaselineSpec, Scenario};
 use crate::trace::{SCALED_SUFFIX, TIMED_SUFFIX};
+use pvfc_core::pace::PaceThrottle;
 
 /// The clock of a scenario's tracker at `tau_rate`, and its trace's suffix: the timed
 /// tracker's, or (`scaled`) the speed-scaling tracker's of `[baseline.speed_scaling]` (which
@@ -24,14 +25,17 @@ pub(crate) fn tracker_clock(
     let c = b.speed_scaling.ok_or_else(|| {
         SimError::Setting("baseline.speed_scaling: not set for a speed-scaling tracker".into())
     })?;
-    c.validate()?;
+    let throttle = c.throttle("baseline.speed_scaling")?;
     if b.torque_limit.is_empty() {
         return Err(SimError::Setting(
             "baseline.speed_scaling: the scaling needs the drives' limits (baseline.torque_limit)"
                 .into(),
         ));
     }
-    Ok((PathClock::scaled(s.initial.tau, tau_rate, c), SCALED_SUFFIX))
+    Ok((
+        PathClock::scaled(s.initial.tau, tau_rate, throttle),
+        SCALED_SUFFIX,
+    ))
 }
 
 /// The path time of a tracker and its rates.
@@ -39,9 +43,9 @@ pub(crate) fn tracker_clock(
 pub(crate) struct PathClock {
     tau0: f64,
     rate: f64,
-    scaling: Option<SpeedScaling>,
-    /// The scaling `s` and its target, and the path time reached (scaled clock only).
-    scale: f64,
+    /// The scaling `s` (the core's pace throttle: the same rule as PVFC's) and its last
+    /// target, and the path time reached (scaled clock only).
+    scaling: Option<PaceThrottle<f64>>,
     target: f64,
     tau: f64,
 }
@@ -53,14 +57,13 @@ impl PathClock {
             tau0,
             rate,
             scaling: None,
-            scale: 1.0,
             target: 1.0,
             tau: tau0,
         }
     }
 
     /// `τ̇ = s · rate` with the scaling `s` of `scaling`, starting at `s = 1`.
-    pub(crate) fn scaled(tau0: f64, rate: f64, scaling: SpeedScaling) -> Self {
+    pub(crate) fn scaled(tau0: f64, rate: f64, scaling: PaceThrottle<f64>) -> Self {
         PathClock {
             scaling: Some(scaling),
             ..Self::fixed(tau0, rate)
@@ -74,8 +77,8 @@ impl PathClock {
             None => (self.tau0 + self.rate * t, self.rate, 0.0),
             Some(c) => (
                 self.tau,
-                self.rate * self.scale,
-                self.rate * (self.target - self.scale) / c.time_constant,
+                self.rate * c.scale(),
+                self.rate * (self.target - c.scale()) / c.time_constant(),
             ),
         }
     }
@@ -83,13 +86,12 @@ impl PathClock {
     /// Advances over `dt` after a command that used `share` of a limit at most
     /// (`max_i |T_i|/L_i`, before the drive clamps it).
     pub(crate) fn advance(&mut self, dt: f64, share: f64) {
-        let Some(c) = &self.scaling else {
+        let Some(c) = self.scaling.as_mut() else {
             return;
         };
-        self.target = ((1.0 - share) / (1.0 - c.threshold)).clamp(0.0, 1.0);
-        let blend = 1.0 - (-dt / c.time_constant).exp();
-        self.scale = (self.scale + (self.target - self.scale) * blend).clamp(c.floor, 1.0);
-        self.tau += self.rate * self.scale * dt;
+        self.target = c.target(share);
+        let s = c.update(share, dt);
+        self.tau += self.rate * s * dt;
     }
 }
 
@@ -97,6 +99,7 @@ impl PathClock {
 #[allow(clippy::unwrap_used)] // tests: a failure is the point
 mod tests {
     use super::*;
+    use crate::scenario::SpeedScaling;
 
     #[test]
     fn the_fixed_clock_is_tau0_plus_rate_t_whatever_the_torque() {
@@ -108,7 +111,11 @@ mod tests {
     #[test]
     fn the_scaled_clock_slows_above_the_threshold_and_recovers_below_it() {
         let scaling = SpeedScaling::default(); // threshold 0.8, 50 ms, floor 0.02
-        let mut c = PathClock::scaled(0.0, 2.0, scaling);
+        let mut c = PathClock::scaled(
+            0.0,
+            2.0,
+            scaling.throttle("baseline.speed_scaling").unwrap(),
+        );
         assert_eq!(c.at(0.0), (0.0, 2.0, 0.0));
         // Below the threshold: full rate, τ advances at 2.
         for _ in 0..100 {

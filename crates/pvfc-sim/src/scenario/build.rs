@@ -579,7 +579,7 @@ impl Scenario {
             })?;
             let friction = self.controller.friction_compensation.as_deref();
             let table = p.profile(&Scara::new(*arm)?, &contour, period, friction, false)?;
-            *pacing.profile_mut() = Some(table);
+            *pacing.profile_mut().profile_mut() = Some(table);
         }
         let field = SuspendedField::new(contour, navigation, pacing);
         let set = match &self.obstacles {

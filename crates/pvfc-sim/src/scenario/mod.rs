@@ -5,6 +5,7 @@ use crate::contact::ContactSpec;
 use crate::error::{Result, SimError};
 use crate::model::arm::{PassiveOptions, SupervisionOptions};
 use crate::model::feeds::FeedProfile;
+pub use crate::model::pace::SpeedScaling;
 use crate::model::pace::{PaceSettings, PathSpeed};
 use crate::plant::faults::FaultEvent;
 use pvfc_core::prelude::*;
@@ -230,6 +231,11 @@ pub struct PassiveSpec {
     /// supervision.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub supervision: Option<SupervisionOptions>,
+    /// `[controller.passive.pace_throttle]`: the field's pace scaled on the torque margin
+    /// the controller measures (`pvfc_core::pace::throttle`; needs `torque_limit`); none:
+    /// the pace as planned.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pace_throttle: Option<SpeedScaling>,
 }
 
 impl PassiveSpec {
@@ -245,6 +251,7 @@ impl PassiveSpec {
             velocity_filter: self.velocity_filter,
             reserve: self.reserve,
             supervision: self.supervision.clone(),
+            pace_throttle: self.pace_throttle,
         })
     }
 
@@ -277,6 +284,12 @@ impl PassiveSpec {
                 SimError::Setting(m) => SimError::Setting(format!("controller.passive.{m}")),
                 e => e,
             })?;
+        }
+        if let Some(t) = &self.pace_throttle {
+            t.validate_as("controller.passive.pace_throttle")?;
+            if self.torque_limit.is_empty() {
+                return bad("controller.passive.pace_throttle reads the drives' limits: set controller.passive.torque_limit");
+            }
         }
         Ok(())
     }
@@ -315,6 +328,9 @@ impl PassiveSpec {
         }
         if let Some(s) = &self.supervision {
             c = c.with_supervision(s.build::<N>()?);
+        }
+        if let Some(t) = &self.pace_throttle {
+            c = c.with_pace_throttle(t.throttle("controller.passive.pace_throttle")?)?;
         }
         Ok(c)
     }
@@ -443,59 +459,6 @@ pub struct BaselineSpec {
     /// slowed while a commanded torque nears its limit. Its run is `NAME-scaled`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub speed_scaling: Option<SpeedScaling>,
-}
-
-/// `[baseline.speed_scaling]`: the path time of the tracker advances at `s · τ̇` with a
-/// scaling `s ∈ [floor, 1]` that follows, with time constant `time_constant`, the target
-/// `min(1, (1 − u)/(1 − threshold))` for the largest share `u = max_i |T_i|/L_i` of a limit
-/// the (unclamped) command uses: 1 while every torque is below `threshold` of its limit, 0
-/// at the limit (the scaled joint-trajectory controllers of UR and ros2_control slow the
-/// trajectory's time the same way, from the drives' speed-scaling factor).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct SpeedScaling {
-    /// The share of a limit above which the path time slows, in [0, 1).
-    pub threshold: f64,
-    /// The time constant of the scaling (s, > 0).
-    pub time_constant: f64,
-    /// The least scaling, in (0, 1].
-    pub floor: f64,
-}
-
-impl Default for SpeedScaling {
-    fn default() -> Self {
-        SpeedScaling {
-            threshold: 0.8,
-            time_constant: 0.05,
-            floor: 0.02,
-        }
-    }
-}
-
-impl SpeedScaling {
-    /// Checks the numbers.
-    pub fn validate(&self) -> Result<()> {
-        let bad = |what: String| Err(SimError::Setting(what));
-        if !(self.threshold.is_finite() && (0.0..1.0).contains(&self.threshold)) {
-            return bad(format!(
-                "baseline.speed_scaling.threshold = {}: in [0, 1)",
-                self.threshold
-            ));
-        }
-        if !(self.time_constant.is_finite() && self.time_constant > 0.0) {
-            return bad(format!(
-                "baseline.speed_scaling.time_constant = {}: finite and > 0 (s)",
-                self.time_constant
-            ));
-        }
-        if !(self.floor.is_finite() && self.floor > 0.0 && self.floor <= 1.0) {
-            return bad(format!(
-                "baseline.speed_scaling.floor = {}: in (0, 1]",
-                self.floor
-            ));
-        }
-        Ok(())
-    }
 }
 
 impl BaselineSpec {

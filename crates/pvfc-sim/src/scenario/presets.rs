@@ -321,6 +321,7 @@ fn digital_drive() -> Scenario {
             velocity_filter: 0.002,
             reserve: 0.0,
             supervision: None,
+            pace_throttle: None,
         },
     );
     drive.name = PresetId::DigitalDrive.name();
