@@ -46,6 +46,7 @@ fn settings(waypoints: Vec<Vec<f64>>, n: usize) -> ArmSettings {
         friction_compensation: None,
         friction_band: 0.0,
         nominal_speed: None,
+        nominal_speed_integral: 0.0,
         tau0: 0.0,
         obstacles: None,
         pace: None,

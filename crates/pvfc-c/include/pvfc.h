@@ -156,6 +156,9 @@ typedef struct pvfc_settings {
   // `gamma` (0: `gamma` is used): `γ = coupling_rate / (βĒ)` with `β` the nominal speed `r`
   // (or 1) and `Ē` the energy level, also when it is sized from the pace (`energy = 0`).
   double coupling_rate;
+  // The gain `k_i` (1/s, ≥ 0) of the nominal speed's integral of its error, which takes `β`
+  // to `r` against friction (0: the paper's proportional law).
+  double nominal_speed_integral;
 } pvfc_settings;
 
 // The numbers of one control step besides the torque.

@@ -53,6 +53,9 @@ pub struct pvfc_settings {
     /// `gamma` (0: `gamma` is used): `γ = coupling_rate / (βĒ)` with `β` the nominal speed `r`
     /// (or 1) and `Ē` the energy level, also when it is sized from the pace (`energy = 0`).
     pub coupling_rate: f64,
+    /// The gain `k_i` (1/s, ≥ 0) of the nominal speed's integral of its error, which takes `β`
+    /// to `r` against friction (0: the paper's proportional law).
+    pub nominal_speed_integral: f64,
 }
 
 /// The default settings: no self-pacing, `Ē = 10`, `M_F = 1`, `γ = 1`, gravity
@@ -79,6 +82,7 @@ pub extern "C" fn pvfc_settings_default() -> pvfc_settings {
         pace_torque_limit_len: 0,
         pace_headroom: 0.8,
         coupling_rate: 0.0,
+        nominal_speed_integral: 0.0,
     }
 }
 
@@ -190,6 +194,7 @@ pub unsafe extern "C" fn pvfc_controller_new(
             friction_band: s.friction_band,
             nominal_speed: (s.nominal_speed_c != 0.0)
                 .then_some((s.nominal_speed_c, s.nominal_speed_r)),
+            nominal_speed_integral: s.nominal_speed_integral,
             tau0: s.tau0,
             obstacles: None,
             pace,

@@ -384,6 +384,7 @@ fn agree_with(
         friction_compensation: None,
         friction_band: 0.0,
         nominal_speed: None,
+        nominal_speed_integral: 0.0,
         tau0: 0.0,
         obstacles: None,
         pace,

@@ -244,6 +244,15 @@ where
         self.nominal.as_mut()
     }
 
+    /// Advances the nominal speed's integral ([`NominalSpeed::with_integral`]) over a period
+    /// `dt` from the speed along the field `Pᵀq̇_a/(2Ē)` of the step's `diagnostics`.
+    pub(crate) fn integrate_nominal_speed(&mut self, diagnostics: &Diagnostics<T>, dt: T) {
+        let e_bar = self.law.flywheel().energy();
+        if let Some(n) = self.nominal.as_mut() {
+            n.integrate(diagnostics.momentum_along_field / (e_bar + e_bar), dt);
+        }
+    }
+
     /// Scales the field's pace on line by `s ∈ (0, 1]` (between steps;
     /// [`PvfcLaw::set_pace_scale`]): `true` when the field took it.
     pub fn set_pace_scale(&mut self, scale: T) -> bool {
@@ -439,6 +448,7 @@ where
             flywheel_speed,
             laps,
         };
+        self.integrate_nominal_speed(&diagnostics, dt);
         Ok(StepOutput {
             torque: total.robot,
             augmented_torque: total,

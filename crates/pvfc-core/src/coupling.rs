@@ -366,10 +366,19 @@ where
 /// It drives `β → r` by injecting or removing energy along the desired momentum; it is **not**
 /// passive (power `c (Pᵀq̇_a)(r − Pᵀq̇_a/(2Ē))`). `r` may be scheduled on line (e.g. on a
 /// measured tool force, section V-A) with [`set_speed`](Self::set_speed).
+///
+/// The law is proportional: against a loss it leaves `β` short of `r` (by about `P_f/(c κ_a)`
+/// for a friction power `P_f`). [`with_integral`](Self::with_integral) adds an integral of
+/// the speed's error, `T_forced = c · P · (r + z − Pᵀq̇_a/(2Ē))` with
+/// `ż = k_i (r − Pᵀq̇_a/(2Ē))`, `|z| ≤ r`, so that `β` settles at `r` exactly. `z` advances in
+/// the sampled loop ([`Controller::step`](crate::controller::Controller::step), the passive
+/// controller's step) once per period; a pure evaluation of the law holds it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NominalSpeed<T: Real> {
     c: T,
     r: T,
+    ki: T,
+    z: T,
 }
 
 impl<T: Real> NominalSpeed<T> {
@@ -384,18 +393,57 @@ impl<T: Real> NominalSpeed<T> {
                 "NominalSpeed: need c > 0 and r ≥ 0",
             ));
         }
-        Ok(NominalSpeed { c, r })
+        Ok(NominalSpeed {
+            c,
+            r,
+            ki: T::zero(),
+            z: T::zero(),
+        })
     }
 
-    /// Changes the nominal speed `r ≥ 0`.
+    /// Adds the integral of the speed's error with gain `k_i ≥ 0` (1/s; 0: none), starting
+    /// at `z = 0`.
+    pub fn with_integral(mut self, ki: T) -> Result<Self> {
+        if !(ki.is_finite() && ki >= T::zero()) {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "NominalSpeed: the integral gain must be finite and ≥ 0",
+            ));
+        }
+        self.ki = ki;
+        self.z = T::zero();
+        Ok(self)
+    }
+
+    /// Changes the nominal speed `r ≥ 0` (the integral is kept, within the new bound `±r`).
     pub fn set_speed(&mut self, r: T) -> Result<()> {
-        *self = Self::new(self.c, r)?;
+        let n = Self::new(self.c, r)?;
+        self.r = n.r;
+        self.z = clamp_abs(self.z, self.r);
         Ok(())
     }
 
     /// The nominal speed `r`.
     pub fn speed(&self) -> T {
         self.r
+    }
+
+    /// The integral gain `k_i` (0: a proportional law).
+    pub fn integral_gain(&self) -> T {
+        self.ki
+    }
+
+    /// The integral `z` added to `r`.
+    pub fn integral(&self) -> T {
+        self.z
+    }
+
+    /// Advances the integral over a period `dt` at the speed along the field `Pᵀq̇_a/(2Ē)`
+    /// measured at its start (nothing without an integral gain, or for a non-finite speed).
+    pub fn integrate(&mut self, speed: T, dt: T) {
+        if self.ki > T::zero() && speed.is_finite() && dt.is_finite() {
+            self.z = clamp_abs(self.z + self.ki * (self.r - speed) * dt, self.r);
+        }
     }
 
     /// The term of eq. (36) at the state whose coupling output is `out`.
@@ -407,7 +455,18 @@ impl<T: Real> NominalSpeed<T> {
     ) -> AugmentedVector<T, D> {
         let p = &out.desired_momentum;
         let speed = p.dot(qa) / (out.energy_level * cast::<T>(2.0));
-        *p * (self.c * (self.r - speed))
+        *p * (self.c * (self.r + self.z - speed))
+    }
+}
+
+/// `x` within `[−bound, bound]`.
+fn clamp_abs<T: Real>(x: T, bound: T) -> T {
+    if x > bound {
+        bound
+    } else if x < -bound {
+        -bound
+    } else {
+        x
     }
 }
 
@@ -470,5 +529,41 @@ impl<T: Real, const D: usize> FrictionCompensation<T, D> {
             t[i] = self.fric[i] * s;
         }
         t
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)] // tests: a failure is the point
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_nominal_speeds_integral_grows_while_beta_is_short_and_is_bounded_by_r() {
+        let mut n = NominalSpeed::<f64>::new(0.5, 2.0)
+            .unwrap()
+            .with_integral(0.4)
+            .unwrap();
+        // β short by 0.1 for 1 s: z = k_i · 0.1 · 1.
+        for _ in 0..1000 {
+            n.integrate(1.9, 1e-3);
+        }
+        assert!((n.integral() - 0.04).abs() < 1e-12, "{}", n.integral());
+        // A new r keeps z; far too fast for long: z stops at −r.
+        n.set_speed(1.0).unwrap();
+        assert!((n.integral() - 0.04).abs() < 1e-12);
+        for _ in 0..100_000 {
+            n.integrate(50.0, 1e-3);
+        }
+        assert_eq!(n.integral(), -1.0);
+        // Non-finite speeds change nothing; a proportional law has no integral.
+        n.integrate(f64::NAN, 1e-3);
+        assert_eq!(n.integral(), -1.0);
+        let mut p = NominalSpeed::<f64>::new(0.5, 2.0).unwrap();
+        p.integrate(0.0, 1.0);
+        assert_eq!(p.integral(), 0.0);
+        assert!(NominalSpeed::<f64>::new(0.5, 2.0)
+            .unwrap()
+            .with_integral(-1.0)
+            .is_err());
     }
 }

@@ -630,6 +630,7 @@ where
         }
         // Commit.
         *self.controller.state_mut() = next;
+        self.controller.integrate_nominal_speed(&diagnostics, dt);
         if let (Some(throttle), Some((_, scale))) = (self.throttle.as_mut(), pace) {
             throttle.set_scale(scale);
             // The field took this scale when the throttle was set; it takes any in (0, 1].

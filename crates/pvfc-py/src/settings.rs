@@ -11,7 +11,8 @@ use pyo3::prelude::*;
 /// (1/s, Remark 1: `γ = coupling_rate / (βĒ)` with `β` the nominal speed `r` or 1, also when
 /// `Ē` is sized from the pace with `energy=0`), and the add-ons: gravity
 /// compensation, friction compensation (eq. 35, one Coulomb level per joint, with a velocity
-/// band), nominal speed `(c, r)` (eq. 36), and the contour parameter to start at. Checked when
+/// band), nominal speed `(c, r)` (eq. 36) with the gain of its integral (`nominal_speed_integral`,
+/// 1/s; 0: none), and the contour parameter to start at. Checked when
 /// composed with a robot.
 #[pyclass(module = "pvfc", frozen, from_py_object)]
 #[derive(Clone)]
@@ -34,6 +35,8 @@ pub(crate) struct ControllerSettings {
     #[pyo3(get)]
     pub(crate) nominal_speed: Option<(f64, f64)>,
     #[pyo3(get)]
+    pub(crate) nominal_speed_integral: f64,
+    #[pyo3(get)]
     pub(crate) tau0: f64,
 }
 
@@ -53,6 +56,7 @@ impl ControllerSettings {
             friction_compensation: self.friction_compensation.clone(),
             friction_band: self.friction_band,
             nominal_speed: self.nominal_speed,
+            nominal_speed_integral: self.nominal_speed_integral,
             tau0: self.tau0,
             obstacles: None,
             pace: None,
@@ -72,6 +76,7 @@ impl Default for ControllerSettings {
             friction_compensation: None,
             friction_band: 0.0,
             nominal_speed: None,
+            nominal_speed_integral: 0.0,
             tau0: 0.0,
         }
     }
@@ -82,7 +87,7 @@ impl ControllerSettings {
     #[new]
     #[pyo3(signature = (*, self_pacing=0.0, energy=10.0, flywheel_inertia=1.0, gamma=1.0,
         coupling_rate=None, gravity_compensation=true, friction_compensation=None, friction_band=0.0,
-        nominal_speed=None, tau0=0.0))]
+        nominal_speed=None, nominal_speed_integral=0.0, tau0=0.0))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         self_pacing: f64,
@@ -94,6 +99,7 @@ impl ControllerSettings {
         friction_compensation: Option<&Bound<'_, PyAny>>,
         friction_band: f64,
         nominal_speed: Option<(f64, f64)>,
+        nominal_speed_integral: f64,
         tau0: f64,
     ) -> PyResult<Self> {
         Ok(ControllerSettings {
@@ -108,6 +114,7 @@ impl ControllerSettings {
                 .transpose()?,
             friction_band,
             nominal_speed,
+            nominal_speed_integral,
             tau0,
         })
     }

@@ -37,6 +37,30 @@ def test_composed_controller_equals_the_one_built_from_arguments() -> None:
     assert np.array_equal(composed.step(q, v, 1e-3), direct.step(q, v, 1e-3))
 
 
+def test_the_nominal_speeds_integral_adds_to_r_as_the_controller_steps() -> None:
+    """With `nominal_speed_integral` the nominal speed's integral of its error advances once
+    per step: the first step's torque is the proportional law's, the later ones push harder
+    while β stays below r (the arm held at rest); a negative gain is a named error."""
+    robot = ur5()
+
+    def controller(ki: float) -> pvfc.Controller:
+        settings = pvfc.ControllerSettings(
+            self_pacing=50.0, energy=400.0, gamma=1.0, nominal_speed=(0.5, 2.0), nominal_speed_integral=ki
+        )
+        return pvfc.Controller.compose(robot, pvfc.WaypointCurve(UR5_WAYPOINTS, 1.0), pvfc.JointNavigation([4.0] * 6), settings)
+
+    plain, integral = controller(0.0), controller(2.0)
+    q, v = UR5_WAYPOINTS[0], np.zeros(6)
+    np.testing.assert_array_equal(plain.step(q, v, 1e-3), integral.step(q, v, 1e-3))
+    for _ in range(200):
+        a, b = plain.step(q, v, 1e-3), integral.step(q, v, 1e-3)
+    # τ̇ and the flywheel gain energy faster with the integral (β starts at 1 < r = 2).
+    assert integral.state[1] > plain.state[1] or integral.state[2] > plain.state[2]
+    assert not np.array_equal(a, b)
+    with pytest.raises(pvfc.PvfcError, match="integral"):
+        controller(-1.0)
+
+
 def test_a_six_joint_lissajous_and_ellipse_sample_their_formulas() -> None:
     amp, per = np.array([0.5, 0.2, 0.3, 0.2, 0.3, 0.4]), np.array([8.0, 4.0, 8.0, 4.0, 8.0, 2.0])
     phase, off = np.linspace(0, 1, 6), UR5_WAYPOINTS[0]

@@ -35,7 +35,11 @@ fn scenario(filter: f64, positions_only: bool, nominal: Option<f64>) -> Scenario
         supervision: None,
         pace_throttle: None,
     });
-    s.controller.nominal_speed = nominal.map(|c| NominalSpeedSpec { c, r: 1.0 });
+    s.controller.nominal_speed = nominal.map(|c| NominalSpeedSpec {
+        c,
+        r: 1.0,
+        integral: 0.0,
+    });
     s
 }
 

@@ -13,7 +13,11 @@ use pvfc_sim::trace::metrics::{log_gap_slope, settling_time_constant};
 fn beta(c: f64, r: f64, duration: f64) -> (Vec<f64>, Vec<f64>) {
     let mut s = presets::energy_check(Mode::Continuous);
     s.duration = duration;
-    s.controller.nominal_speed = Some(NominalSpeedSpec { c, r });
+    s.controller.nominal_speed = Some(NominalSpeedSpec {
+        c,
+        r,
+        integral: 0.0,
+    });
     let t = simulate(&s, &mut |_| {}).expect("the run is valid");
     (t.t.clone(), t.beta.clone())
 }

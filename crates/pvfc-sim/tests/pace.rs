@@ -79,28 +79,45 @@ fn the_energy_level_is_sized_from_the_pace() {
     let (slow, fast) = (level(0.1), level(0.25));
     // The field's energy grows as the pace squared (the 1 of τ's own inertia aside).
     assert!(fast > 5.0 * slow && fast < 6.5 * slow, "Ē {slow} → {fast}");
-    let mut s = ur5_at(0.25);
-    s.controller.energy = 0.0;
-    s.controller.coupling_rate = Some(400.0);
-    s.controller.nominal_speed = Some(NominalSpeedSpec { c: 4.0, r: 1.0 });
-    let probe = ArmSystem::build(&s).expect("the system");
-    let pvfc_sim::model::arm::JointContourSpec::Waypoints { points, .. } = &probe.settings.contour
-    else {
-        panic!("a Cartesian path becomes waypoints");
-    };
-    s.initial.q = points[0].clone();
-    let system = ArmSystem::build(&s).expect("the system");
-    assert_eq!(system.controller.energy_level(), fast);
-    let t = simulate_chain_with(&s, &system, &mut |_| {}).expect("the run, Ē never too low");
-    let b = path_budget(&s, &system.robot, &t)
-        .expect("the budget")
-        .expect("steady passes");
-    assert!(b.surface.expect("planar").mean < 3e-4, "{b:?}");
-    assert!(
-        (b.speed - 0.25).abs() <= 0.02 * 0.25,
-        "asked 0.25 m/s, made {} m/s",
-        b.speed
-    );
+    // At the sized level the friction the compensation leaves drains a larger share of the
+    // energy: the proportional law (36) leaves β short by about P_f/(c κ_a), within 2 % at
+    // c = 4, 8 % at c = 0.5; with an integral (c = 0.5, k_i = 0.5) the deficit goes, and over
+    // ten laps (its transient included) the tool makes the speed within 0.5 %.
+    for (c, integral, tolerance, within) in [
+        (4.0, 0.0, 0.02, true),
+        (0.5, 0.5, 0.005, true),
+        (0.5, 0.0, 0.02, false),
+    ] {
+        let mut s = ur5_at(0.25);
+        s.duration *= 3.0;
+        s.controller.energy = 0.0;
+        s.controller.coupling_rate = Some(400.0);
+        s.controller.nominal_speed = Some(NominalSpeedSpec {
+            c,
+            r: 1.0,
+            integral,
+        });
+        let probe = ArmSystem::build(&s).expect("the system");
+        let pvfc_sim::model::arm::JointContourSpec::Waypoints { points, .. } =
+            &probe.settings.contour
+        else {
+            panic!("a Cartesian path becomes waypoints");
+        };
+        s.initial.q = points[0].clone();
+        let system = ArmSystem::build(&s).expect("the system");
+        assert_eq!(system.controller.energy_level(), fast);
+        let t = simulate_chain_with(&s, &system, &mut |_| {}).expect("the run, Ē never too low");
+        let b = path_budget(&s, &system.robot, &t)
+            .expect("the budget")
+            .expect("steady passes");
+        assert!(b.surface.expect("planar").mean < 3e-4, "{b:?}");
+        assert_eq!(
+            (b.speed - 0.25).abs() <= tolerance * 0.25,
+            within,
+            "c = {c}, k_i = {integral}: asked 0.25 m/s, made {} m/s",
+            b.speed
+        );
+    }
 }
 
 #[test]

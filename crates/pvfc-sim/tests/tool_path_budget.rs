@@ -178,6 +178,7 @@ fn the_adaptive_sampling_puts_the_ur5_contour_within_its_tolerance() {
         friction_compensation: None,
         friction_band: 0.0,
         nominal_speed: None,
+        nominal_speed_integral: 0.0,
         tau0: 0.0,
         obstacles: None,
         pace: None,

@@ -148,6 +148,19 @@ int main(int argc, char **argv) {
     CHECK_ERROR(pvfc_controller_new_waypoints(robot, waypoints, 3, DOF, 1.5, h, DOF, &by_rate,
                                               &bad),
                 PVFC_ERROR_INVALID_ARGUMENT, "coupling_rate");
+    /* The nominal speed's integral: a negative gain is refused. */
+    pvfc_settings integral = pvfc_settings_default();
+    integral.nominal_speed_c = 0.5;
+    integral.nominal_speed_r = 1.0;
+    integral.nominal_speed_integral = -1.0;
+    CHECK_ERROR(pvfc_controller_new_waypoints(robot, waypoints, 3, DOF, 1.5, h, DOF, &integral,
+                                              &bad),
+                PVFC_ERROR_INVALID_ARGUMENT, "integral");
+    integral.nominal_speed_integral = 0.5;
+    pvfc_controller *with_integral = NULL;
+    CHECK(pvfc_controller_new_waypoints(robot, waypoints, 3, DOF, 1.5, h, DOF, &integral,
+                                        &with_integral) == PVFC_OK);
+    pvfc_controller_destroy(with_integral);
   }
 
   /* The passive digital controller with torque limits. */

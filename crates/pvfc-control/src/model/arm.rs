@@ -54,6 +54,9 @@ pub struct ArmSettings {
     pub friction_band: f64,
     /// Nominal-speed control (eq. 36): `(c, r)`.
     pub nominal_speed: Option<(f64, f64)>,
+    /// The nominal speed's integral gain `k_i` (1/s, ≥ 0; 0: the paper's proportional law;
+    /// [`NominalSpeed::with_integral`]).
+    pub nominal_speed_integral: f64,
     /// The contour parameter to start at.
     pub tau0: f64,
     /// Obstacles the joint-space field keeps the arm away from (Remark 3).
@@ -83,6 +86,7 @@ impl ArmSettings {
             friction_compensation: None,
             friction_band: 0.0,
             nominal_speed: None,
+            nominal_speed_integral: 0.0,
             tau0: 0.0,
             obstacles: None,
             pace: None,
@@ -257,7 +261,8 @@ pub fn arm_controller<const N: usize>(
         );
     }
     if let Some((c, r)) = s.nominal_speed {
-        ctl = ctl.with_nominal_speed(NominalSpeed::new(c, r)?);
+        ctl = ctl
+            .with_nominal_speed(NominalSpeed::new(c, r)?.with_integral(s.nominal_speed_integral)?);
     }
     first_step_is_finite(&ctl, s)?;
     Ok(ctl)

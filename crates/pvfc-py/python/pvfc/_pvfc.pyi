@@ -295,6 +295,7 @@ class ControllerSettings:
         friction_compensation: Optional[_ArrayLike] = None,
         friction_band: float = 0.0,
         nominal_speed: Optional[Tuple[float, float]] = None,
+        nominal_speed_integral: float = 0.0,
         tau0: float = 0.0,
     ) -> ControllerSettings: ...
     @property
@@ -315,6 +316,8 @@ class ControllerSettings:
     def friction_band(self) -> float: ...
     @property
     def nominal_speed(self) -> Optional[Tuple[float, float]]: ...
+    @property
+    def nominal_speed_integral(self) -> float: ...
     @property
     def tau0(self) -> float: ...
 

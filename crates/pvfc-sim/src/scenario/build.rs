@@ -329,6 +329,7 @@ impl Scenario {
             friction_compensation: c.friction_compensation.clone(),
             friction_band: c.friction_band.unwrap_or(0.0),
             nominal_speed: c.nominal_speed.map(|n| (n.c, n.r)),
+            nominal_speed_integral: c.nominal_speed.map_or(0.0, |n| n.integral),
             tau0: self.initial.tau,
             obstacles: self.obstacles.clone(),
             pace: self.drive_pace()?,
@@ -513,7 +514,7 @@ impl Scenario {
             ctl = ctl.with_friction_compensation(comp);
         }
         if let Some(n) = c.nominal_speed {
-            ctl = ctl.with_nominal_speed(NominalSpeed::new(n.c, n.r)?);
+            ctl = ctl.with_nominal_speed(NominalSpeed::new(n.c, n.r)?.with_integral(n.integral)?);
         }
         Ok(ctl)
     }

@@ -75,6 +75,16 @@ pub struct NominalSpeedSpec {
     pub c: f64,
     /// Nominal speed `r`.
     pub r: f64,
+    /// The gain `k_i` (1/s, ≥ 0) of the integral of the speed's error, which takes `β` to
+    /// `r` against friction (`pvfc_core::coupling::NominalSpeed::with_integral`; sampled
+    /// mode); 0 (the default): the paper's proportional law.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub integral: f64,
+}
+
+/// `true` for 0 (a key left out of a file).
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 /// The PVFC controller.

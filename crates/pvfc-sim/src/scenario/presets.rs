@@ -93,7 +93,11 @@ fn forced(id: PresetId, description: &str, r_pacing: f64, compensation: bool, r:
             gamma: 50.0 / energy,
             rate: 1000.0,
             friction_compensation: compensation.then(|| PAPER_COMPENSATION.to_vec()),
-            nominal_speed: Some(NominalSpeedSpec { c: 0.01, r }),
+            nominal_speed: Some(NominalSpeedSpec {
+                c: 0.01,
+                r,
+                integral: 0.0,
+            }),
             ..ControllerSpec::default()
         },
         initial: InitialSpec::default(),
@@ -189,6 +193,7 @@ pub fn fig10_level(nominal_speed: u32) -> Scenario {
     s.controller.nominal_speed = Some(NominalSpeedSpec {
         c: FIG10_LEVEL_GAIN,
         r: nominal_speed.into(),
+        integral: 0.0,
     });
     s
 }
@@ -503,7 +508,11 @@ pub fn fig1_saturated(contour: Fig1Contour, speed: u32) -> Scenario {
     // The run starts at its energy level, β = r (the flywheel holds κ_a = r²Ē with the arm at
     // rest), and the nominal-speed control holds it there with a time constant 1/c = 2 s (with
     // the paper's c = 0.01, 100 s, β would still be on its way from 1 to r when the run ends).
-    s.controller.nominal_speed = Some(NominalSpeedSpec { c: 0.5, r });
+    s.controller.nominal_speed = Some(NominalSpeedSpec {
+        c: 0.5,
+        r,
+        integral: 0.0,
+    });
     s.initial.flywheel_speed =
         Some(r * (2.0 * s.controller.energy / s.controller.flywheel_inertia).sqrt());
     s.controller.passive = Some(PassiveSpec {
@@ -648,7 +657,11 @@ pub fn contact_deburr() -> Scenario {
     s.duration = 20.0;
     s.plant.friction = plant_friction();
     s.controller.friction_compensation = Some(PAPER_COMPENSATION.to_vec());
-    s.controller.nominal_speed = Some(NominalSpeedSpec { c: 5.0, r: 1.0 });
+    s.controller.nominal_speed = Some(NominalSpeedSpec {
+        c: 5.0,
+        r: 1.0,
+        integral: 0.0,
+    });
     s
 }
 
