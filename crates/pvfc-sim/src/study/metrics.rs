@@ -233,6 +233,18 @@ pub const METRICS: &[Metric] = &[
         eval: |r| metrics::pass_duration(r.trace, r.scenario.period()),
     },
     Metric {
+        name: "tau_dot_least_ratio",
+        unit: "",
+        doc: "The least τ̇ over the last complete pass ÷ its mean there: near 0 when the pace stops and goes (a pace profile's planned slowdowns keep it well above; 1 for a timed tracker's clock).",
+        eval: |r| {
+            let pass = metrics::last_pass(r.trace, r.scenario.period())?;
+            let rates = r.trace.tau_dot.get(pass)?;
+            let mean = rates.iter().sum::<f64>() / rates.len() as f64;
+            let least = rates.iter().copied().fold(f64::INFINITY, f64::min);
+            (mean > 0.0).then(|| least / mean)
+        },
+    },
+    Metric {
         name: "least_lap",
         unit: "s",
         doc: "The least lap any controller can make on the run's plant at its demand (Scenario::least_lap: the time-optimal parameterisation under the drives' limits, against the plant's friction and model error; absent without a drive-limited pace).",
