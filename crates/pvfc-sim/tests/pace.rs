@@ -26,18 +26,21 @@ fn ur5_at(speed: f64) -> Scenario {
     s
 }
 
+/// Starts `s` on its path: at its first waypoint (τ = 0), at rest.
+fn on_the_path(s: &mut Scenario) {
+    let probe = ArmSystem::build(s).expect("the system");
+    let pvfc_sim::model::arm::JointContourSpec::Waypoints { points, .. } = &probe.settings.contour
+    else {
+        panic!("a Cartesian path becomes waypoints");
+    };
+    s.initial.q = points[0].clone();
+}
+
 #[test]
 fn the_tool_makes_the_speed_asked_for() {
     for speed in [0.1, 0.25] {
         let mut s = ur5_at(speed);
-        let probe = ArmSystem::build(&s).expect("the system");
-        // Start on the path: at its first waypoint (τ = 0), at rest.
-        let pvfc_sim::model::arm::JointContourSpec::Waypoints { points, .. } =
-            &probe.settings.contour
-        else {
-            panic!("a Cartesian path becomes waypoints");
-        };
-        s.initial.q = points[0].clone();
+        on_the_path(&mut s);
         assert_eq!(
             s.drive_pace().expect("pace").expect("a pace").speed,
             Some(PathSpeed::Tool(speed)),
@@ -97,13 +100,7 @@ fn the_energy_level_is_sized_from_the_pace() {
             r: 1.0,
             integral,
         });
-        let probe = ArmSystem::build(&s).expect("the system");
-        let pvfc_sim::model::arm::JointContourSpec::Waypoints { points, .. } =
-            &probe.settings.contour
-        else {
-            panic!("a Cartesian path becomes waypoints");
-        };
-        s.initial.q = points[0].clone();
+        on_the_path(&mut s);
         let system = ArmSystem::build(&s).expect("the system");
         assert_eq!(system.controller.energy_level(), fast);
         let t = simulate_chain_with(&s, &system, &mut |_| {}).expect("the run, Ē never too low");
@@ -156,6 +153,34 @@ fn a_part_programs_feeds_are_the_pace() {
     s.baseline = None;
     followed_at_its_feeds(&s);
     without_feeds(&dir, s);
+}
+
+/// The timed tracker beside PVFC on a part program follows its feeds, as a user would
+/// program it (not one rate for the whole program): on every stretch of `ur5_gcode`'s
+/// bracket its tool holds the feed within 5 %.
+#[test]
+fn the_timed_tracker_follows_a_part_programs_feeds() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let s = Scenario::from_file(&dir.join("ur5_gcode.toml")).expect("the scenario");
+    let b = s.baseline.clone().expect("a baseline");
+    assert!(b.tau_rate.is_none(), "the tracker's rate is not fixed");
+    let system = ArmSystem::build(&s).expect("the system");
+    let t = pvfc_sim::run::simulate_tracker(
+        &s,
+        &pvfc_sim::scenario::System::SerialChain(Box::new(system.clone())),
+        &b,
+        1.0,
+        pvfc_sim::run::Tracker::Timed,
+        &mut |_| {},
+    )
+    .expect("the tracker's run");
+    let speeds = pvfc_sim::trace::feed_speeds::feed_speeds(&s, &system.robot, &t)
+        .expect("the speeds")
+        .expect("a program with feeds");
+    assert_eq!(speeds.len(), 14, "{speeds:?}");
+    for x in &speeds {
+        assert!(x.error().abs() < 0.05, "{x:?}");
+    }
 }
 
 /// `s` run: 14 stretches, each at its feed within 5 %; the tool within 0.1 mm mean and 0.3 mm

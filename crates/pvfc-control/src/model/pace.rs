@@ -204,6 +204,24 @@ impl PaceSettings {
         Ok(PaceTable::below(&rates, self.level, PACE_KNOTS, period)?)
     }
 
+    /// The rates asked for along `contour` (period `period`), without the drives' bound, as
+    /// a profile `σ = τ̇(τ) / level`: what a timed tracker that follows a part program's
+    /// feeds runs at (`τ̇ = level · σ(τ)`).
+    pub fn asked_profile<G, Sys, X, const N: usize>(
+        &self,
+        system: &Sys,
+        contour: &X,
+        period: f64,
+    ) -> Result<PaceTable<f64, PACE_KNOTS>>
+    where
+        G: VectorGroup<f64, N>,
+        Sys: MechanicalSystem<f64, G, N>,
+        X: Contour<f64, G, N>,
+    {
+        let rates = self.asked(system, contour, period)?;
+        Ok(PaceTable::below(&rates, self.level, PACE_KNOTS, period)?)
+    }
+
     /// The least time of one lap of `contour` (period `period`) that the drives allow at
     /// full use of their limits (headroom 1, whatever this pace keeps) against `plant`'s
     /// friction (and gravity, if `gravity`), at no rate above the one this pace asks for

@@ -7,6 +7,7 @@
 use crate::contact::spatial::SpatialContact;
 use crate::error::{Result, SimError};
 use crate::model::arm::{arm_controller, ArmControllerN};
+use crate::model::pace::PathSpeed;
 use crate::run::loops::{self, Surroundings};
 use crate::run::path_clock::{tracker_clock, PathClock};
 use crate::run::stepper::PassiveDrive;
@@ -114,6 +115,17 @@ fn timed<const N: usize>(
     let settings = &system.settings;
     let ctl: ArmControllerN<N> = arm_controller(chain, settings)?;
     let contour = ctl.law().field().joint_contour();
+    // A part program's tracker follows its feeds (the rates they ask for, not bounded by the
+    // drives: what a user programs), unless the baseline fixes its rate.
+    let clock = match (&settings.pace, b.tau_rate) {
+        (Some(pace), None) if matches!(pace.speed, Some(PathSpeed::Feeds(_))) => {
+            let period = settings.contour.period().ok_or_else(|| {
+                SimError::Setting("a part program's feeds need a closed contour".into())
+            })?;
+            clock.following(pace.asked_profile(&chain, contour, period)?, pace.level)
+        }
+        _ => clock,
+    };
     // U of the joint error, as for the joint-space field (the timed tracker follows the joint
     // contour whichever field PVFC uses).
     let navigation = JointNavigation::new(

@@ -247,13 +247,15 @@ where
         if k == n {
             break;
         }
-        if let Some(l) = &limits {
-            let share = command
+        // The share of a limit the command used (0 without limits: only a scaled clock reads
+        // it, and it needs limits).
+        let share = limits.as_ref().map_or(0.0, |l| {
+            command
                 .iter()
                 .zip(l.iter())
-                .fold(0.0, |m: f64, (u, l)| m.max(u.abs() / l));
-            clock.advance(dt, share);
-        }
+                .fold(0.0, |m: f64, (u, l)| m.max(u.abs() / l))
+        });
+        clock.advance(dt, share);
         (q, v) = hold(
             s,
             plant,

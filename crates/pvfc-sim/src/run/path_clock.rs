@@ -3,9 +3,10 @@
 //! [`SpeedScaling`]).
 
 use crate::error::{Result, SimError};
+use crate::model::pace::PACE_KNOTS;
 use crate::scenario::{BaselineSpec, Scenario};
 use crate::trace::{SCALED_SUFFIX, TIMED_SUFFIX};
-use pvfc_core::pace::PaceThrottle;
+use pvfc_core::pace::{PaceProfile, PaceTable, PaceThrottle};
 
 /// The clock of a scenario's tracker at `tau_rate`, and its trace's suffix: the timed
 /// tracker's, or (`scaled`) the speed-scaling tracker's of `[baseline.speed_scaling]` (which
@@ -39,14 +40,17 @@ pub(crate) fn tracker_clock(
 }
 
 /// The path time of a tracker and its rates.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct PathClock {
     tau0: f64,
     rate: f64,
     /// The scaling `s` (the core's pace throttle: the same rule as PVFC's) and its last
-    /// target, and the path time reached (scaled clock only).
+    /// target (scaled clock only).
     scaling: Option<PaceThrottle<f64>>,
     target: f64,
+    /// The rate's profile along the contour, `τ̇ = rate · σ(τ)` (a part program's feeds).
+    profile: Option<Box<PaceTable<f64, PACE_KNOTS>>>,
+    /// The path time reached (scaled or profiled clock).
     tau: f64,
 }
 
@@ -58,6 +62,7 @@ impl PathClock {
             rate,
             scaling: None,
             target: 1.0,
+            profile: None,
             tau: tau0,
         }
     }
@@ -70,28 +75,58 @@ impl PathClock {
         }
     }
 
-    /// `(τ, τ̇, τ̈)` at time `t` (the scaled clock: where its steps have brought it; `τ̈` from
-    /// the scaling's rate towards its last target).
-    pub(crate) fn at(&self, t: f64) -> (f64, f64, f64) {
+    /// This clock at `τ̇ = level · σ(τ)` (times its scaling, if any) in place of its rate: a
+    /// part program's feeds, `profile` the rates asked for ÷ `level`.
+    pub(crate) fn following(self, profile: PaceTable<f64, PACE_KNOTS>, level: f64) -> Self {
+        PathClock {
+            rate: level,
+            profile: Some(Box::new(profile)),
+            ..self
+        }
+    }
+
+    /// The scaling `s` and its rate `ṡ` towards its last target (1 and 0 unscaled).
+    fn scale(&self) -> (f64, f64) {
         match &self.scaling {
-            None => (self.tau0 + self.rate * t, self.rate, 0.0),
-            Some(c) => (
+            Some(c) => (c.scale(), (self.target - c.scale()) / c.time_constant()),
+            None => (1.0, 0.0),
+        }
+    }
+
+    /// `(τ, τ̇, τ̈)` at time `t` (a scaled or profiled clock: where its steps have brought
+    /// it; `τ̈` from the scaling's rate towards its last target and the profile's slope).
+    pub(crate) fn at(&self, t: f64) -> (f64, f64, f64) {
+        match (&self.scaling, &self.profile) {
+            (None, None) => (self.tau0 + self.rate * t, self.rate, 0.0),
+            (Some(c), None) => (
                 self.tau,
                 self.rate * c.scale(),
                 self.rate * (self.target - c.scale()) / c.time_constant(),
             ),
+            (_, Some(p)) => {
+                let (s, ds) = self.scale();
+                let (sigma, dsigma) = p.pace(self.tau);
+                let rate = self.rate * s * sigma;
+                (self.tau, rate, self.rate * (ds * sigma + s * dsigma * rate))
+            }
         }
     }
 
     /// Advances over `dt` after a command that used `share` of a limit at most
     /// (`max_i |T_i|/L_i`, before the drive clamps it).
     pub(crate) fn advance(&mut self, dt: f64, share: f64) {
-        let Some(c) = self.scaling.as_mut() else {
-            return;
+        let s = match self.scaling.as_mut() {
+            Some(c) => {
+                self.target = c.target(share);
+                c.update(share, dt)
+            }
+            None if self.profile.is_some() => 1.0,
+            None => return,
         };
-        self.target = c.target(share);
-        let s = c.update(share, dt);
-        self.tau += self.rate * s * dt;
+        match &self.profile {
+            Some(p) => self.tau += self.rate * s * p.pace(self.tau).0 * dt,
+            None => self.tau += self.rate * s * dt,
+        }
     }
 }
 
