@@ -62,9 +62,7 @@ UR5 = {
 PANDA = {**UR5, "coulomb": [1.5, 1.5, 1.5, 1.5, 0.8, 0.8, 0.8]}
 SETTINGS: Dict[str, dict] = {
     "scara_circle": {**SCARA, "base": "scara_circle_saturated.toml"},
-    # Open (issue 51): on the heaviest plants PVFC nearly stops once a lap, at one corner of
-    # the curve (least τ̇ 0.08 of its mean): reported, not checked.
-    "scara_lissajous": {**SCARA, "base": "scara_lissajous_saturated.toml", "open": ["never stops"]},
+    "scara_lissajous": {**SCARA, "base": "scara_lissajous_saturated.toml"},
     "ur5_rectangle": {**UR5, "base": "ur5_rectangle_saturated.toml"},
     "ur5_circle": {**UR5, "base": "ur5_circle_saturated.toml"},
     "panda_circle": {**PANDA, "base": "panda_circle_saturated.toml"},

@@ -220,7 +220,7 @@ fn the_core_example_controller_is_the_scenarios() {
     assert_eq!(a.field().navigation(), b.field().navigation());
     assert_eq!(a.field().pacing(), b.field().pacing().pacing());
     assert!(
-        b.field().pacing().profile().profile().is_none(),
+        b.field().pacing().profile().profile().profile().is_none(),
         "the paper's uniform pace"
     );
     assert_eq!(a.field().convention(), b.field().convention());

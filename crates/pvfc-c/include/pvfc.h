@@ -213,6 +213,19 @@ typedef struct pvfc_passive_options {
   double pace_throttle_threshold;
   // The least scale of the pace, in (0, 1].
   double pace_throttle_floor;
+  // The learned pace's target (needs `torque_limit` and a pace planned along a closed
+  // contour): the pace of each 64th of the period rises, lap over lap, while the command's
+  // peak share of a limit there stays below it, in (0, 1]. 0: no learning.
+  double pace_learning_target;
+  // The largest fraction a stretch's pace falls in one lap where the command passed a
+  // limit, in [0, 1).
+  double pace_learning_fall;
+  // The largest fraction a stretch's pace rises in one lap (≥ 0).
+  double pace_learning_rise;
+  // The largest difference between neighbouring stretches' scales, in (0, 1].
+  double pace_learning_slope;
+  // The least scale of the planned pace, in (0, 1].
+  double pace_learning_floor;
 } pvfc_passive_options;
 
 // The energy account of one passive step (J).

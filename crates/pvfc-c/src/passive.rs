@@ -4,7 +4,7 @@ use crate::args::*;
 use crate::controller::pvfc_controller;
 use crate::status::*;
 use pvfc_control::model::arm::{PassiveArm, PassiveOptions, SupervisionOptions};
-use pvfc_control::model::pace::SpeedScaling;
+use pvfc_control::model::pace::{PaceLearningSpec, SpeedScaling};
 use pvfc_core::supervision::Fault;
 
 /// The options of the passive digital controller. Get them from
@@ -45,6 +45,19 @@ pub struct pvfc_passive_options {
     pub pace_throttle_threshold: f64,
     /// The least scale of the pace, in (0, 1].
     pub pace_throttle_floor: f64,
+    /// The learned pace's target (needs `torque_limit` and a pace planned along a closed
+    /// contour): the pace of each 64th of the period rises, lap over lap, while the command's
+    /// peak share of a limit there stays below it, in (0, 1]. 0: no learning.
+    pub pace_learning_target: f64,
+    /// The largest fraction a stretch's pace falls in one lap where the command passed a
+    /// limit, in [0, 1).
+    pub pace_learning_fall: f64,
+    /// The largest fraction a stretch's pace rises in one lap (≥ 0).
+    pub pace_learning_rise: f64,
+    /// The largest difference between neighbouring stretches' scales, in (0, 1].
+    pub pace_learning_slope: f64,
+    /// The least scale of the planned pace, in (0, 1].
+    pub pace_learning_floor: f64,
 }
 
 /// Default passive options: no limits, exact positions, no filter, no reserve.
@@ -64,6 +77,11 @@ pub extern "C" fn pvfc_passive_options_default() -> pvfc_passive_options {
         pace_throttle_time_constant: 0.0,
         pace_throttle_threshold: 0.8,
         pace_throttle_floor: 0.05,
+        pace_learning_target: 0.0,
+        pace_learning_fall: 0.3,
+        pace_learning_rise: 0.1,
+        pace_learning_slope: 0.03,
+        pace_learning_floor: 0.2,
     }
 }
 
@@ -178,6 +196,13 @@ pub unsafe extern "C" fn pvfc_passive_new(
                 threshold: o.pace_throttle_threshold,
                 time_constant: o.pace_throttle_time_constant,
                 floor: o.pace_throttle_floor,
+            }),
+            pace_learning: (o.pace_learning_target != 0.0).then_some(PaceLearningSpec {
+                target: o.pace_learning_target,
+                fall: o.pace_learning_fall,
+                rise: o.pace_learning_rise,
+                slope: o.pace_learning_slope,
+                floor: o.pace_learning_floor,
             }),
         };
         let p = c.passive(&options)?;

@@ -259,6 +259,17 @@ where
         self.law.set_pace_scale(scale)
     }
 
+    /// Lets the field's pace learn from a step at `τ` ([`PvfcLaw::learn_pace`]).
+    pub fn learn_pace(
+        &mut self,
+        tau: T,
+        share: T,
+        dt: T,
+        rule: &crate::pace::PaceLearning<T>,
+    ) -> bool {
+        self.law.learn_pace(tau, share, dt, rule)
+    }
+
     /// The full augmented torque at a full augmented state (coupling + add-ons), and the
     /// coupling output: a pure function.
     pub fn evaluate(

@@ -235,6 +235,17 @@ where
         self.field.set_pace_scale(scale)
     }
 
+    /// Lets the field's pace learn ([`VelocityField::learn_pace`]).
+    pub fn learn_pace(
+        &mut self,
+        tau: T,
+        share: T,
+        dt: T,
+        rule: &crate::pace::PaceLearning<T>,
+    ) -> bool {
+        self.field.learn_pace(tau, share, dt, rule)
+    }
+
     /// The flywheel.
     pub fn flywheel(&self) -> &Flywheel<T> {
         &self.flywheel

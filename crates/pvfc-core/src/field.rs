@@ -343,6 +343,13 @@ pub trait VelocityField<T: Real, G: LieGroup<T, D>, const D: usize> {
         let _ = scale;
         false
     }
+
+    /// Lets the field's pace learn from a step at `τ` whose command used `share` of a limit
+    /// over `dt`; `true` when it did. The default does not.
+    fn learn_pace(&mut self, tau: T, share: T, dt: T, rule: &crate::pace::PaceLearning<T>) -> bool {
+        let _ = (tau, share, dt, rule);
+        false
+    }
 }
 
 impl<T, G, X, N, S, const D: usize, O> VelocityField<T, G, D>
@@ -367,5 +374,9 @@ where
 
     fn set_pace_scale(&mut self, scale: T) -> bool {
         self.pacing.set_pace_scale(scale)
+    }
+
+    fn learn_pace(&mut self, tau: T, share: T, dt: T, rule: &crate::pace::PaceLearning<T>) -> bool {
+        self.pacing.learn_pace(tau, share, dt, rule)
     }
 }

@@ -44,6 +44,13 @@ pub trait SelfPacing<T: Real> {
         let _ = scale;
         false
     }
+
+    /// Lets the pace learn from a step at `τ` whose command used `share` of a limit (a
+    /// [`crate::pace::LearnedPace`] profile); `true` when it did. The default does not.
+    fn learn_pace(&mut self, tau: T, share: T, dt: T, rule: &crate::pace::PaceLearning<T>) -> bool {
+        let _ = (tau, share, dt, rule);
+        false
+    }
 }
 
 /// Eq. (21): `λ₁ = exp(−R U)`, `λ₂ = 2 − exp(−R U)`. `R = 0` turns self-pacing off

@@ -237,6 +237,8 @@ pub struct PassiveController<T: Real, G, Sys, F, const D: usize> {
     candidate: Option<Candidate<T, G>>,
     /// The pace scaled on the torque margin, if any.
     throttle: Option<PaceThrottle<T>>,
+    /// The rule by which the field's pace learns from the torque margin, if it does.
+    learning: Option<crate::pace::PaceLearning<T>>,
 }
 
 /// A reading rejected where the joint at fault had not moved since the reading before (an
@@ -282,6 +284,7 @@ where
             frozen: None,
             candidate: None,
             throttle: None,
+            learning: None,
             last_diagnostics: Diagnostics {
                 potential: T::zero(),
                 lambda1: T::zero(),
@@ -331,6 +334,40 @@ where
         }
         self.throttle = Some(throttle);
         Ok(self)
+    }
+
+    /// Lets the field's pace learn lap over lap from the torque margin this controller
+    /// measures, by `rule` ([`crate::pace::LearnedPace`]): at every step the largest share of
+    /// a limit the unclamped command uses goes to the field
+    /// ([`VelocityField::learn_pace`]).
+    ///
+    /// Errors: `InvalidParameter` without torque limits, or for a field with no pace to
+    /// learn (a `Paced` pacing whose profile holds a
+    /// [`LearnedPace`](crate::pace::LearnedPace) made `periodic` has one).
+    pub fn with_pace_learning(mut self, rule: crate::pace::PaceLearning<T>) -> Result<Self> {
+        if self.limits.is_none() {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "PassiveController: a learned pace reads the torque limits: set them first",
+            ));
+        }
+        // A reading of no share over no time records nothing; the field says whether it
+        // learns.
+        let tau = self.controller.state().tau;
+        if !self.controller.learn_pace(tau, T::zero(), T::zero(), &rule) {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "PassiveController: the field has no pace to learn (a pace profile planned \
+                 along a closed contour, in a LearnedPace with its period, has)",
+            ));
+        }
+        self.learning = Some(rule);
+        Ok(self)
+    }
+
+    /// The rule by which the field's pace learns, if it does.
+    pub fn pace_learning(&self) -> Option<&crate::pace::PaceLearning<T>> {
+        self.learning.as_ref()
     }
 
     /// The pace throttle, if any (its scale is the one the next step's torque uses).
@@ -571,9 +608,9 @@ where
         let mut command = torque.robot;
         let mut saturated = false;
         // The throttle's next scale, from the share of a limit the command uses unclamped.
-        let pace = match (&self.throttle, &self.limits) {
-            (Some(throttle), Some(limits)) => {
-                let share = command
+        let share = match &self.limits {
+            Some(limits) if self.throttle.is_some() || self.learning.is_some() => Some(
+                command
                     .iter()
                     .zip(limits.iter())
                     .fold(T::zero(), |m, (u, l)| {
@@ -583,9 +620,12 @@ where
                         } else {
                             m
                         }
-                    });
-                Some((throttle.scale(), throttle.next(share, dt)))
-            }
+                    }),
+            ),
+            _ => None,
+        };
+        let pace = match (&self.throttle, share) {
+            (Some(throttle), Some(share)) => Some((throttle.scale(), throttle.next(share, dt))),
             _ => None,
         };
         if let Some(limits) = &self.limits {
@@ -635,6 +675,9 @@ where
             throttle.set_scale(scale);
             // The field took this scale when the throttle was set; it takes any in (0, 1].
             self.controller.set_pace_scale(throttle.scale());
+        }
+        if let (Some(rule), Some(share)) = (&self.learning, share) {
+            self.controller.learn_pace(state.tau, share, dt, rule);
         }
         self.storage = storage;
         self.velocity_estimate = velocity_estimate;

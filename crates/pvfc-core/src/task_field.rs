@@ -533,4 +533,8 @@ where
     fn set_pace_scale(&mut self, scale: T) -> bool {
         self.pacing.set_pace_scale(scale)
     }
+
+    fn learn_pace(&mut self, tau: T, share: T, dt: T, rule: &crate::pace::PaceLearning<T>) -> bool {
+        self.pacing.learn_pace(tau, share, dt, rule)
+    }
 }

@@ -9,7 +9,7 @@ use pvfc_core::passive::PassiveController;
 use pvfc_core::prelude::*;
 
 mod common;
-use common::held::{kinetic, plant};
+use common::held::{held_balance, plant};
 
 type Pacing = Paced<ExponentialPacing<f64>, Throttled<f64, UniformPace>>;
 type Field =
@@ -58,21 +58,14 @@ proptest! {
         warm in 0usize..20,
     ) {
         let mut ctl = throttled(limit, 100.0);
-        let (mut q0, mut v0) = (Torus::new(Vector2::from(q)), Vector2::from(v));
-        // Some periods first, so that the throttle has moved.
-        for _ in 0..warm {
-            let out = ctl.step(&q0, Some(&v0), None, h).unwrap();
-            (q0, v0) = plant(q0, v0, out.torque, h, 20);
-        }
-        let first = ctl.step(&q0, Some(&v0), None, h).unwrap();
-        let s0 = first.energy.storage;
-        let (q1, v1) = plant(q0, v0, first.torque, h, 200);
-        let second = ctl.step(&q1, Some(&v1), None, h).unwrap();
-        let before = kinetic(&q0, &v0) + s0;
-        let after = kinetic(&q1, &v1) + second.energy.storage;
-        let residual = after - before - second.energy.add_ons;
+        let mut step = |q: &Torus<f64, 2>, v: &Vector2<f64>, h: f64| {
+            let out = ctl.step(q, Some(v), None, h).unwrap();
+            (out.torque, out.energy.storage, out.energy.add_ons)
+        };
+        let (q0, v0) = (Torus::new(Vector2::from(q)), Vector2::from(v));
+        let (residual, before) = held_balance(&mut step, q0, v0, h, warm);
         prop_assert!(residual.abs() <= 1e-9 * (1.0 + before), "residual {residual:e} of {before}");
-        let s = second.pace_scale;
+        let s = ctl.pace_throttle().unwrap().scale();
         prop_assert!((0.05..=1.0).contains(&s), "scale {s}");
     }
 }

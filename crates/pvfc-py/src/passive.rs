@@ -14,7 +14,7 @@ use pvfc_core::supervision::Fault;
 use pvfc_sim::model::arm::{
     ArmController as SimArm, PassiveArm, PassiveOptions, SupervisionOptions,
 };
-use pvfc_sim::model::pace::SpeedScaling;
+use pvfc_sim::model::pace::{PaceLearningSpec, SpeedScaling};
 use pvfc_sim::scenario::PaperPassiveController;
 use pvfc_sim::scenario::System;
 use pyo3::exceptions::PyTypeError;
@@ -46,6 +46,12 @@ enum Inner {
 /// pace is slowed on the torque margin: while the command uses more than `threshold` of a
 /// limit, the pace's scale falls towards 0 (never below `floor`) with the time constant (s),
 /// and it comes back to 1 when the margin returns (`pace_scale`). Passivity is untouched.
+///
+/// With `pace_learning=(target, fall, rise, slope, floor)` (and torque limits, on a controller
+/// whose pace is planned along a closed contour) the pace is learned lap over lap: each 64th
+/// of the period slows where the command passed a limit (at most `fall` a lap), speeds up
+/// where its peak share of a limit stayed below `target` (at most `rise` a lap), within
+/// `slope` of its neighbours and `[floor, 1]` of the plan.
 #[pyclass(module = "pvfc")]
 pub(crate) struct PassiveController {
     ctl: Inner,
@@ -61,7 +67,7 @@ fn pair(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vector2<f64>> {
 #[pymethods]
 impl PassiveController {
     #[new]
-    #[pyo3(signature = (controller, torque_limit=None, encoder_resolution=None, velocity_filter=None, reserve=None, max_speed=None, max_acceleration=None, period=None, pace_throttle=None))]
+    #[pyo3(signature = (controller, torque_limit=None, encoder_resolution=None, velocity_filter=None, reserve=None, max_speed=None, max_acceleration=None, period=None, pace_throttle=None, pace_learning=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         controller: &Bound<'_, PyAny>,
@@ -73,6 +79,7 @@ impl PassiveController {
         max_acceleration: Option<&Bound<'_, PyAny>>,
         period: Option<(f64, f64)>,
         pace_throttle: Option<(f64, f64, f64)>,
+        pace_learning: Option<(f64, f64, f64, f64, f64)>,
     ) -> PyResult<Self> {
         let overrides = Overrides {
             torque_limit,
@@ -84,6 +91,15 @@ impl PassiveController {
                 threshold,
                 time_constant,
                 floor,
+            }),
+            pace_learning: pace_learning.map(|(target, fall, rise, slope, floor)| {
+                PaceLearningSpec {
+                    target,
+                    fall,
+                    rise,
+                    slope,
+                    floor,
+                }
             }),
         };
         let ctl = if let Ok(scenario) = controller.cast::<Scenario>() {
@@ -275,6 +291,8 @@ struct Overrides<'a, 'py> {
     supervision: SupervisionArgs<'a, 'py>,
     /// `pace_throttle`: `(threshold, time_constant, floor)`.
     pace_throttle: Option<SpeedScaling>,
+    /// `pace_learning`: `(target, fall, rise, slope, floor)`.
+    pace_learning: Option<PaceLearningSpec>,
 }
 
 /// The supervision's arguments: `max_speed`, `max_acceleration`, `period`.
@@ -338,6 +356,9 @@ fn arm(ctl: &SimArm, mut base: PassiveOptions, o: &Overrides<'_, '_>) -> PyResul
     if let Some(t) = o.pace_throttle {
         base.pace_throttle = Some(t);
     }
+    if let Some(l) = o.pace_learning {
+        base.pace_learning = Some(l);
+    }
     ctl.passive(&base).map_err(sim_err)
 }
 
@@ -368,6 +389,11 @@ fn scara(
     if let Some(t) = o.pace_throttle {
         ctl = ctl
             .with_pace_throttle(t.throttle("pace_throttle").map_err(sim_err)?)
+            .map_err(core_err)?;
+    }
+    if let Some(l) = o.pace_learning {
+        ctl = ctl
+            .with_pace_learning(l.rule("pace_learning").map_err(sim_err)?)
             .map_err(core_err)?;
     }
     Ok(ctl)

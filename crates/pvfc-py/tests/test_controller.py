@@ -217,7 +217,8 @@ def test_a_throttled_pace_slows_on_the_torque_margin_as_the_scenario_runs() -> N
     its pace slows below 1 where the drive nears its limit. `pace_throttle=` sets it on a
     controller; it needs torque limits, and a bad setting is a named error."""
     d = pvfc.Scenario.from_file(ROOT / "examples" / "studies" / "bases" / "scara_circle_saturated.toml").to_dict()
-    assert d["controller"]["passive"]["pace_throttle"]["threshold"] == 0.97
+    del d["controller"]["passive"]["pace_learning"]
+    d["controller"]["passive"]["pace_throttle"] = {"threshold": 0.97, "time_constant": 2.0, "floor": 0.05}
     d["duration"] = 3.0
     d["plant"]["friction"]["coulomb"] = [2.5, 4.2]
     s = pvfc.Scenario.from_dict(d, base_dir=ROOT / "examples" / "studies" / "bases")
@@ -239,6 +240,38 @@ def test_a_throttled_pace_slows_on_the_torque_margin_as_the_scenario_runs() -> N
         pvfc.PassiveController(pvfc.Controller(s), pace_throttle=t)
     with pytest.raises(pvfc.PvfcError, match="threshold"):
         pvfc.PassiveController(s, pace_throttle=(1.0, 0.1, 0.1))
+
+
+def test_a_learned_pace_is_the_runs_and_learns_from_the_torque_margin() -> None:
+    """`[controller.passive.pace_learning]` (the fair study's Lissajous curve on its heaviest
+    plant) is what `PassiveController(scenario)` does at the run's samples, to the bit;
+    `pace_learning=` sets the same rule on a controller. It needs torque limits, and a bad
+    setting is a named error."""
+    bases = ROOT / "examples" / "studies" / "bases"
+    d = pvfc.Scenario.from_file(bases / "scara_lissajous_saturated.toml").to_dict()
+    rule = d["controller"]["passive"]["pace_learning"]
+    d["duration"] = 8.0
+    d["plant"]["mass_scale"] = [1.01, 1.14]
+    d["plant"]["friction"]["coulomb"] = [2.2, 3.71]
+    s = pvfc.Scenario.from_dict(d, base_dir=bases)
+    r = pvfc.simulate(s)
+    p = pvfc.PassiveController(s)
+    t = tuple(rule[k] for k in ("target", "fall", "rise", "slope", "floor"))
+    c = pvfc.PassiveController(pvfc.Controller(s), torque_limit=[15.0, 5.0], pace_learning=t)
+    plain = pvfc.PassiveController(pvfc.Controller(s), torque_limit=[15.0, 5.0])
+    worst = apart = 0.0
+    for k in range(len(r) - 1):
+        u = p.step(r.q[k], r.qdot[k], 1e-3)
+        worst = max(worst, float(np.abs(u - r.torque[k]).max()))
+        worst = max(worst, float(np.abs(c.step(r.q[k], r.qdot[k], 1e-3) - u).max()))
+        apart = max(apart, float(np.abs(plain.step(r.q[k], r.qdot[k], 1e-3) - u).max()))
+    assert worst == 0.0
+    # After the first lap the learned pace is not the planned one.
+    assert apart > 0.1
+    with pytest.raises(pvfc.PvfcError, match="torque limits"):
+        pvfc.PassiveController(pvfc.Controller(s), pace_learning=t)
+    with pytest.raises(pvfc.PvfcError, match="pace_learning.fall"):
+        pvfc.PassiveController(s, pace_learning=(1.0, 1.0, 0.1, 0.03, 0.2))
 
 
 def replayed(s: pvfc.Scenario, counts: Optional[float]) -> float:

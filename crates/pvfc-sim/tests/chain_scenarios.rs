@@ -130,6 +130,7 @@ fn a_urdf_arm_runs_with_the_passive_digital_controller() {
         reserve: 0.0,
         supervision: None,
         pace_throttle: None,
+        pace_learning: None,
     });
     s.validate().unwrap();
     let t = simulate(&s, &mut |_| {}).unwrap();

@@ -34,6 +34,7 @@ fn scenario(filter: f64, positions_only: bool, nominal: Option<f64>) -> Scenario
         reserve: 0.0,
         supervision: None,
         pace_throttle: None,
+        pace_learning: None,
     });
     s.controller.nominal_speed = nominal.map(|c| NominalSpeedSpec {
         c,

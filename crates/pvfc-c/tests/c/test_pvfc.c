@@ -251,6 +251,22 @@ int main(int argc, char **argv) {
     CHECK(pvfc_passive_pace_scale(passive) == 1.0);
     CHECK(isnan(pvfc_passive_pace_scale(NULL)));
     pvfc_passive_destroy(thr);
+    /* The learned pace: it needs torque limits, a pace planned along a closed contour
+     * (this controller has none), and a rule in range. */
+    pvfc_passive_options learned = pvfc_passive_options_default();
+    learned.pace_learning_target = 1.0;
+    thr = NULL;
+    CHECK_ERROR(pvfc_passive_new(ctl, &learned, &thr), PVFC_ERROR_INVALID_ARGUMENT,
+                "torque_limit");
+    learned.torque_limit = weak;
+    learned.n = DOF;
+    learned.pace_learning_fall = 1.0;
+    CHECK_ERROR(pvfc_passive_new(ctl, &learned, &thr), PVFC_ERROR_INVALID_ARGUMENT,
+                "pace_learning.fall");
+    learned.pace_learning_fall = 0.3;
+    CHECK_ERROR(pvfc_passive_new(ctl, &learned, &thr), PVFC_ERROR_INVALID_ARGUMENT,
+                "no pace to learn");
+    CHECK(thr == NULL);
   }
 
   /* Dynamics: M symmetric, rnea(q, v, 0) = C v + g. */
@@ -356,6 +372,18 @@ int main(int argc, char **argv) {
     memcpy(q6, seed, sizeof q6);
     pvfc_diagnostics dd;
     CHECK(pvfc_controller_step(deburr, q6, v6, DOF, 1e-3, t6, DOF, &dd) == PVFC_OK);
+    /* Its pace is planned along a closed path: the passive controller can learn it. */
+    {
+      const double drives[DOF] = {150, 150, 150, 28, 28, 28};
+      pvfc_passive_options learned = pvfc_passive_options_default();
+      learned.torque_limit = drives;
+      learned.n = DOF;
+      learned.pace_learning_target = 1.0;
+      pvfc_passive *lp = NULL;
+      CHECK(pvfc_passive_new(deburr, &learned, &lp) == PVFC_OK);
+      CHECK(pvfc_passive_step(lp, q6, v6, NULL, DOF, 1e-3, t6, DOF, NULL) == PVFC_OK);
+      pvfc_passive_destroy(lp);
+    }
     pvfc_controller_destroy(deburr);
     pvfc_contour_destroy(part);
     FILE *f = fopen("target/c/bracket_without_feeds.nc", "w");

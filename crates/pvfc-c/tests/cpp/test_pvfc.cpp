@@ -211,6 +211,25 @@ TEST(Passive, AThrottledPaceSlowsOnWeakDrives) {
   EXPECT_THROW(pvfc::PassiveController(ctl, o), pvfc::InvalidArgumentError);
 }
 
+TEST(Passive, APaceIsLearnedOnlyWhereOneIsPlannedAlongAClosedContour) {
+  const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
+  // Waypoints at a uniform pace: no planned pace to learn, a named error.
+  const pvfc::Controller ctl = pvfc::Controller::waypoints(robot, kWaypoints, 1.5, {}, settings());
+  const std::array<double, 6> drives = {150, 150, 150, 28, 28, 28};
+  pvfc::PassiveOptions o;
+  o.torque_limit = drives.data();
+  o.n = drives.size();
+  o.pace_learning_target = 1.0;
+  try {
+    pvfc::PassiveController p(ctl, o);
+    ADD_FAILURE() << "a controller without a planned pace learned one";
+  } catch (const pvfc::InvalidArgumentError &e) {
+    EXPECT_NE(std::string(e.what()).find("no pace to learn"), std::string::npos) << e.what();
+  }
+  o.pace_learning_slope = 0.0;
+  EXPECT_THROW(pvfc::PassiveController(ctl, o), pvfc::InvalidArgumentError);
+}
+
 TEST(Passive, AFaultIsTheSafeTorqueNotAnException) {
   const pvfc::Robot robot = pvfc::Robot::from_urdf_file(ur5_urdf(), "tool0");
   const pvfc::Controller ctl = pvfc::Controller::waypoints(robot, kWaypoints, 1.5, {}, settings());

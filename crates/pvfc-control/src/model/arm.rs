@@ -9,7 +9,8 @@ use crate::model::arm_field::{ArmField, FieldSpec};
 use crate::model::evaluation::Evaluation;
 pub use crate::model::joint_contour::{DynJointContour, JointContour, JointContourSpec};
 use crate::model::pace::{
-    energy_for_pace, uniform_pacing, DriveFriction, PaceSettings, SpeedScaling,
+    energy_for_pace, set_pace_table, uniform_pacing, DriveFriction, PaceLearningSpec, PaceSettings,
+    SpeedScaling,
 };
 use crate::model::robot::{ChainModel, Robot};
 use nalgebra::SVector;
@@ -214,7 +215,7 @@ pub fn arm_controller<const N: usize>(
         if energy == 0.0 {
             energy = energy_for_pace(&chain, &contour, &table, period);
         }
-        *pacing.profile_mut().profile_mut() = Some(table);
+        set_pace_table(&mut pacing, table, period)?;
     }
     if energy == 0.0 {
         return Err(setting(
@@ -484,6 +485,9 @@ pub struct PassiveOptions {
     /// The field's pace scaled on the torque margin (needs `torque_limit`); `None`: the
     /// pace as planned.
     pub pace_throttle: Option<SpeedScaling>,
+    /// The field's pace learned lap over lap on the torque margin (needs `torque_limit` and
+    /// a pace planned on a closed contour); `None`: the pace as planned.
+    pub pace_learning: Option<PaceLearningSpec>,
 }
 
 /// The bounds of [`Supervision`] as plain data: what a reading can be, for the passive
@@ -577,6 +581,15 @@ impl PassiveOptions {
                 ));
             }
             p = p.with_pace_throttle(t.throttle("pace_throttle")?)?;
+        }
+        if let Some(l) = &self.pace_learning {
+            let rule = l.rule("pace_learning")?;
+            if self.torque_limit.is_none() {
+                return Err(SimError::Setting(
+                    "pace_learning reads the drives' limits: give torque_limit".into(),
+                ));
+            }
+            p = p.with_pace_learning(rule)?;
         }
         Ok(p)
     }

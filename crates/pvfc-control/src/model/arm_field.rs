@@ -69,6 +69,19 @@ impl<const N: usize> VelocityField<f64, JointSpace<f64, N>, N> for ArmField<N> {
         }
     }
 
+    fn learn_pace(
+        &mut self,
+        tau: f64,
+        share: f64,
+        dt: f64,
+        rule: &pvfc_core::pace::PaceLearning<f64>,
+    ) -> bool {
+        match self {
+            ArmField::Joint(f) => f.learn_pace(tau, share, dt, rule),
+            ArmField::Task { field, .. } => field.learn_pace(tau, share, dt, rule),
+        }
+    }
+
     #[inline(always)]
     fn sample(
         &self,

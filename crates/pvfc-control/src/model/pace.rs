@@ -7,7 +7,9 @@ use crate::error::{Result, SimError};
 use crate::model::feeds::FeedProfile;
 use pvfc_core::contour::{Contour, VectorGroup};
 use pvfc_core::mechanics::MechanicalSystem;
-use pvfc_core::pace::{drive_limited_rates, DriveLimits, PaceProfile, PaceTable, Paced, Throttled};
+use pvfc_core::pace::{
+    drive_limited_rates, DriveLimits, LearnedPace, PaceProfile, PaceTable, Paced, Throttled,
+};
 use pvfc_core::pacing::ExponentialPacing;
 
 /// The knots of a controller's pace profile.
@@ -19,9 +21,27 @@ pub const PACE_GRID: usize = 16 * PACE_KNOTS;
 /// A controller's pace profile: none (the paper's uniform pace) or a table.
 pub type PaceProfileTable = Option<PaceTable<f64, PACE_KNOTS>>;
 
+/// The knots of a learned pace ([`LearnedPace`]): a scale per 1/64 of the period.
+pub const LEARNED_KNOTS: usize = 64;
+
 /// The self-pacing of the simulator's fields: eq. (21) with an optional pace profile, which
-/// a [`pvfc_core::pace::PaceThrottle`] may scale on line.
-pub type FieldPacing = Paced<ExponentialPacing<f64>, Throttled<f64, PaceProfileTable>>;
+/// a [`pvfc_core::pace::PaceThrottle`] may scale on line and a passive controller may learn
+/// lap over lap ([`LearnedPace`]).
+pub type FieldPacing = Paced<
+    ExponentialPacing<f64>,
+    Throttled<f64, LearnedPace<f64, PaceProfileTable, LEARNED_KNOTS>>,
+>;
+
+/// Gives `pacing` the pace table `table` of a closed contour of period `period` (its scales,
+/// learned or not, back at 1).
+pub fn set_pace_table(
+    pacing: &mut FieldPacing,
+    table: PaceTable<f64, PACE_KNOTS>,
+    period: f64,
+) -> Result<()> {
+    *pacing.profile_mut().profile_mut() = LearnedPace::periodic(Some(table), period)?;
+    Ok(())
+}
 
 /// The speed asked for along the contour, on the contour at energy level 1.
 #[derive(Clone, Debug, PartialEq)]
@@ -309,7 +329,10 @@ pub fn lap_time(rates: &[f64], period: f64) -> f64 {
 
 /// Eq. (21)'s self-pacing with parameter `r`, at the uniform pace.
 pub fn uniform_pacing(r: f64) -> Result<FieldPacing> {
-    Ok(Paced::new(ExponentialPacing::new(r)?, Throttled::new(None)))
+    Ok(Paced::new(
+        ExponentialPacing::new(r)?,
+        Throttled::new(LearnedPace::new(None)),
+    ))
 }
 
 /// A speed scaling on the drives' torque margin, as plain data: the rule of
@@ -371,6 +394,60 @@ impl SpeedScaling {
         Ok(pvfc_core::pace::PaceThrottle::new(
             self.threshold,
             self.time_constant,
+            self.floor,
+        )?)
+    }
+}
+
+/// A pace learned lap over lap, as plain data: the rule of
+/// [`PaceLearning`](pvfc_core::pace::PaceLearning) (TOML
+/// `[controller.passive.pace_learning]`). Each of the [`LEARNED_KNOTS`] stretches of a closed
+/// contour's pace falls, once a lap, where the command passed a limit (by `√(1 + excess)`, at
+/// most `fall`), rises where its peak share of a limit stayed below `target` (by
+/// `√(target / peak)`, at most `rise`), and differs from its neighbours by at most `slope`,
+/// within `[floor, 1]` of the planned pace.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PaceLearningSpec {
+    /// The peak share of a limit below which a stretch's pace rises, in (0, 1].
+    pub target: f64,
+    /// The largest fraction a stretch's pace falls in one lap, in [0, 1).
+    pub fall: f64,
+    /// The largest fraction a stretch's pace rises in one lap (≥ 0).
+    pub rise: f64,
+    /// The largest difference between neighbouring stretches' scales, in (0, 1].
+    pub slope: f64,
+    /// The least scale of the planned pace, in (0, 1].
+    pub floor: f64,
+}
+
+impl PaceLearningSpec {
+    /// The core's rule (checked as `key`: a bound out of its range is named).
+    pub fn rule(&self, key: &str) -> Result<pvfc_core::pace::PaceLearning<f64>> {
+        let unit = |x: f64| x.is_finite() && x > 0.0 && x <= 1.0;
+        let bad = |what: &str, v: f64, range: &str| {
+            Err(SimError::Setting(format!("{key}.{what} = {v}: {range}")))
+        };
+        if !unit(self.target) {
+            return bad("target", self.target, "in (0, 1]");
+        }
+        if !(self.fall.is_finite() && (0.0..1.0).contains(&self.fall)) {
+            return bad("fall", self.fall, "in [0, 1)");
+        }
+        if !(self.rise.is_finite() && self.rise >= 0.0) {
+            return bad("rise", self.rise, "finite and ≥ 0");
+        }
+        if !unit(self.slope) {
+            return bad("slope", self.slope, "in (0, 1]");
+        }
+        if !unit(self.floor) {
+            return bad("floor", self.floor, "in (0, 1]");
+        }
+        Ok(pvfc_core::pace::PaceLearning::new(
+            self.target,
+            self.fall,
+            self.rise,
+            self.slope,
             self.floor,
         )?)
     }

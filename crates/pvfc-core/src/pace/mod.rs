@@ -23,10 +23,12 @@
 //! any [`SelfPacing`].
 
 pub mod drive_limits;
+pub mod learned;
 pub mod table;
 pub mod throttle;
 
 pub use drive_limits::{drive_limited_rates, DriveLimits};
+pub use learned::{LearnedPace, PaceLearning};
 pub use table::PaceTable;
 pub use throttle::{PaceThrottle, Throttled};
 
@@ -42,6 +44,13 @@ pub trait PaceProfile<T: Real> {
     /// `true` when it did. The default has no scale and refuses.
     fn set_scale(&mut self, scale: T) -> bool {
         let _ = scale;
+        false
+    }
+
+    /// Learns from a step at `τ` whose command used `share` of a limit, over `dt` (a
+    /// [`LearnedPace`]); `true` when it did. The default does not learn.
+    fn learn(&mut self, tau: T, share: T, dt: T, rule: &crate::pace::PaceLearning<T>) -> bool {
+        let _ = (tau, share, dt, rule);
         false
     }
 }
@@ -70,6 +79,10 @@ impl<T: Real, P: PaceProfile<T>> PaceProfile<T> for Option<P> {
     #[inline]
     fn set_scale(&mut self, scale: T) -> bool {
         self.as_mut().is_some_and(|p| p.set_scale(scale))
+    }
+
+    fn learn(&mut self, tau: T, share: T, dt: T, rule: &crate::pace::PaceLearning<T>) -> bool {
+        self.as_mut().is_some_and(|p| p.learn(tau, share, dt, rule))
     }
 }
 
@@ -132,5 +145,9 @@ impl<T: Real, S: SelfPacing<T>, P: PaceProfile<T>> SelfPacing<T> for Paced<S, P>
     #[inline]
     fn set_pace_scale(&mut self, scale: T) -> bool {
         self.profile.set_scale(scale)
+    }
+
+    fn learn_pace(&mut self, tau: T, share: T, dt: T, rule: &crate::pace::PaceLearning<T>) -> bool {
+        self.profile.learn(tau, share, dt, rule)
     }
 }

@@ -194,6 +194,10 @@ impl<T: Real, P: PaceProfile<T>> PaceProfile<T> for Throttled<T, P> {
         (sigma * self.scale, dsigma * self.scale)
     }
 
+    fn learn(&mut self, tau: T, share: T, dt: T, rule: &crate::pace::PaceLearning<T>) -> bool {
+        self.profile.learn(tau, share, dt, rule)
+    }
+
     /// Sets `s` when it is finite and in `(0, 1]`; `false` (and `s` unchanged) otherwise.
     fn set_scale(&mut self, scale: T) -> bool {
         if scale.is_finite() && scale > T::zero() && scale <= T::one() {

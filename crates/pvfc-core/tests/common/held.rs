@@ -34,3 +34,29 @@ pub fn plant(
 pub fn kinetic(q: &Torus<f64, 2>, v: &Vector2<f64>) -> f64 {
     Scara::<f64>::pelican().kinetic_energy(q, v)
 }
+
+/// A passive step at `(q, v)` over the period `h`: `(torque, storage, add-ons' work)`.
+pub type Step<'a> = dyn FnMut(&Torus<f64, 2>, &Vector2<f64>, f64) -> (Vector2<f64>, f64, f64) + 'a;
+
+/// `warm` periods of `h` (so that whatever the controller adapts has moved), then the
+/// balance of one held period: the kinetic energy plus the storage after, minus before, minus
+/// the add-ons' work, and the energy before.
+pub fn held_balance(
+    step: &mut Step<'_>,
+    q: Torus<f64, 2>,
+    v: Vector2<f64>,
+    h: f64,
+    warm: usize,
+) -> (f64, f64) {
+    let (mut q0, mut v0) = (q, v);
+    for _ in 0..warm {
+        let (u, _, _) = step(&q0, &v0, h);
+        (q0, v0) = plant(q0, v0, u, h, 20);
+    }
+    let (u, s0, _) = step(&q0, &v0, h);
+    let (q1, v1) = plant(q0, v0, u, h, 200);
+    let (_, s1, add_ons) = step(&q1, &v1, h);
+    let before = kinetic(&q0, &v0) + s0;
+    let after = kinetic(&q1, &v1) + s1;
+    (after - before - add_ons, before)
+}

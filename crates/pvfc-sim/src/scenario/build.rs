@@ -115,6 +115,17 @@ impl Scenario {
             self.simulation.plant_substeps,
         )?;
         self.plant.friction.validate()?;
+        let learns = self
+            .controller
+            .passive
+            .as_ref()
+            .and_then(|p| p.pace_learning.as_ref());
+        if learns.is_some() && self.controller.pace.is_none() {
+            return bad(
+                "controller.passive.pace_learning learns the pace planned along a closed \
+                 contour: set [controller.pace]",
+            );
+        }
         let init = &self.initial;
         if !init
             .q
@@ -580,7 +591,7 @@ impl Scenario {
             })?;
             let friction = self.controller.friction_compensation.as_deref();
             let table = p.profile(&Scara::new(*arm)?, &contour, period, friction, false)?;
-            *pacing.profile_mut().profile_mut() = Some(table);
+            crate::model::pace::set_pace_table(&mut pacing, table, period)?;
         }
         let field = SuspendedField::new(contour, navigation, pacing);
         let set = match &self.obstacles {

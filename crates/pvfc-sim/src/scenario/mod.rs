@@ -5,7 +5,7 @@ use crate::contact::ContactSpec;
 use crate::error::{Result, SimError};
 use crate::model::arm::{PassiveOptions, SupervisionOptions};
 use crate::model::feeds::FeedProfile;
-pub use crate::model::pace::SpeedScaling;
+pub use crate::model::pace::{PaceLearningSpec, SpeedScaling};
 use crate::model::pace::{PaceSettings, PathSpeed};
 use crate::plant::faults::FaultEvent;
 use pvfc_core::prelude::*;
@@ -246,6 +246,11 @@ pub struct PassiveSpec {
     /// the pace as planned.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pace_throttle: Option<SpeedScaling>,
+    /// `[controller.passive.pace_learning]`: the field's pace learned lap over lap on the
+    /// torque margin the controller measures (`pvfc_core::pace::learned`; needs
+    /// `torque_limit` and `[controller.pace]` on a closed contour); none: the pace as planned.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pace_learning: Option<PaceLearningSpec>,
 }
 
 impl PassiveSpec {
@@ -262,6 +267,7 @@ impl PassiveSpec {
             reserve: self.reserve,
             supervision: self.supervision.clone(),
             pace_throttle: self.pace_throttle,
+            pace_learning: self.pace_learning,
         })
     }
 
@@ -299,6 +305,12 @@ impl PassiveSpec {
             t.validate_as("controller.passive.pace_throttle")?;
             if self.torque_limit.is_empty() {
                 return bad("controller.passive.pace_throttle reads the drives' limits: set controller.passive.torque_limit");
+            }
+        }
+        if let Some(l) = &self.pace_learning {
+            l.rule("controller.passive.pace_learning")?;
+            if self.torque_limit.is_empty() {
+                return bad("controller.passive.pace_learning reads the drives' limits: set controller.passive.torque_limit");
             }
         }
         Ok(())
@@ -341,6 +353,9 @@ impl PassiveSpec {
         }
         if let Some(t) = &self.pace_throttle {
             c = c.with_pace_throttle(t.throttle("controller.passive.pace_throttle")?)?;
+        }
+        if let Some(l) = &self.pace_learning {
+            c = c.with_pace_learning(l.rule("controller.passive.pace_learning")?)?;
         }
         Ok(c)
     }

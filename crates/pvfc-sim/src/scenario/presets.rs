@@ -327,6 +327,7 @@ fn digital_drive() -> Scenario {
             reserve: 0.0,
             supervision: None,
             pace_throttle: None,
+            pace_learning: None,
         },
     );
     drive.name = PresetId::DigitalDrive.name();

@@ -1,0 +1,361 @@
+//! A pace learned lap over lap: per-stretch scales of a pace profile on a closed contour,
+//! each moved once a lap by what the drives' command did on its stretch.
+//!
+//! A closed contour repeats; where the drives saturated on one lap they will on the next at
+//! the same pace, and where they had margin they will again. Each of `K` evenly spaced knots
+//! `τ_k = k·P/K` of the period `P` keeps, while `τ` is nearest to it, the peak share
+//! `û_k = max u` and the mean excess `ē_k = ∫ max(0, u − 1) dt / ∫ dt` of the largest share
+//! `u = maxᵢ |Tᵢ| / Lᵢ` of a limit the (unclamped) command uses. When `τ` has left both
+//! stretches the knot's scale shapes, its scale `s_k` moves:
+//!
+//! - over a limit (`ē_k > 0`): `s_k ← s_k · max(1 − fall, 1/√(1 + ē_k))`: the pace asked
+//!   `1 + ē_k` of what the drive gives, and where inertia dominates the torque of a pace scaled
+//!   by `s` grows as `s²`;
+//! - under the target (`û_k < u₀`): `s_k ← s_k · min(1 + rise, √(u₀ / û_k))`;
+//! - in between it holds;
+//!
+//! within `[floor, 1]`, and no higher than a neighbour's scale plus `slope`; a knot that fell
+//! pulls its neighbours down to within `slope` of it, both ways round, so that the learned pace
+//! never asks for a sharper change than that (the braking into a slow stretch costs torque
+//! too). The knots of the stretch `τ` is in are never moved: the pace the robot follows does
+//! not jump.
+//!
+//! The pace is `σ(τ) · s(τ)`, `s` piecewise linear between the knots. Passivity does not
+//! depend on it: the coupling is workless for any field (eq. 27).
+
+use super::PaceProfile;
+use crate::error::{Error, ErrorKind, Result};
+use crate::scalar::cast;
+use crate::Real;
+
+/// The rule of a [`LearnedPace`] (see the [module](self) for what each bound does).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PaceLearning<T: Real> {
+    /// The peak share of a limit `u₀` below which a scale rises, in (0, 1].
+    pub target: T,
+    /// The largest fraction a scale falls in one lap, in [0, 1).
+    pub fall: T,
+    /// The largest fraction a scale rises in one lap (finite, ≥ 0).
+    pub rise: T,
+    /// The largest difference between the scales of neighbouring knots, in (0, 1].
+    pub slope: T,
+    /// The least scale, in (0, 1].
+    pub floor: T,
+}
+
+impl<T: Real> PaceLearning<T> {
+    /// The rule, checked: `InvalidParameter` for a bound outside its range.
+    pub fn new(target: T, fall: T, rise: T, slope: T, floor: T) -> Result<Self> {
+        let rule = PaceLearning {
+            target,
+            fall,
+            rise,
+            slope,
+            floor,
+        };
+        let unit = |x: T| x.is_finite() && x > T::zero() && x <= T::one();
+        let ok = unit(target)
+            && unit(slope)
+            && unit(floor)
+            && fall.is_finite()
+            && fall >= T::zero()
+            && fall < T::one()
+            && rise.is_finite()
+            && rise >= T::zero();
+        if ok {
+            Ok(rule)
+        } else {
+            Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "PaceLearning: target, slope and floor in (0, 1]; fall in [0, 1); rise finite \
+                 and ≥ 0",
+            ))
+        }
+    }
+}
+
+/// A pace profile `P` times per-stretch scales `s(τ)`, piecewise linear between `K` evenly
+/// spaced knots of a period, learned by [`PaceProfile::learn`]. Every scale starts at 1 (the
+/// profile unchanged); without a period ([`new`](Self::new)) it does not learn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LearnedPace<T: Real, P, const K: usize> {
+    profile: P,
+    /// The contour's period `P`, if it learns.
+    period: Option<T>,
+    scales: [T; K],
+    /// Per knot, over this lap's visit: the peak share, `∫ max(0, u − 1) dt` and `∫ dt`.
+    peaks: [T; K],
+    excess: [T; K],
+    time: [T; K],
+    /// The stretch `[τ_a, τ_{a+1})` of the last `τ` learned from (`K`: none yet).
+    current: usize,
+}
+
+impl<T: Real, P, const K: usize> LearnedPace<T, P, K> {
+    /// `profile` with every scale at 1, not learning.
+    pub fn new(profile: P) -> Self {
+        LearnedPace {
+            profile,
+            period: None,
+            scales: [T::one(); K],
+            peaks: [T::zero(); K],
+            excess: [T::zero(); K],
+            time: [T::zero(); K],
+            current: K,
+        }
+    }
+
+    /// `profile` with every scale at 1, learning over a closed contour of period `period`.
+    ///
+    /// Errors: `InvalidParameter` for a period that is not finite and > 0, or fewer than 3
+    /// knots.
+    pub fn periodic(profile: P, period: T) -> Result<Self> {
+        if !(period.is_finite() && period > T::zero() && K >= 3) {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "LearnedPace: the period must be finite and > 0, with at least 3 knots",
+            ));
+        }
+        let mut pace = Self::new(profile);
+        pace.period = Some(period);
+        Ok(pace)
+    }
+
+    /// The period it learns over, if any.
+    pub fn period(&self) -> Option<T> {
+        self.period
+    }
+
+    /// The scales at the knots `τ_k = k·P/K`.
+    pub fn scales(&self) -> &[T; K] {
+        &self.scales
+    }
+
+    /// The profile before scaling.
+    pub fn profile(&self) -> &P {
+        &self.profile
+    }
+
+    /// The profile before scaling, to replace it on line.
+    pub fn profile_mut(&mut self) -> &mut P {
+        &mut self.profile
+    }
+
+    /// `τ` in knot units within the period: `(a, f)` with `x = a + f`, `a < K`, `f ∈ [0, 1)`.
+    fn knot(period: T, tau: T) -> (usize, T) {
+        let n = cast::<T>(K as f64);
+        let x = tau / period * n;
+        let x = x - (x / n).floor() * n;
+        let a = x.floor();
+        let f = x - a;
+        let a = a.to_i64_checked().unwrap_or(0).rem_euclid(K as i64) as usize;
+        (a, f)
+    }
+
+    /// Moves knot `k`'s scale by what its stretch saw, then bounds its neighbours by the
+    /// slope, leaving alone the knots `a` and `a + 1` of the stretch `τ` is in.
+    fn settle(&mut self, k: usize, a: usize, rule: &PaceLearning<T>) {
+        let peak = self.peaks[k];
+        let excess = if self.time[k] > T::zero() {
+            self.excess[k] / self.time[k]
+        } else {
+            T::zero()
+        };
+        self.peaks[k] = T::zero();
+        self.excess[k] = T::zero();
+        self.time[k] = T::zero();
+        let factor = if excess > T::zero() {
+            (T::one() / (T::one() + excess))
+                .sqrt()
+                .max(T::one() - rule.fall)
+        } else if peak < rule.target {
+            let up = T::one() + rule.rise;
+            if peak > T::zero() {
+                (rule.target / peak).sqrt().min(up)
+            } else {
+                up
+            }
+        } else {
+            T::one()
+        };
+        let left = self.scales[(k + K - 1) % K] + rule.slope;
+        let right = self.scales[(k + 1) % K] + rule.slope;
+        let s = (self.scales[k] * factor).min(T::one()).min(left).min(right);
+        self.scales[k] = s.max(rule.floor);
+        let protected = |j: usize| j == a || j == (a + 1) % K;
+        for step in [1, K - 1] {
+            let mut i = k;
+            for _ in 1..K {
+                let j = (i + step) % K;
+                let bound = self.scales[i] + rule.slope;
+                if protected(j) || self.scales[j] <= bound {
+                    break;
+                }
+                self.scales[j] = bound;
+                i = j;
+            }
+        }
+    }
+}
+
+impl<T: Real, P: PaceProfile<T>, const K: usize> PaceProfile<T> for LearnedPace<T, P, K> {
+    #[inline]
+    fn pace(&self, tau: T) -> (T, T) {
+        let (sigma, dsigma) = self.profile.pace(tau);
+        let Some(period) = self.period else {
+            return (sigma, dsigma);
+        };
+        let (a, f) = Self::knot(period, tau);
+        let (s0, s1) = (self.scales[a], self.scales[(a + 1) % K]);
+        let s = s0 + (s1 - s0) * f;
+        let ds = (s1 - s0) * cast::<T>(K as f64) / period;
+        (sigma * s, dsigma * s + sigma * ds)
+    }
+
+    fn set_scale(&mut self, scale: T) -> bool {
+        self.profile.set_scale(scale)
+    }
+
+    /// Records the step's share of a limit at `τ`; when `τ` enters a new stretch, the knot
+    /// whose stretches it has left moves (see the [module](self)). `false` without a period
+    /// or for a `τ`, `share` or `dt` that is not finite (nothing recorded).
+    fn learn(&mut self, tau: T, share: T, dt: T, rule: &PaceLearning<T>) -> bool {
+        let Some(period) = self.period else {
+            return false;
+        };
+        if !(tau.is_finite() && share.is_finite() && dt.is_finite() && dt >= T::zero()) {
+            return false;
+        }
+        let (a, f) = Self::knot(period, tau);
+        if a != self.current {
+            if self.current < K {
+                self.settle((a + K - 1) % K, a, rule);
+            }
+            self.current = a;
+        }
+        let nearest = if f < cast::<T>(0.5) { a } else { (a + 1) % K };
+        if share > self.peaks[nearest] {
+            self.peaks[nearest] = share;
+        }
+        if share > T::one() {
+            self.excess[nearest] += (share - T::one()) * dt;
+        }
+        self.time[nearest] += dt;
+        true
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)] // tests: a failure is the point
+mod tests {
+    use super::*;
+    use crate::pace::UniformPace;
+
+    const K: usize = 16;
+
+    fn rule() -> PaceLearning<f64> {
+        PaceLearning::new(0.9, 0.3, 0.1, 0.1, 0.2).unwrap()
+    }
+
+    /// Laps of a unit period at `τ̇ = 1`, the share `share(τ mod 1)` at every step; checks at
+    /// every step that learning never moves the pace at the `τ` it is at.
+    fn laps(p: &mut LearnedPace<f64, UniformPace, K>, n: usize, share: impl Fn(f64) -> f64) {
+        let dt = 1e-3;
+        let mut tau = 0.0;
+        for _ in 0..(n as f64 / dt) as usize {
+            let before = p.pace(tau);
+            assert!(p.learn(tau, share(tau % 1.0), dt, &rule()));
+            assert_eq!(p.pace(tau), before, "the pace jumped at τ = {tau}");
+            tau += dt;
+        }
+    }
+
+    fn slope_holds(s: &[f64; K], slope: f64, skip: &[usize]) -> bool {
+        (0..K).all(|k| {
+            let j = (k + 1) % K;
+            skip.contains(&k) || skip.contains(&j) || (s[k] - s[j]).abs() <= slope + 1e-12
+        })
+    }
+
+    #[test]
+    fn a_stretch_over_the_limit_slows_on_the_next_lap_and_nowhere_far_from_it() {
+        let mut p = LearnedPace::<f64, _, K>::periodic(UniformPace, 1.0).unwrap();
+        // Half again the limit over [0.5, 0.6), well under it elsewhere.
+        let share = |x: f64| if (0.5..0.6).contains(&x) { 1.5 } else { 0.5 };
+        laps(&mut p, 3, share);
+        let s = *p.scales();
+        // Knots 8 and 9 (τ = 0.5, 0.5625) saw the excess: each lap at most 30 % lower.
+        for k in [8, 9] {
+            assert!(
+                s[k] < 0.95 && s[k] >= 0.7f64.powi(3) - 1e-12,
+                "knot {k}: {}",
+                s[k]
+            );
+        }
+        // The far side of the contour kept the planned pace.
+        for k in [0, 1, 15] {
+            assert_eq!(s[k], 1.0, "knot {k}");
+        }
+        // Within [floor, 1], and neighbours within the slope (the stretch τ is in aside).
+        assert!(s.iter().all(|x| (0.2..=1.0).contains(x)));
+        assert!(slope_holds(&s, 0.1, &[0, 1]), "{s:?}");
+    }
+
+    #[test]
+    fn with_margin_again_the_scales_rise_back_to_the_plan() {
+        let mut p = LearnedPace::<f64, _, K>::periodic(UniformPace, 1.0).unwrap();
+        laps(
+            &mut p,
+            6,
+            |x| if (0.25..0.5).contains(&x) { 3.0 } else { 0.5 },
+        );
+        let low = p.scales()[5];
+        assert!(low < 0.5, "{low}");
+        // Rising by at most 10 % a lap: from `low` to 1 takes ln(1/low)/ln(1.1) laps.
+        let needed = ((1.0 / low).ln() / 1.1f64.ln()).ceil() as usize;
+        laps(&mut p, needed - 2, |_| 0.5);
+        assert!(p.scales()[5] < 1.0, "rose faster than 10 % a lap");
+        laps(&mut p, 4, |_| 0.5);
+        assert!(p.scales().iter().all(|&s| s == 1.0), "{:?}", p.scales());
+    }
+
+    #[test]
+    fn a_peak_between_the_target_and_the_limit_holds_the_pace() {
+        let mut p = LearnedPace::<f64, _, K>::periodic(UniformPace, 1.0).unwrap();
+        laps(&mut p, 2, |x| if x < 0.5 { 2.0 } else { 0.5 });
+        let held = *p.scales();
+        laps(&mut p, 3, |_| 0.95);
+        // Knots 2..6 are away from the stretch τ ends in: none moved.
+        assert_eq!(p.scales()[2..6], held[2..6]);
+    }
+
+    #[test]
+    fn the_unlearned_pace_is_the_profile_itself() {
+        let table = crate::pace::PaceTable::<f64, 8>::new(&[1.0, 0.5, 0.7, 0.9], 4.0).unwrap();
+        let learned = LearnedPace::<f64, _, K>::periodic(table, 4.0).unwrap();
+        let plain = LearnedPace::<f64, _, K>::new(table);
+        for i in 0..100 {
+            let tau = i as f64 * 0.173;
+            assert_eq!(learned.pace(tau), table.pace(tau));
+            assert_eq!(plain.pace(tau), table.pace(tau));
+        }
+    }
+
+    #[test]
+    fn bad_rules_and_bad_readings_are_refused() {
+        assert!(PaceLearning::new(0.0, 0.3, 0.1, 0.1, 0.2).is_err());
+        assert!(PaceLearning::new(0.9, 1.0, 0.1, 0.1, 0.2).is_err());
+        assert!(PaceLearning::new(0.9, 0.3, f64::NAN, 0.1, 0.2).is_err());
+        assert!(PaceLearning::new(0.9, 0.3, 0.1, 0.0, 0.2).is_err());
+        assert!(PaceLearning::new(0.9, 0.3, 0.1, 0.1, 1.5).is_err());
+        assert!(LearnedPace::<f64, _, K>::periodic(UniformPace, 0.0).is_err());
+        assert!(LearnedPace::<f64, _, K>::periodic(UniformPace, f64::INFINITY).is_err());
+        // Without a period nothing is learned; a non-finite reading is not recorded.
+        let mut p = LearnedPace::<f64, _, K>::new(UniformPace);
+        assert!(!p.learn(0.1, 2.0, 1e-3, &rule()));
+        let mut p = LearnedPace::<f64, _, K>::periodic(UniformPace, 1.0).unwrap();
+        assert!(!p.learn(0.1, f64::NAN, 1e-3, &rule()));
+        assert!(!p.learn(f64::NAN, 0.5, 1e-3, &rule()));
+        assert!(p.learn(0.1, 0.5, 1e-3, &rule()));
+    }
+}
