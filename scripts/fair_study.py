@@ -25,8 +25,9 @@ studies into OUT as TOML files (`pvfc sweep` runs them; a user can run them agai
    contour (along the surface for a tool path, in mm; in joint space for the SCARA, in
    mrad), the mean and largest lap ÷ the least lap any controller can make on that plant at
    that demand, the mean share of samples at a torque limit, the least τ̇ ÷ its mean over
-   the last pass on any plant (near 0: stop-and-go), and failures; then issue 51's
-   verdicts. With --check, exits 1 if a verdict fails, except those a setting lists as open
+   the last pass on any plant (near 0: stop-and-go), and failures; then PVFC on the same
+   plants with drives that never saturate (`unsaturated_NAME`), for its largest distance
+   without a limit; then issue 51's verdicts. With --check, exits 1 if a verdict fails, except those a setting lists as open
    (reported, not checked).
 """
 
@@ -61,7 +62,9 @@ UR5 = {
 }
 PANDA = {**UR5, "coulomb": [1.5, 1.5, 1.5, 1.5, 0.8, 0.8, 0.8]}
 SETTINGS: Dict[str, dict] = {
-    "scara_circle": {**SCARA, "base": "scara_circle_saturated.toml"},
+    # Open (issue 51): on the plants whose friction leaves the second drive least room, the
+    # learned pace still rides the limit and the largest distance is 4.9× the unsaturated one.
+    "scara_circle": {**SCARA, "base": "scara_circle_saturated.toml", "open": ["largest distance within 2×"]},
     "scara_lissajous": {**SCARA, "base": "scara_lissajous_saturated.toml"},
     "ur5_rectangle": {**UR5, "base": "ur5_rectangle_saturated.toml"},
     "ur5_circle": {**UR5, "base": "ur5_circle_saturated.toml"},
@@ -241,6 +244,12 @@ def run_setting(pvfc: str, out: Path, label: str, setting: dict) -> List[Tuple[s
             f"    {name:36} {v['mean']:9.4f} {v['max']:8.3f} {v['lap']:10.3f} {v['lap_max']:8.3f} {100 * v['limit']:8.1f}% {v['least_rate']:8.2f} {v['failed']:7d}"
         )
     pv = s["PVFC"]
+    # PVFC on the same plants at the same demand with drives that never saturate: the
+    # largest distance it keeps without a limit.
+    free = {f"controller.passive.torque_limit[{i}]": 1.0e5 for i in range(dof)}
+    path = study(out, f"unsaturated_{label}", setting, "pvfc", plants, head, free)
+    unsat = summary(sweep(pvfc, path, out), d)
+    print(f"    PVFC, drives that never saturate: mean {unsat['mean']:.4f}, max {unsat['max']:.3f} {unit} (saturated max ÷ it: {pv['max'] / unsat['max']:.2f})")
     return [
         (f"{label}: PVFC ran every held-out plant", pv["failed"] == 0),
         (
@@ -250,6 +259,10 @@ def run_setting(pvfc: str, out: Path, label: str, setting: dict) -> List[Tuple[s
         (f"{label}: PVFC's mean distance ≤ ⅓ of the timed tracker's", pv["mean"] <= s["timed (tuned gains)"]["mean"] / 3),
         (f"{label}: PVFC's laps within 1.25× the least lap on every plant", pv["lap_max"] <= 1.25),
         (f"{label}: PVFC never stops: its least τ̇ over a tenth of its mean on every plant", pv["least_rate"] > 0.1),
+        (
+            f"{label}: PVFC's largest distance within 2× its largest with drives that never saturate",
+            unsat["failed"] == 0 and pv["max"] <= 2.0 * unsat["max"],
+        ),
     ]
 
 
