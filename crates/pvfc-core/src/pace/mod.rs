@@ -21,6 +21,13 @@
 //! the contour (the time-optimal parameterisation's profile, with room kept for the
 //! correction), [`PaceTable`] holds it as a smooth periodic `σ(τ)`, and [`Paced`] puts it into
 //! any [`SelfPacing`].
+//!
+//! The plan is made with the controller's model; the plant may need more torque or less. On
+//! line, the passive controller ([`crate::passive`]) adjusts it on the torque margin it
+//! measures: a [`PaceThrottle`] scales the whole profile through a [`Throttled`] wrapper (the
+//! scaled joint-trajectory controllers' rule), and on a closed contour a [`LearnedPace`]
+//! learns, lap over lap, a scale for each stretch. Both are parameters of the field: the
+//! coupling stays workless whatever they are.
 
 pub mod drive_limits;
 pub mod learned;
@@ -47,8 +54,8 @@ pub trait PaceProfile<T: Real> {
         false
     }
 
-    /// Learns from a step at `τ` whose command used `share` of a limit, over `dt` (a
-    /// [`LearnedPace`]); `true` when it did. The default does not learn.
+    /// Learns by `rule` from a step at `τ` whose command used `share` of a limit, over `dt`
+    /// (a [`LearnedPace`]); `true` when it did. The default does not learn.
     fn learn(&mut self, tau: T, share: T, dt: T, rule: &crate::pace::PaceLearning<T>) -> bool {
         let _ = (tau, share, dt, rule);
         false
