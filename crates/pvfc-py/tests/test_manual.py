@@ -38,7 +38,7 @@ def test_the_manual_has_python_snippets():
 
 @pytest.mark.parametrize("code", SNIPPETS)
 def test_snippet_runs(code, tmp_path, monkeypatch):
-    for d in ("models", "scenarios"):
+    for d in ("models", "scenarios", "examples"):
         os.symlink(ROOT / d, tmp_path / d)
     monkeypatch.chdir(tmp_path)
     exec(compile(code, "<manual snippet>", "exec"), {"__name__": "__manual__"})
