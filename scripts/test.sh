@@ -236,7 +236,21 @@ stage "stubtest"
 stage "The wheel on the oldest and the newest CPython it claims (3.9, 3.13), with no Rust on the path"
 # pyenv's interpreters; the reference packages as binary wheels only (on 3.9 the newest
 # Pinocchio and MuJoCo with a wheel for it). The parity tests use the pvfc command built by
-# the pytest stage above (PVFC_CLI).
+# the pytest stage above (PVFC_CLI). Both interpreters run side by side (each suite is mostly
+# one Python thread), each into its own log, shown when it fails; the hour-long MuJoCo energy
+# loop runs in the pytest stage above only (it checks the controller, not the interpreter).
+wheel_on() {
+  local version=$1 base=$2
+  local v_env="$PWD/target/py-venv-$version"
+  rm -rf "$v_env"
+  "$base/bin/python3" -m venv "$v_env"
+  "$v_env/bin/python" -m pip install --quiet --upgrade pip
+  "$v_env/bin/python" -m pip install --quiet --only-binary=:all: "$wheel[test,reference]"
+  (cd crates/pvfc-py && env PATH="$v_env/bin:/usr/bin:/bin" PVFC_CLI="$PWD/../../target/release/pvfc" \
+    "$v_env/bin/python" -m pytest -q -p no:cacheprovider --benchmark-disable -k "not for_an_hour")
+}
+pids=()
+versions=()
 for version in 3.9 3.13; do
   base=""
   if command -v pyenv >/dev/null; then
@@ -250,14 +264,21 @@ for version in 3.9 3.13; do
     echo "CPython $version not found (pyenv): skipping the wheel's tests on it"
     continue
   fi
-  v_env="$PWD/target/py-venv-$version"
-  rm -rf "$v_env"
-  "$base/bin/python3" -m venv "$v_env"
-  "$v_env/bin/python" -m pip install --quiet --upgrade pip
-  "$v_env/bin/python" -m pip install --quiet --only-binary=:all: "$wheel[test,reference]"
-  (cd crates/pvfc-py && env PATH="$v_env/bin:/usr/bin:/bin" PVFC_CLI="$PWD/../../target/release/pvfc" \
-    "$v_env/bin/python" -m pytest -q -p no:cacheprovider --benchmark-disable)
+  wheel_on "$version" "$base" >"target/py-$version.log" 2>&1 &
+  pids+=("$!")
+  versions+=("$version")
 done
+failed=0
+for i in "${!pids[@]}"; do
+  if wait "${pids[$i]}"; then
+    echo "CPython ${versions[$i]}: $(tail -n 1 "target/py-${versions[$i]}.log")"
+  else
+    echo "CPython ${versions[$i]}: the wheel's tests failed:" >&2
+    cat "target/py-${versions[$i]}.log" >&2
+    failed=1
+  fi
+done
+[ "$failed" = 0 ] || exit 1
 
 stage "The sdist builds from source (into a wheel, installed and imported)"
 # The Rust dependencies of the release build above are reused (CARGO_TARGET_DIR).

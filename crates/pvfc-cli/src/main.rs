@@ -1,9 +1,9 @@
 //! `pvfc`: reproduce the paper's section V, or run one scenario.
 
 use clap::{Parser, Subcommand};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use pvfc_cli::plot;
-use pvfc_cli::reproduce::{run_all, write_logs, write_summary};
+use pvfc_cli::reproduce::{run_all, write_logs, write_summary, Progress};
 use pvfc_sim::scenario::presets;
 use pvfc_sim::scenario::{RobotSpec, Scenario, System};
 use pvfc_sim::SimError;
@@ -35,6 +35,9 @@ enum Command {
         /// claims and figures always use every sample.
         #[arg(long, default_value_t = 100.0)]
         log_rate: f64,
+        /// Threads (default: every core of this machine); the results do not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
     },
     /// Run one scenario file; write its MCAP log(s).
     Run {
@@ -80,8 +83,8 @@ enum Command {
     },
 }
 
-fn bar(name: &str) -> Box<dyn FnMut(f64)> {
-    let pb = ProgressBar::new(1000);
+fn bar(bars: &MultiProgress, name: &str) -> Progress {
+    let pb = bars.add(ProgressBar::new(1000));
     let style = ProgressStyle::with_template("{prefix:>28} [{bar:40}] {percent:>3}% {elapsed}")
         .unwrap_or_else(|_| ProgressStyle::default_bar())
         .progress_chars("=> ");
@@ -102,14 +105,32 @@ fn mkdir(p: &Path) -> Result<(), SimError> {
     })
 }
 
+/// Restores the default action of `SIGPIPE` (Rust's runtime ignores it), so that
+/// `pvfc … | head` ends quietly when the reader goes away, as other command-line tools do,
+/// instead of panicking on the failed write.
+#[cfg(unix)]
+#[allow(unsafe_code)]
+fn quiet_broken_pipe() {
+    // SAFETY: `signal` with `SIG_DFL` only resets a disposition; it is called first thing in
+    // `main`, before any other thread exists.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+#[cfg(not(unix))]
+fn quiet_broken_pipe() {}
+
 fn main() -> ExitCode {
+    quiet_broken_pipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Reproduce {
             out,
             no_logs,
             log_rate,
-        } => reproduce(&out, (!no_logs).then_some(log_rate)),
+            threads,
+        } => reproduce(&out, (!no_logs).then_some(log_rate), threads),
         Command::Run {
             scenario,
             out,
@@ -153,7 +174,7 @@ fn log_rate(rate: f64) -> Result<Option<f64>, SimError> {
 }
 
 /// `log_rate`: `None` skips the logs.
-fn reproduce(out: &Path, log_rate_hz: Option<f64>) -> Result<(), SimError> {
+fn reproduce(out: &Path, log_rate_hz: Option<f64>, threads: Option<usize>) -> Result<(), SimError> {
     let log_rate_hz = match log_rate_hz {
         Some(r) => Some(log_rate(r)?),
         None => None,
@@ -162,7 +183,9 @@ fn reproduce(out: &Path, log_rate_hz: Option<f64>) -> Result<(), SimError> {
     let mut scenarios = presets::all();
     scenarios.extend(presets::arms_3d()?);
     scenarios.extend(presets::tool_paths()?);
-    let runs = run_all(&scenarios, bar)?;
+    let threads = threads.unwrap_or_else(pvfc_sim::study::runner::default_threads);
+    let bars = MultiProgress::new();
+    let runs = run_all(&scenarios, threads, |name| bar(&bars, name))?;
     if let Some(rate) = log_rate_hz {
         let files = write_logs(&runs, out, rate)?;
         println!(
@@ -259,7 +282,9 @@ fn run(path: &Path, out: &Path, rate: f64) -> Result<(), SimError> {
         eprintln!("warning: {}: {d}", path.display());
     }
     mkdir(out)?;
-    let runs = run_all(std::slice::from_ref(&s), bar)?;
+    let runs = run_all(std::slice::from_ref(&s), 1, |name| {
+        bar(&MultiProgress::new(), name)
+    })?;
     for f in write_logs(&runs, out, rate)? {
         println!("wrote {}", f.display());
     }

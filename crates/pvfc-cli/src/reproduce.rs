@@ -7,18 +7,68 @@ use pvfc_sim::error::{Result, SimError};
 use pvfc_sim::run::run_scenario_with;
 use pvfc_sim::scenario::Scenario;
 use pvfc_sim::scenario::System;
+use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Runs every scenario; `progress(name)` gives the callback for each run.
-pub fn run_all(
-    scenarios: &[Scenario],
-    mut progress: impl FnMut(&str) -> Box<dyn FnMut(f64)>,
-) -> Result<Runs> {
+/// The error of a run that panicked (a bug: reported, never carried on).
+fn panicked(name: &str) -> SimError {
+    SimError::Scenario {
+        path: name.into(),
+        message: "the run panicked".into(),
+    }
+}
+
+/// The callback of one scenario's runs: their progress, a fraction in [0, 1].
+pub type Progress = Box<dyn FnMut(f64) + Send>;
+
+/// Runs every scenario on `threads` threads (at least one; each scenario's runs on one
+/// thread, so the traces do not depend on the count); `progress(name)` gives the callback for
+/// each scenario, on the thread that runs it. The first scenario (in the slice's order) that
+/// fails gives the error.
+pub fn run_all<F>(scenarios: &[Scenario], threads: usize, progress: F) -> Result<Runs>
+where
+    F: Fn(&str) -> Progress + Sync,
+{
+    type Done = (usize, Result<(System, Vec<pvfc_sim::trace::Trace>)>);
+    let next = AtomicUsize::new(0);
+    let workers = threads.clamp(1, scenarios.len().max(1));
+    let mut done: Vec<Done> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..workers)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(s) = scenarios.get(i) else {
+                            break mine;
+                        };
+                        let mut p = progress(&s.name);
+                        let r = std::panic::catch_unwind(AssertUnwindSafe(|| {
+                            System::build(s).and_then(|system| {
+                                run_scenario_with(s, &system, &mut *p).map(|t| (system, t))
+                            })
+                        }))
+                        .unwrap_or_else(|_| Err(panicked(&s.name)));
+                        mine.push((i, r));
+                    }
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().map_err(|_| panicked("reproduce")))
+            .collect::<Result<Vec<_>>>()
+    })?
+    .into_iter()
+    .flatten()
+    .collect();
+    done.sort_by_key(|(i, _)| *i);
     let mut runs = Runs::default();
-    for s in scenarios {
-        let mut p = progress(&s.name);
-        let system = System::build(s)?;
-        for t in run_scenario_with(s, &system, &mut *p)? {
+    for (i, r) in done {
+        let (system, traces) = r?;
+        let s = &scenarios[i];
+        for t in traces {
             runs.runs.insert(t.name.clone(), (s.clone(), t));
         }
         runs.systems.insert(s.name.clone(), system);

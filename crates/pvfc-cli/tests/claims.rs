@@ -13,7 +13,7 @@ use std::sync::OnceLock;
 fn all_claims() -> &'static (Runs, Vec<Claim>) {
     static CELL: OnceLock<(Runs, Vec<Claim>)> = OnceLock::new();
     CELL.get_or_init(|| {
-        let runs = run_all(&pvfc_sim::scenario::presets::all(), |_| Box::new(|_| {}))
+        let runs = run_all(&pvfc_sim::scenario::presets::all(), 2, |_| Box::new(|_| {}))
             .expect("the presets run");
         let c = claims(&runs).expect("every claim can be evaluated");
         (runs, c)
