@@ -34,6 +34,18 @@
 //! SO(3) apart from the rotations by π (θ = π is its unstable maximum set), the same
 //! construction as [`So3Navigation`](crate::navigation::So3Navigation) with `P = k_R/2 · I`.
 //!
+//! With an axis instead ([`with_axis_path`](TaskSpaceField::with_axis_path): a spindle, a
+//! deburring cone, a nozzle, any tool symmetric about its `z` axis), only the tool's axis
+//! `z = R e₃` follows `z_d(τ) = R_d(τ) e₃` and its roll is free: the task is five-dimensional.
+//! The navigation function is `U_a = k_a (1 − zᵀz_d) = k_a (1 − cos θ)` (θ the angle between
+//! the axes), with `U̇_a = k_a e_aᵀ(ω − ω_d τ̇)`, `e_a = z_d × z = sin θ n`: the same form as
+//! the orientation's, so the desired angular velocity is again `λ₁ ω_d − λ₂ k_a e_a`, of which
+//! only the components across the axis are asked for, along the tool's own `x = R e₁` and
+//! `y = R e₂` (`ẋ = ω × x`): the rows `[xᵀ; yᵀ] J_ω`, with rates `[(ω × x)ᵀ; (ω × y)ᵀ] J_ω +
+//! [xᵀ; yᵀ] J̇_ω`. The roll about `z` is the task's null space (a rest posture, if any, is
+//! pulled there), and an axis path need not return its roll after a lap: a tool frame that
+//! turns once about the surface's normal per lap of a closed path leaves the joints periodic.
+//!
 //! The rate along the motion `(q̇, τ̇)` is analytic: `J̇` from the spatial axes'
 //! rates `ṡ_i = V_{i−1} × s_i` (the velocity of link `i − 1` crossed into joint `i`'s axis),
 //! `d(J⁺)/dt = J̇ᵀ A⁻¹ − Jᵀ A⁻¹ (J̇ Jᵀ + J J̇ᵀ) A⁻¹` with `A = J Jᵀ + μ² I`,
@@ -69,6 +81,8 @@ pub struct TaskSpaceField<T: Real, X, S, const N: usize, O = HeldOrientation<T>>
     saturation: Option<T>,
     rest: Option<(SVector<T, N>, T)>,
     orientation: Option<(O, T)>,
+    /// Only the orientation's axis `R_d e₃` is followed (the roll is free).
+    axis_only: bool,
 }
 
 /// The tool's pose, its velocity, and the Jacobian (position rows over spatial angular rows)
@@ -127,6 +141,7 @@ where
             saturation: None,
             rest: None,
             orientation: None,
+            axis_only: false,
         })
     }
 
@@ -163,6 +178,26 @@ where
         self.with_orientation_option(Some((orientation, stiffness)))
     }
 
+    /// With the tool's axis `z = R e₃` along `z_d(τ) = R_d(τ) e₃` of `orientation` (a contour
+    /// on SO(3), on the same `τ` as the path; its roll about `z_d` is not used) and the
+    /// navigation function `U_a = k_a (1 − cos θ)` of the angle between the axes
+    /// (`stiffness` `k_a` > 0, 1/s when `λ₂ = 1`): the task becomes five-dimensional, the
+    /// roll about the tool's axis free.
+    pub fn with_axis_path<P: Contour<T, So3<T>, 3>>(
+        self,
+        orientation: P,
+        stiffness: T,
+    ) -> Result<TaskSpaceField<T, X, S, N, P>> {
+        let mut field = self.with_orientation_option(Some((orientation, stiffness)))?;
+        field.axis_only = true;
+        Ok(field)
+    }
+
+    /// Whether only the orientation's axis is followed ([`with_axis_path`](Self::with_axis_path)).
+    pub fn axis_only(&self) -> bool {
+        self.axis_only
+    }
+
     /// [`with_orientation_path`](Self::with_orientation_path) when `orientation` is given,
     /// else the position only, with the orientation's type `P` either way (for callers that
     /// choose at run time).
@@ -187,6 +222,7 @@ where
             saturation: self.saturation,
             rest: self.rest,
             orientation,
+            axis_only: false,
         })
     }
 
@@ -399,6 +435,24 @@ where
             let od = o.sample(tau);
             let rd = *od.point.matrix();
             let (wd, wd_dot) = (rd * od.velocity, rd * od.acceleration);
+            if self.axis_only {
+                // The axes' error `e_a = z_d × z`, its rate and `U_a = k_a (1 − zᵀz_d)`.
+                let z: Vector3<T> = kin.rotation.column(2).into_owned();
+                let zd: Vector3<T> = rd.column(2).into_owned();
+                let e_a = zd.cross(&z);
+                let zd_dot = wd.cross(&zd) * tau_dot;
+                let e_a_dot = zd_dot.cross(&z) + zd.cross(&kin.omega.cross(&z));
+                let u_a_dot = *kr * e_a.dot(&(kin.omega - wd * tau_dot));
+                return (
+                    e_a,
+                    e_a_dot,
+                    *kr,
+                    *kr * (T::one() - z.dot(&zd)),
+                    u_a_dot,
+                    wd,
+                    wd_dot,
+                );
+            }
             let m = kin.rotation * rd.transpose();
             let tr = m.trace();
             let e_r = Vector3::new(
@@ -451,6 +505,22 @@ where
                 let stack = |a: &Vector3<T>, b: &Vector3<T>| {
                     SVector::<T, 6>::new(a[0], a[1], a[2], b[0], b[1], b[2])
                 };
+                if self.axis_only {
+                    return self.finish(
+                        self.axis_pull_back(
+                            q,
+                            v,
+                            &kin,
+                            (&w, &w_dot, &c.velocity),
+                            (&w_r, &w_r_dot, wd),
+                        ),
+                        q,
+                        u,
+                        gradient,
+                        &g,
+                        l1_dot,
+                    );
+                }
                 self.pull_back::<6>(
                     q,
                     v,
@@ -462,6 +532,19 @@ where
                 )
             }
         };
+        self.finish(pulled, q, u, gradient, &g, l1_dot)
+    }
+
+    /// The field's sample from the pulled-back task velocity.
+    fn finish(
+        &self,
+        pulled: Pulled<T, N>,
+        q: &JointSpace<T, N>,
+        u: T,
+        gradient: SVector<T, N>,
+        g: &crate::pacing::PacingGains<T>,
+        l1_dot: T,
+    ) -> FieldSample<T, JointSpace<T, N>, N> {
         FieldSample {
             contour: ContourSample {
                 point: *q,
@@ -479,6 +562,51 @@ where
             rate_tau: l1_dot,
             error_velocity: SVector::zeros(),
         }
+    }
+
+    /// The five-row task of a position and an axis: the desired linear velocity (its rate,
+    /// the path's direction) and angular velocity (the same), the latter asked for only
+    /// across the tool's axis, along its `x` and `y`.
+    fn axis_pull_back(
+        &self,
+        q: &JointSpace<T, N>,
+        v: &SVector<T, N>,
+        kin: &TaskKinematics<T, N>,
+        linear: (&Vector3<T>, &Vector3<T>, &Vector3<T>),
+        angular: (&Vector3<T>, &Vector3<T>, &Vector3<T>),
+    ) -> Pulled<T, N> {
+        let bx: Vector3<T> = kin.rotation.column(0).into_owned();
+        let by: Vector3<T> = kin.rotation.column(1).into_owned();
+        let (bx_dot, by_dot) = (kin.omega.cross(&bx), kin.omega.cross(&by));
+        let jw = kin.jac.fixed_rows::<3>(3);
+        let jw_dot = kin.jac_dot.fixed_rows::<3>(3);
+        let mut jac = SMatrix::<T, 5, N>::zeros();
+        let mut jac_dot = SMatrix::<T, 5, N>::zeros();
+        jac.fixed_rows_mut::<3>(0)
+            .copy_from(&kin.jac.fixed_rows::<3>(0));
+        jac_dot
+            .fixed_rows_mut::<3>(0)
+            .copy_from(&kin.jac_dot.fixed_rows::<3>(0));
+        jac.set_row(3, &(bx.transpose() * jw));
+        jac.set_row(4, &(by.transpose() * jw));
+        jac_dot.set_row(3, &(bx_dot.transpose() * jw + bx.transpose() * jw_dot));
+        jac_dot.set_row(4, &(by_dot.transpose() * jw + by.transpose() * jw_dot));
+        let (w, w_dot, along) = linear;
+        let (w_r, w_r_dot, wd) = angular;
+        let stack = |a: &Vector3<T>, b: T, c: T| SVector::<T, 5>::new(a[0], a[1], a[2], b, c);
+        self.pull_back::<5>(
+            q,
+            v,
+            &jac,
+            &jac_dot,
+            &stack(w, bx.dot(w_r), by.dot(w_r)),
+            &stack(
+                w_dot,
+                bx_dot.dot(w_r) + bx.dot(w_r_dot),
+                by_dot.dot(w_r) + by.dot(w_r_dot),
+            ),
+            &stack(along, bx.dot(wd), by.dot(wd)),
+        )
     }
 }
 

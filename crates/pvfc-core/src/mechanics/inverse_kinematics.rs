@@ -1,6 +1,7 @@
 //! Inverse kinematics of a [`SerialChain`] by damped least squares, for turning a tool path
 //! given in Cartesian space into a joint-space contour: the tool's position (orientation
-//! free) or its whole pose, from a seed posture, with an optional pull towards a rest
+//! free), its position and axis (the roll about the axis free), or its whole pose, from a
+//! seed posture, with an optional pull towards a rest
 //! posture in the null space (redundant arms), and the manipulability that tells how close
 //! a posture is to a singularity.
 
@@ -17,6 +18,15 @@ pub enum IkTarget<T: Real> {
     Position(Vector3<T>),
     /// The tool frame at this pose.
     Pose(Pose<T>),
+    /// The tool frame's origin at `position` and its `z` axis along `axis` (any length > 0),
+    /// the roll about it free: a five-dimensional task (a spindle, a deburring cone, a
+    /// nozzle).
+    Axis {
+        /// Where the tool frame's origin goes (base frame).
+        position: Vector3<T>,
+        /// Where its `z` axis points (base frame).
+        axis: Vector3<T>,
+    },
 }
 
 /// Settings of [`SerialChain::inverse_kinematics`].
@@ -89,12 +99,23 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         let finite_target = match target {
             IkTarget::Position(p) => p.iter().all(|x| x.is_finite()),
             IkTarget::Pose(p) => p.is_finite(),
+            IkTarget::Axis { position, axis } => {
+                position.iter().all(|x| x.is_finite()) && axis.iter().all(|x| x.is_finite())
+            }
         };
         if !finite_target || !seed.iter().all(|x| x.is_finite()) {
             return Err(Error::new(
                 ErrorKind::NonFinite,
                 "SerialChain::inverse_kinematics: target or seed",
             ));
+        }
+        if let IkTarget::Axis { axis, .. } = target {
+            if axis.norm() <= T::zero() {
+                return Err(Error::new(
+                    ErrorKind::InvalidParameter,
+                    "SerialChain::inverse_kinematics: the target's axis is zero",
+                ));
+            }
         }
         let positive = |x: T| x.is_finite() && x > T::zero();
         if !(positive(s.tolerance)
@@ -137,6 +158,35 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
                         r *= w;
                     }
                     (dls::<T, 6, N>(&jw, &e, s.damping, pull), e.norm())
+                }
+                IkTarget::Axis { position, axis } => {
+                    let e_lin = position - pose.translation;
+                    // The rotation vector turning the tool's axis onto the target's, across
+                    // the axis, in the components along the tool's x and y (its roll free).
+                    let r = pose.rotation;
+                    let (bx, by, z) = (r.column(0), r.column(1), r.column(2));
+                    let zd = axis.normalize();
+                    let cross = z.cross(&zd);
+                    let (sin, cos) = (cross.norm(), z.dot(&zd));
+                    let angle = sin.atan2(cos);
+                    let turn = if sin > T::zero() {
+                        cross * (angle / sin)
+                    } else if cos < T::zero() {
+                        bx.into_owned() * angle
+                    } else {
+                        Vector3::zeros()
+                    };
+                    let w = s.length_scale;
+                    let jw = jac.fixed_rows::<3>(3);
+                    let mut e = SVector::<T, 5>::zeros();
+                    let mut j5 = SMatrix::<T, 5, N>::zeros();
+                    e.fixed_rows_mut::<3>(0).copy_from(&e_lin);
+                    e[3] = bx.dot(&turn) * w;
+                    e[4] = by.dot(&turn) * w;
+                    j5.fixed_rows_mut::<3>(0).copy_from(&jac.fixed_rows::<3>(0));
+                    j5.set_row(3, &(bx.transpose() * jw * w));
+                    j5.set_row(4, &(by.transpose() * jw * w));
+                    (dls::<T, 5, N>(&j5, &e, s.damping, pull), e.norm())
                 }
             };
             remaining = error;
