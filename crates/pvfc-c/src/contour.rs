@@ -402,7 +402,7 @@ pub unsafe extern "C" fn pvfc_contour_cartesian_circle(
 }
 
 /// Any Cartesian tool path a scenario file can give: `toml` holds the keys of its
-/// `[contour.cartesian]` table (points, circle, csv, gcode, part, orientations, rest,
+/// `[contour.cartesian]` table (points, circle, csv, gcode, part, orientations, tool_frame, rest,
 /// `[task]`, …; the user's manual lists them), a CSV file's or part program's name relative
 /// to `base_dir` (NULL: the working directory). A part program's feeds (F) are the pace of a
 /// controller made on it (`pvfc_settings.pace_speed` on moves without F). Traced once every

@@ -10,7 +10,9 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2};
 use pvfc_sim::model::arm::JointContourSpec;
 use pvfc_sim::model::arm_field::FieldSpec;
-use pvfc_sim::model::cartesian::{CartesianSpec, CircleSpec, ContourGeometry, PoseSpec, TaskSpec};
+use pvfc_sim::model::cartesian::{
+    CartesianSpec, CircleSpec, ContourGeometry, PoseSpec, TaskSpec, ToolFrameSpec,
+};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -21,7 +23,10 @@ use std::path::PathBuf;
 /// in SE(3)), or `circle=(center, radius, normal)`, or `ellipse=(center, semi_major,
 /// semi_minor, normal, major_axis)`, or `csv` (a file of `x,y,z` lines). `samples=0` (the
 /// default) samples it as many times as it takes for the joint contour to stay within
-/// `tolerance` (default 10 µm) of the path; a number from 4 fixes the samples.
+/// `tolerance` (default 10 µm) of the path; a number from 4 fixes the samples. With
+/// `tool_frame=(lead, tilt, normal)` the tool's axis follows the path's own frame (against
+/// the surface normal `normal`, `None` for the part's `+z`, leaning by `lead` towards the
+/// direction of travel and by `tilt` across it, rad), its roll free.
 #[pyclass(module = "pvfc")]
 pub(crate) struct CartesianPath {
     spec: CartesianSpec,
@@ -43,7 +48,7 @@ impl CartesianPath {
 #[pymethods]
 impl CartesianPath {
     #[new]
-    #[pyo3(signature = (points=None, corner_radius=0.0, circle=None, csv=None, samples=0, orientations=None, ellipse=None, tolerance=None, gcode=None, part=None))]
+    #[pyo3(signature = (points=None, corner_radius=0.0, circle=None, csv=None, samples=0, orientations=None, ellipse=None, tolerance=None, gcode=None, part=None, tool_frame=None))]
     #[allow(clippy::type_complexity, clippy::too_many_arguments)]
     fn new(
         points: Option<&Bound<'_, PyAny>>,
@@ -62,6 +67,7 @@ impl CartesianPath {
         tolerance: Option<f64>,
         gcode: Option<PathBuf>,
         part: Option<(Bound<'_, PyAny>, Bound<'_, PyAny>)>,
+        tool_frame: Option<(f64, f64, Option<Bound<'_, PyAny>>)>,
     ) -> PyResult<Self> {
         let triples = |p: Option<&Bound<'_, PyAny>>, name: &str| -> PyResult<Vec<[f64; 3]>> {
             match p {
@@ -118,9 +124,24 @@ impl CartesianPath {
             }
             None => None,
         };
+        let tool_frame = match tool_frame {
+            Some((lead, tilt, normal)) => Some(ToolFrameSpec {
+                normal: match normal {
+                    Some(n) => {
+                        let n = array(&n, "tool_frame normal", &[3])?;
+                        Some([n[0], n[1], n[2]])
+                    }
+                    None => None,
+                },
+                lead,
+                tilt,
+            }),
+            None => None,
+        };
         let spec = CartesianSpec {
             points,
             corner_radius,
+            tool_frame,
             circle: circle.or(ellipse),
             csv,
             samples,

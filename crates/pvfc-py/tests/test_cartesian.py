@@ -32,6 +32,31 @@ def test_the_tool_lands_on_the_sampled_path(ur5):
             np.testing.assert_allclose(ur5.tool_pose(qk)[:3, :3], r0, atol=1e-6)
 
 
+def test_a_tool_leaning_along_the_path_keeps_its_roll_free(ur5):
+    # The tool's axis against the table (the part's +z), leaning 0.2 rad towards the
+    # direction of travel: at each waypoint the axis is 0.2 rad from the downward vertical,
+    # leaning along the path's direction (the chord through the neighbouring samples stands
+    # in for the tangent: within 0.3 rad on the corners).
+    path = pvfc.CartesianPath(points=RECTANGLE, corner_radius=0.03, samples=32, tool_frame=(0.2, 0.0, None))
+    p = path.sample()
+    q = path.joint_waypoints(ur5, SEED)
+    n = len(p)
+    for k, qk in enumerate(q):
+        pose = ur5.tool_pose(qk)
+        np.testing.assert_allclose(pose[:3, 3], p[k], atol=1e-6)
+        axis = pose[:3, 2]
+        assert abs(np.arccos(-axis[2]) - 0.2) < 1e-6
+        chord = p[(k + 1) % n] - p[k - 1]
+        lean = axis[:2] / np.linalg.norm(axis[:2])
+        assert lean @ chord[:2] / np.linalg.norm(chord[:2]) > np.cos(0.3)
+    # The joints come back after the lap: no joint winds with the frame.
+    assert np.max(np.abs(q[0] - q[-1])) < 0.3
+    with pytest.raises(pvfc.InvalidParameterError, match="turns sharply"):
+        pvfc.CartesianPath(points=RECTANGLE, tool_frame=(0.2, 0.0, None))
+    with pytest.raises(pvfc.InvalidParameterError, match="give one of"):
+        pvfc.CartesianPath(points=RECTANGLE, corner_radius=0.03, orientations=[[np.pi, 0, 0]] * 4, tool_frame=(0.0, 0.0, None))
+
+
 def test_failures_name_the_waypoint(ur5):
     far = pvfc.CartesianPath(points=RECTANGLE[:2] + [[3.0, 0.2, 0.3]] + RECTANGLE[3:], samples=24)
     with pytest.raises(pvfc.InvalidParameterError, match="waypoint"):

@@ -90,7 +90,7 @@ fn bad_orientations_are_named_errors() {
     assert!(err(&spec).contains("one (roll, pitch, yaw) per point"));
     spec.orientations = vec![[std::f64::consts::PI, 0.0, 0.0]; 4];
     spec.fixed_orientation = true;
-    assert!(err(&spec).contains("not both"));
+    assert!(err(&spec).contains("give one of orientations, tool_frame and fixed_orientation"));
     spec.fixed_orientation = false;
     spec.orientations[2] = [0.0, 0.0, 0.0]; // half a turn from its neighbours
     assert!(err(&spec).contains("half a turn"), "{}", err(&spec));

@@ -1,7 +1,9 @@
 //! The task-space velocity field (`pvfc_core::task_field`) on real arms from URDF (the UR5
 //! and the Panda, with a null-space pull for the Panda): its rate along the motion against
-//! central finite differences over random states, the coupling's worklessness with it
-//! (`q̇_aᵀ T_a = 0`), and a bounded field at a singular posture.
+//! central finite differences over random states (the position alone, with an orientation,
+//! with an axis), its potentials and gradients, the coupling's worklessness with it
+//! (`q̇_aᵀ T_a = 0`), a bounded field at a singular posture, and the UR5 following the
+//! path with the tool held, and with its axis on a cone that turns once a pass.
 
 use nalgebra::SVector;
 use pvfc_core::contour::PeriodicBSpline;
@@ -252,25 +254,35 @@ fn the_rate_is_the_derivative_along_the_motion_with_a_moving_orientation() {
         axis: nalgebra::Vector3::new(0.6, 0.0, 0.8),
         amplitude: 0.3,
     };
-    let chain = ur5_chain();
-    let field = field_of(chain)
-        .with_orientation_path(nodding(), 3.0)
+    // The whole rotation (six rows), then its axis alone (five rows, the roll free).
+    for axis in [false, true] {
+        let along = |f: Field<6>| match axis {
+            false => f.with_orientation_path(nodding(), 3.0),
+            true => f.with_axis_path(nodding(), 3.0),
+        };
+        let chain = ur5_chain();
+        let field = along(field_of(chain)).unwrap();
+        assert_eq!(field.axis_only(), axis);
+        check_rate(
+            &field,
+            chain.kinds(),
+            SVector::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0]),
+        );
+        let chain = panda_chain();
+        let rest = SVector::from(PANDA_REST);
+        let field = field_of(chain).with_rest(rest, 2.0).unwrap();
+        let field = match axis {
+            false => field.with_orientation_path(nodding(), 3.0),
+            true => field.with_axis_path(nodding(), 3.0),
+        }
         .unwrap();
-    check_rate(
-        &field,
-        chain.kinds(),
-        SVector::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0]),
-    );
-    let chain = panda_chain();
-    let rest = SVector::from(PANDA_REST);
-    let field = field_of(chain)
-        .with_rest(rest, 2.0)
-        .unwrap()
-        .with_orientation_path(nodding(), 3.0)
-        .unwrap();
-    check_rate(&field, chain.kinds(), rest);
+        check_rate(&field, chain.kinds(), rest);
+    }
     assert!(field_of(ur5_chain())
         .with_orientation_path(nodding(), -1.0)
+        .is_err());
+    assert!(field_of(ur5_chain())
+        .with_axis_path(nodding(), 0.0)
         .is_err());
 }
 
@@ -280,20 +292,41 @@ fn the_rate_is_the_derivative_along_the_motion_with_a_moving_orientation() {
 fn the_orientation_potential_and_its_gradient() {
     let chain = ur5_chain();
     let with = field_of(chain).with_orientation(down(), 3.0).unwrap();
+    check_potential(&with, 11, |q, _| {
+        let r = chain.tool_pose(q).rotation * down().transpose();
+        3.0 * (1.0 - (r.trace() - 1.0) / 2.0)
+    });
+}
+
+/// At random postures near the UR5's seed and random `τ`: the part of the field's potential
+/// that is not the position's is `expected(q, τ)`, and the field's gradient is the derivative
+/// of its potential along random joint motions (a central difference).
+fn check_potential<O: pvfc_core::contour::Contour<f64, So3<f64>, 3>>(
+    with: &TaskSpaceField<f64, Path3, ExponentialPacing<f64>, 6, O>,
+    seed: u64,
+    expected: impl Fn(&SVector<f64, 6>, f64) -> f64,
+) {
+    let chain = ur5_chain();
     let without = field_of(chain);
-    let mut seed = 11;
+    let mut seed = seed;
     for _ in 0..50 {
         let q = SVector::<f64, 6>::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0])
             + SVector::from_fn(|_, _| 0.6 * (lcg(&mut seed) - 0.5));
         let v = SVector::<f64, 6>::from_fn(|_, _| lcg(&mut seed) - 0.5);
-        let at = |f: &Field<6>, h: f64| f.evaluate(&chain.configuration(q + v * h), &v, 1.0, 0.0);
-        let s = at(&with, 0.0);
-        let r = chain.tool_pose(&q).rotation * down().transpose();
-        let cos = (r.trace() - 1.0) / 2.0;
-        let u_r = s.potential - at(&without, 0.0).potential;
-        assert!((u_r - 3.0 * (1.0 - cos)).abs() < 1e-12, "{u_r} {cos}");
+        let tau = 12.8 * lcg(&mut seed);
+        let s = with.evaluate(&chain.configuration(q), &v, tau, 0.0);
+        let own = s.potential
+            - without
+                .evaluate(&chain.configuration(q), &v, tau, 0.0)
+                .potential;
+        let want = expected(&q, tau);
+        assert!((own - want).abs() < 1e-12, "{own} {want}");
         let h = 1e-6;
-        let fd = (at(&with, h).potential - at(&with, -h).potential) / (2.0 * h);
+        let at = |h: f64| {
+            with.evaluate(&chain.configuration(q + v * h), &v, tau, 0.0)
+                .potential
+        };
+        let fd = (at(h) - at(-h)) / (2.0 * h);
         assert!(
             (fd - s.gradient.dot(&v)).abs() < 1e-7 * (1.0 + fd.abs()),
             "{fd} {}",
@@ -585,38 +618,19 @@ impl pvfc_core::contour::Contour<f64, So3<f64>, 3> for Turning {
     }
 }
 
-/// With an axis (a five-dimensional task), the rate is still the derivative along the
-/// motion: the UR5 (one dimension of null space, the roll) and the Panda (two, pulled to the
-/// rest posture), on a nodding orientation and on a turning one.
+/// With an axis that sweeps a cone once a pass (a lead angle along a closed path), the rate is
+/// still the derivative along the motion, with the roll pulled to a rest posture in the null
+/// space (the UR5).
 #[test]
-fn the_rate_is_the_derivative_along_the_motion_with_an_axis() {
-    let nodding = || Nodding {
-        start: So3::from_matrix(down(), 1e-9).unwrap(),
-        axis: nalgebra::Vector3::new(0.6, 0.0, 0.8),
-        amplitude: 0.3,
-    };
+fn the_rate_is_the_derivative_along_the_motion_with_a_turning_axis() {
     let chain = ur5_chain();
     let q0 = SVector::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0]);
-    let field = field_of(chain).with_axis_path(nodding(), 3.0).unwrap();
-    assert!(field.axis_only());
-    check_rate(&field, chain.kinds(), q0);
     let field = field_of(chain)
         .with_rest(q0, 1.0)
         .unwrap()
         .with_axis_path(Turning { lead: 0.2 }, 3.0)
         .unwrap();
     check_rate(&field, chain.kinds(), q0);
-    let chain = panda_chain();
-    let rest = SVector::from(PANDA_REST);
-    let field = field_of(chain)
-        .with_rest(rest, 2.0)
-        .unwrap()
-        .with_axis_path(nodding(), 3.0)
-        .unwrap();
-    check_rate(&field, chain.kinds(), rest);
-    assert!(field_of(ur5_chain())
-        .with_axis_path(nodding(), 0.0)
-        .is_err());
 }
 
 /// The axis's navigation function: `U_a = k_a (1 − cos θ)` of the angle between the tool's
@@ -626,36 +640,11 @@ fn the_rate_is_the_derivative_along_the_motion_with_an_axis() {
 fn the_axis_potential_and_its_gradient() {
     let chain = ur5_chain();
     let turning = Turning { lead: 0.2 };
-    let with = field_of(chain)
-        .with_axis_path(Turning { lead: 0.2 }, 3.0)
-        .unwrap();
-    let without = field_of(chain);
-    let mut seed = 17;
-    for _ in 0..50 {
-        let q = SVector::<f64, 6>::from([0.0, -1.2, 1.4, -1.8, -1.57, 0.0])
-            + SVector::from_fn(|_, _| 0.6 * (lcg(&mut seed) - 0.5));
-        let v = SVector::<f64, 6>::from_fn(|_, _| lcg(&mut seed) - 0.5);
-        let tau = 12.8 * lcg(&mut seed);
-        let s = with.evaluate(&chain.configuration(q), &v, tau, 0.0);
-        let z = chain.tool_pose(&q).rotation.column(2).into_owned();
-        let zd = turning.rotation(tau).column(2).into_owned();
-        let u_a = s.potential
-            - without
-                .evaluate(&chain.configuration(q), &v, tau, 0.0)
-                .potential;
-        assert!((u_a - 3.0 * (1.0 - z.dot(&zd))).abs() < 1e-12, "{u_a}");
-        let h = 1e-6;
-        let at = |h: f64| {
-            with.evaluate(&chain.configuration(q + v * h), &v, tau, 0.0)
-                .potential
-        };
-        let fd = (at(h) - at(-h)) / (2.0 * h);
-        assert!(
-            (fd - s.gradient.dot(&v)).abs() < 1e-7 * (1.0 + fd.abs()),
-            "{fd} {}",
-            s.gradient.dot(&v)
-        );
-    }
+    let with = field_of(chain).with_axis_path(turning, 3.0).unwrap();
+    check_potential(&with, 17, |q, tau| {
+        let z = chain.tool_pose(q).rotation.column(2).into_owned();
+        3.0 * (1.0 - z.dot(&turning.rotation(tau).column(2)))
+    });
 }
 
 /// The UR5 follows the rectangle with its tool leaning 0.2 rad along a frame that turns once

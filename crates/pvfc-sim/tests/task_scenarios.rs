@@ -131,16 +131,7 @@ fn corner_orientations_are_continuous_with_their_rate() {
         let (r, rate) = corners.at(s);
         let (rp, _) = corners.at(s + h);
         let (rm, _) = corners.at(s - h);
-        // The small rotation between two neighbours (vee of its skew part: accurate near the
-        // identity, where an angle from the trace is not).
-        let step = |a: &nalgebra::Matrix3<f64>, b: &nalgebra::Matrix3<f64>| {
-            let m = a.transpose() * b;
-            Vector3::new(
-                m[(2, 1)] - m[(1, 2)],
-                m[(0, 2)] - m[(2, 0)],
-                m[(1, 0)] - m[(0, 1)],
-            ) * 0.5
-        };
+        let step = common::small_rotation;
         // Continuous: neighbours within the rate's turn; the rate is the central difference.
         assert!(step(&rm, &rp).norm() < 2.0 * h * rate.norm() + 1e-9);
         let fd = (step(&r, &rp) - step(&r, &rm)) / (2.0 * h);

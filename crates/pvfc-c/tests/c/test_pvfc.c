@@ -403,6 +403,49 @@ int main(int argc, char **argv) {
       CHECK(deburr == NULL);
       pvfc_contour_destroy(bare);
     }
+    /* The cone's axis along the path's frame, leaning 0.2 rad towards the direction of
+       travel, its roll free: on a rounded rectangle and on the bracket (tangent everywhere)
+       a controller is made and steps; on a program with a sharp corner the frame would
+       jump and is refused. */
+    {
+      pvfc_contour *leaning = NULL;
+      CHECK(pvfc_contour_cartesian_toml(
+                "points = [[0.45, -0.15, 0.30], [0.65, -0.15, 0.30], [0.65, 0.20, 0.30], [0.45, 0.20, 0.30]]\n"
+                "corner_radius = 0.03\nsamples = 64\n"
+                "seed = [0.0, -1.2, 1.4, -1.8, -1.57, 0.0]\n"
+                "tool_frame = { lead = 0.2 }\n",
+                NULL, 12.0, 0.0, &leaning) == PVFC_OK);
+      pvfc_controller *lean = NULL;
+      CHECK(pvfc_controller_new(cone, leaning, NULL, 0, &paced, &lean) == PVFC_ERROR_INVALID_ARGUMENT);
+      pvfc_settings level = pvfc_settings_default();
+      CHECK(pvfc_controller_new(cone, leaning, NULL, 0, &level, &lean) == PVFC_OK);
+      CHECK(pvfc_controller_step(lean, q6, v6, DOF, 1e-3, t6, DOF, &dd) == PVFC_OK);
+      pvfc_controller_destroy(lean);
+      pvfc_contour_destroy(leaning);
+      pvfc_contour *bracket = NULL;
+      CHECK(pvfc_contour_cartesian_toml(
+                "gcode = \"scenarios/parts/bracket.nc\"\nsamples = 64\n"
+                "part = { xyz = [0.45, -0.15, 0.30], rpy = [0.0, 0.0, 0.1] }\n"
+                "seed = [0.0, -1.2, 1.4, -1.8, -1.57, 0.0]\n"
+                "tool_frame = { lead = 0.2 }\n",
+                NULL, 12.0, 0.0, &bracket) == PVFC_OK);
+      CHECK(pvfc_controller_new(cone, bracket, NULL, 0, &paced, &lean) == PVFC_OK);
+      CHECK(pvfc_controller_step(lean, q6, v6, DOF, 1e-3, t6, DOF, &dd) == PVFC_OK);
+      pvfc_controller_destroy(lean);
+      pvfc_contour_destroy(bracket);
+      pvfc_contour *sharp = NULL;
+      CHECK(pvfc_contour_cartesian_toml(
+                "gcode = \"bracket_without_feeds.nc\"\n"
+                "part = { xyz = [0.45, -0.15, 0.30], rpy = [0.0, 0.0, 0.1] }\n"
+                "seed = [0.0, -1.2, 1.4, -1.8, -1.57, 0.0]\n"
+                "tool_frame = { lead = 0.2 }\n",
+                "target/c", 12.0, 0.0, &sharp) == PVFC_OK);
+      lean = NULL;
+      CHECK_ERROR(pvfc_controller_new(cone, sharp, NULL, 0, &level, &lean),
+                  PVFC_ERROR_INVALID_ARGUMENT, "turns sharply");
+      CHECK(lean == NULL);
+      pvfc_contour_destroy(sharp);
+    }
     /* NULL for both: back to the flange. */
     CHECK(pvfc_robot_set_tool(cone, NULL, NULL) == PVFC_OK);
     CHECK(pvfc_robot_tool_pose(cone, seed, DOF, NULL, p2) == PVFC_OK);

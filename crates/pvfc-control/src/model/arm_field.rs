@@ -8,7 +8,7 @@ use super::fixed;
 use crate::error::{Result, SimError};
 use crate::model::joint_contour::JointContour;
 use crate::model::pace::FieldPacing;
-use crate::model::path_orientation::{CornerOrientations, PathOrientation};
+use crate::model::path_orientation::{OrientationLaw, PathOrientation};
 use crate::model::tool_path::{PathContour, ToolPath};
 use nalgebra::{Matrix3, SVector};
 use pvfc_core::field::FieldSample;
@@ -166,8 +166,11 @@ pub struct TaskFieldSpec {
 pub enum TaskOrientation {
     /// One orientation held (a rotation matrix in the base frame).
     Held(Matrix3<f64>),
-    /// The orientations at the polyline's corners (an SE(3) path).
-    Corners(CornerOrientations),
+    /// The orientation along the path (the polyline's corners': an SE(3) path).
+    Along(OrientationLaw),
+    /// The tool's axis along the path (the axis of the law's rotation, its roll free: the
+    /// path's frame of a `tool_frame`).
+    Axis(OrientationLaw),
 }
 
 impl TaskFieldSpec {
@@ -190,16 +193,21 @@ impl TaskFieldSpec {
                 })?),
                 *k,
             )),
-            Some((TaskOrientation::Corners(c), k)) => Some((
-                PathOrientation::Corners {
-                    corners: c.clone(),
+            Some((TaskOrientation::Along(law) | TaskOrientation::Axis(law), k)) => Some((
+                PathOrientation::Along {
+                    law: law.clone(),
                     period,
                 },
                 *k,
             )),
         };
-        let mut field = TaskSpaceField::new(chain, path, pacing, self.stiffness, self.damping)?
-            .with_orientation_option(orientation)?;
+        let field = TaskSpaceField::new(chain, path, pacing, self.stiffness, self.damping)?;
+        let mut field = match (&self.orientation, orientation) {
+            (Some((TaskOrientation::Axis(_), _)), Some((along, k))) => {
+                field.with_axis_path(along, k)?
+            }
+            (_, orientation) => field.with_orientation_option(orientation)?,
+        };
         if let Some((rest, gain)) = &self.rest {
             field = field.with_rest(fixed::<N>(rest, "contour.cartesian.rest")?, *gain)?;
         }

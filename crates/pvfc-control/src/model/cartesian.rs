@@ -19,7 +19,7 @@ use crate::model::arm::JointContourSpec;
 use crate::model::arm_field::{TaskFieldSpec, TaskOrientation};
 use crate::model::feeds::FeedProfile;
 use crate::model::gcode::PartProgram;
-use crate::model::path_orientation::CornerOrientations;
+use crate::model::path_orientation::{CornerOrientations, OrientationLaw, PathFrame};
 pub use crate::model::pose::PoseSpec;
 use crate::model::robot::Robot;
 use crate::model::tool_path::{Closest, ToolPath};
@@ -76,6 +76,13 @@ pub struct CartesianSpec {
     /// ([`CornerOrientations`]). Empty: position only (with `fixed_orientation` or free).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub orientations: Vec<[f64; 3]>,
+    /// `[contour.cartesian.tool_frame]`: the tool's axis held to the path's own frame (its
+    /// z against the part's surface normal, leaning by a lead angle towards the direction of
+    /// travel and by a tilt across it; [`PathFrame`]), the roll about the axis free (a
+    /// five-dimensional task: a spindle, a deburring cone, a nozzle), instead of
+    /// `orientations` or `fixed_orientation`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tool_frame: Option<ToolFrameSpec>,
     /// A rest posture for redundant tasks (more joints than the path fixes coordinates: 3 for
     /// a position, 6 with an orientation): each inverse-kinematics iteration pulls towards it
     /// in the null space of the task, with `rest_gain`. Default for a redundant task: the
@@ -131,6 +138,22 @@ pub struct TaskSpec {
     /// pseudo-Huber `kℓ²(√(1 + |e|²/ℓ²) − 1)`, whose pull stays below `kℓ`; none: `½k|e|²`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub saturation: Option<f64>,
+}
+
+/// `[contour.cartesian.tool_frame]`: the tool's frame along the path ([`PathFrame`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ToolFrameSpec {
+    /// The part's surface normal, pointing out of the part towards the tool, in the part's
+    /// frame (`contour.cartesian.part`; the base frame without one); default `[0, 0, 1]`, the
+    /// part's top face. The tool's z axis points against it, into the part.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub normal: Option<[f64; 3]>,
+    /// The lead angle (rad): the tool's axis turned about its y axis, towards the direction
+    /// of travel.
+    pub lead: f64,
+    /// The tilt angle (rad): then turned about the direction of travel (right-handed).
+    pub tilt: f64,
 }
 
 /// The task-space field's default stiffness `k` (1/s).
@@ -262,17 +285,20 @@ impl CartesianSpec {
         if self.seed.len() != n || !self.seed.iter().all(|x| x.is_finite()) {
             return Err(bad(format!("seed: {n} finite joint coordinates")));
         }
-        if self.fixed_orientation && !self.orientations.is_empty() {
-            return Err(bad("give orientations or fixed_orientation, not both"));
-        }
-        let orientation = if self.fixed_orientation {
-            Some((TaskOrientation::Held(robot.tool_pose(&self.seed)?.0), turn))
-        } else if !self.orientations.is_empty() {
-            Some((TaskOrientation::Corners(self.corner_orientations()?), turn))
-        } else {
-            None
+        let path = self.path(base_dir)?;
+        let orientation = match self.orientation_law_on(&path)? {
+            _ if self.fixed_orientation => {
+                Some((TaskOrientation::Held(robot.tool_pose(&self.seed)?.0), turn))
+            }
+            Some(law @ OrientationLaw::Frame(_)) => Some((TaskOrientation::Axis(law), turn)),
+            Some(law) => Some((TaskOrientation::Along(law), turn)),
+            None => None,
         };
-        let dims = if orientation.is_some() { 6 } else { 3 };
+        let dims = match &orientation {
+            None => 3,
+            Some((TaskOrientation::Axis(_), _)) => 5,
+            Some(_) => 6,
+        };
         let rest = match &self.rest {
             Some(r) if r.len() == n && r.iter().all(|x| x.is_finite()) => Some((r.clone(), gain)),
             Some(_) => return Err(bad(format!("rest: {n} finite joint coordinates"))),
@@ -280,7 +306,7 @@ impl CartesianSpec {
             None => None,
         };
         Ok(Some(TaskFieldSpec {
-            path: self.path(base_dir)?,
+            path,
             stiffness,
             damping,
             saturation,
@@ -347,7 +373,7 @@ impl CartesianSpec {
             let chain = SerialChain::<f64, N>::try_from(robot.model())?;
             loop {
                 let points = path.sample(n);
-                let joints = self.solve::<N>(robot, &chain, &points)?;
+                let joints = self.solve::<N>(robot, &chain, &path, &points)?;
                 let geometry = self.geometry::<N>(&chain, &path, &joints)?;
                 if self.samples != 0 || geometry.max <= tolerance {
                     let waypoints = joints.iter().map(|q| q.as_slice().to_vec()).collect();
@@ -390,23 +416,27 @@ impl CartesianSpec {
             })
             .collect();
         let closest: Vec<_> = poses.iter().map(|p| path.closest(&p.translation)).collect();
-        let desired = match (&self.orientations.is_empty(), self.fixed_orientation) {
-            (false, _) => {
-                self.sampled_orientations(&closest.iter().map(|c| c.point).collect::<Vec<_>>())?
-            }
-            (true, true) => {
+        let law = self.orientation_law_on(path)?;
+        let axis_only = matches!(law, Some(OrientationLaw::Frame(_)));
+        let desired: Option<Vec<nalgebra::Matrix3<f64>>> = match (law, self.fixed_orientation) {
+            (Some(law), _) => Some(closest.iter().map(|c| law.at(c.along).0).collect()),
+            (None, true) => {
                 let seed = SVector::<f64, N>::from_column_slice(&self.seed);
                 Some(vec![chain.tool_pose(&seed).rotation; m])
             }
-            (true, false) => None,
+            (None, false) => None,
         };
+        // The angle between the orientations, or between the axes for a tool frame.
         let angle = desired.map(|r| {
             poses
                 .iter()
                 .zip(&r)
-                .map(|(p, r)| {
-                    let c = ((r.transpose() * p.rotation).trace() - 1.0) / 2.0;
-                    c.clamp(-1.0, 1.0).acos()
+                .map(|(p, r)| match axis_only {
+                    true => p.rotation.column(2).angle(&r.column(2)),
+                    false => {
+                        let c = ((r.transpose() * p.rotation).trace() - 1.0) / 2.0;
+                        c.clamp(-1.0, 1.0).acos()
+                    }
                 })
                 .fold(0.0, f64::max)
         });
@@ -423,6 +453,7 @@ impl CartesianSpec {
         &self,
         robot: &Robot,
         chain: &SerialChain<f64, N>,
+        path: &ToolPath,
         points: &[Vector3<f64>],
     ) -> Result<Vec<SVector<f64, N>>> {
         if self.seed.len() != N || !self.seed.iter().all(|x| x.is_finite()) {
@@ -432,15 +463,16 @@ impl CartesianSpec {
         let min_w = self.min_manipulability.unwrap_or(1e-4);
         let seed = SVector::<f64, N>::from_column_slice(&self.seed);
         let rotation = chain.tool_pose(&seed).rotation;
-        let orientations = self.sampled_orientations(points)?;
+        let orientations = self.sampled_orientations_on(path, points)?;
+        let axis_only = self.tool_frame.is_some();
         // A task of fewer coordinates than joints leaves a null space: without a rest posture
         // the solutions drift in it from waypoint to waypoint, and the joint contour through
         // them leaves the path between waypoints however many there are. The seed is then the
         // rest posture, so that the waypoints lie on one smooth branch.
-        let task = if orientations.is_some() || self.fixed_orientation {
-            6
-        } else {
-            3
+        let task = match (&orientations, self.fixed_orientation) {
+            (Some(_), _) if axis_only => 5,
+            (Some(_), _) | (None, true) => 6,
+            (None, false) => 3,
         };
         let rest = match &self.rest {
             None if N > task => Some((seed, self.rest_gain.unwrap_or(0.1))),
@@ -454,9 +486,6 @@ impl CartesianSpec {
             }
             Some(_) => return Err(bad(format!("rest: {N} finite joint coordinates"))),
         };
-        if orientations.is_some() && self.fixed_orientation {
-            return Err(bad("give orientations or fixed_orientation, not both"));
-        }
         let settings = IkSettings::<f64, N> {
             tolerance: 1e-7,
             max_iterations: 500,
@@ -478,6 +507,10 @@ impl CartesianSpec {
                 problem,
             };
             let target = match (&orientations, self.fixed_orientation) {
+                (Some(r), _) if axis_only => IkTarget::Axis {
+                    position: *p,
+                    axis: r[index].column(2).into_owned(),
+                },
                 (Some(r), _) => IkTarget::Pose(pvfc_core::mechanics::Pose {
                     rotation: r[index],
                     translation: *p,
@@ -560,7 +593,8 @@ pub struct ContourGeometry {
     /// The largest distance (m).
     pub max: f64,
     /// The largest angle (rad) between the contour's tool orientation and the path's, for a
-    /// path with an orientation (`orientations` or `fixed_orientation`).
+    /// path with an orientation (`orientations` or `fixed_orientation`); between the tool's
+    /// axis and the path's, with a `tool_frame`.
     pub max_angle: Option<f64>,
     /// The path's length (m).
     pub length: f64,
@@ -634,22 +668,62 @@ impl PathError {
 impl CartesianSpec {
     /// The tool's orientation at each sampled point of a path with `orientations`
     /// ([`CornerOrientations`]: between the path's points closest to two neighbouring corners,
-    /// the slerp of their orientations with the arc length). `None` without orientations.
+    /// the slerp of their orientations with the arc length) or a `tool_frame` ([`PathFrame`]).
+    /// `None` without either. The path is read relative to the working directory.
     pub fn sampled_orientations(
         &self,
         samples: &[Vector3<f64>],
     ) -> Result<Option<Vec<nalgebra::Matrix3<f64>>>> {
+        if self.orientations.is_empty() && self.tool_frame.is_none() {
+            return Ok(None);
+        }
+        self.sampled_orientations_on(&self.path(Path::new("."))?, samples)
+    }
+
+    /// [`sampled_orientations`](Self::sampled_orientations) on the path already built.
+    fn sampled_orientations_on(
+        &self,
+        path: &ToolPath,
+        samples: &[Vector3<f64>],
+    ) -> Result<Option<Vec<nalgebra::Matrix3<f64>>>> {
+        Ok(self.orientation_law_on(path)?.map(|law| {
+            samples
+                .iter()
+                .map(|x| law.at(path.closest(x).along).0)
+                .collect()
+        }))
+    }
+
+    /// How the tool's orientation follows `path`: the corners' `orientations`, the
+    /// `tool_frame`, or neither (`None`; the orientation is then held with
+    /// `fixed_orientation`, or free). An error for more than one of `orientations`,
+    /// `tool_frame` and `fixed_orientation`.
+    pub fn orientation_law_on(&self, path: &ToolPath) -> Result<Option<OrientationLaw>> {
+        let given = [
+            !self.orientations.is_empty(),
+            self.tool_frame.is_some(),
+            self.fixed_orientation,
+        ];
+        if given.iter().filter(|g| **g).count() > 1 {
+            return Err(bad(
+                "give one of orientations, tool_frame and fixed_orientation, not more",
+            ));
+        }
+        if let Some(f) = &self.tool_frame {
+            let rotation = match &self.part {
+                Some(part) => part.isometry("contour.cartesian.part")?.rotation,
+                None => nalgebra::UnitQuaternion::identity(),
+            };
+            let normal = rotation * Vector3::from(f.normal.unwrap_or([0.0, 0.0, 1.0]));
+            let frame = PathFrame::new(path, normal, f.lead, f.tilt).map_err(bad)?;
+            return Ok(Some(OrientationLaw::Frame(frame)));
+        }
         if self.orientations.is_empty() {
             return Ok(None);
         }
-        let path = self.path(Path::new("."))?;
-        let corners = self.corner_orientations_on(&path)?;
-        Ok(Some(
-            samples
-                .iter()
-                .map(|x| corners.at(path.closest(x).along).0)
-                .collect(),
-        ))
+        Ok(Some(OrientationLaw::Corners(
+            self.corner_orientations_on(path)?,
+        )))
     }
 
     /// The orientations at the corners, for a path with `orientations` (checked: one per

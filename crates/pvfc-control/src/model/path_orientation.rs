@@ -1,12 +1,14 @@
-//! The tool's orientation along a closed tool path: held at one rotation, or given at the
-//! corners of a polyline (`[contour.cartesian] orientations`, a path in SE(3)). Between two
-//! corners it turns at a constant rate (slerp) with the arc length along the path, from the
-//! point of the path closest to one corner (its rounding's midpoint; the corner itself when
-//! sharp) to the next. The same rule gives the inverse kinematics' orientations at the samples
-//! and the task-space field's `R_d(τ)` with its rates.
+//! The tool's orientation along a closed tool path: held at one rotation, given at the
+//! corners of a polyline (`[contour.cartesian] orientations`, a path in SE(3)), or the path's
+//! own frame (`[contour.cartesian] tool_frame`). Between two corners it turns at a constant
+//! rate (slerp) with the arc length along the path, from the point of the path closest to one
+//! corner (its rounding's midpoint; the corner itself when sharp) to the next. The path's
+//! frame has its x along the path's direction and its z against the part's surface normal,
+//! turned by a lead and a tilt angle ([`PathFrame`]). The same rule gives the inverse
+//! kinematics' orientations at the samples and the task-space field's `R_d(τ)` with its rates.
 
 use crate::model::tool_path::ToolPath;
-use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use pvfc_core::contour::{Contour, ContourSample};
 use pvfc_core::lie::So3;
 
@@ -83,16 +85,149 @@ impl CornerOrientations {
     }
 }
 
+/// The tool's frame along a path, for a tool that works the part's surface as it goes
+/// (deburring an edge, gluing, polishing):
+///
+/// `R(s) = F(s) · R_y(lead) · R_x(tilt)`, `F(s) = [x(s), z × x(s), z]`,
+///
+/// with `z = −n` against the surface normal `n` (the tool's axis into the part) and `x(s)` the
+/// path's unit tangent `t(s)` with its component along `n` removed (the direction of travel
+/// in the surface). `lead` turns the tool's axis towards the direction of travel, `tilt` then
+/// about that direction (right-handed). `F` turns about `z` only, at the rate
+/// `ω = x × dx/ds` (rad/m) of the tangent's turning in the surface: on an arc of radius `ρ` in
+/// the surface, `1/ρ`. A path whose direction jumps (a sharp corner) would jump the tool's
+/// orientation with it and is refused, as is a path whose direction passes along `n`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PathFrame {
+    path: ToolPath,
+    /// The tool's axis `z = −n` in the base frame.
+    axis: Vector3<f64>,
+    /// `R_y(lead) R_x(tilt)`.
+    offset: Matrix3<f64>,
+}
+
+impl PathFrame {
+    /// The frame along `path` against the surface normal `normal` (base frame; any non-zero
+    /// length), turned by `lead` and `tilt` (rad). Errors name what is wrong: a normal or an
+    /// angle that is not finite, a zero normal, a sharp corner (where, and by how much the
+    /// direction turns), a direction along the normal (where).
+    pub fn new(
+        path: &ToolPath,
+        normal: Vector3<f64>,
+        lead: f64,
+        tilt: f64,
+    ) -> Result<Self, String> {
+        let norm = normal.norm();
+        if !(norm.is_finite() && norm > 0.0) {
+            return Err(format!(
+                "tool_frame.normal: a finite, non-zero vector, got [{}, {}, {}]",
+                normal.x, normal.y, normal.z
+            ));
+        }
+        if !(lead.is_finite() && tilt.is_finite()) {
+            return Err(format!(
+                "tool_frame: lead and tilt finite (rad), got {lead} and {tilt}"
+            ));
+        }
+        let axis = -normal / norm;
+        let length = path.length();
+        // The direction may not jump where one piece meets the next.
+        let starts = path.piece_starts();
+        for &s in &starts[..starts.len() - 1] {
+            let before = path.tangent((s - 1e-9 * length).rem_euclid(length));
+            let after = path.tangent(s);
+            let turn = before.angle(&after);
+            if turn > 1e-3 {
+                let p = path.point(s);
+                return Err(format!(
+                    "tool_frame: the path turns sharply by {:.1}° at ({:.4}, {:.4}, {:.4}) m, {:.4} m along it: the tool's frame would jump there (round the corner: corner_radius > 0, or arcs tangent to their neighbours)",
+                    turn.to_degrees(),
+                    p.x,
+                    p.y,
+                    p.z,
+                    s
+                ));
+            }
+        }
+        // Nor run along the normal (the direction in the surface is then undefined).
+        let steps = 64 * (starts.len() - 1).max(1);
+        for k in 0..steps {
+            let s = length * k as f64 / steps as f64;
+            let t = path.tangent(s);
+            if t.cross(&axis).norm() < 1e-3 {
+                let p = path.point(s);
+                return Err(format!(
+                    "tool_frame: the path runs along the surface normal at ({:.4}, {:.4}, {:.4}) m, {:.4} m along it: no direction of travel in the surface",
+                    p.x, p.y, p.z, s
+                ));
+            }
+        }
+        let offset = Rotation3::from_axis_angle(&Vector3::y_axis(), lead)
+            * Rotation3::from_axis_angle(&Vector3::x_axis(), tilt);
+        Ok(PathFrame {
+            path: path.clone(),
+            axis,
+            offset: offset.into_inner(),
+        })
+    }
+
+    /// The rotation at arc length `s` (m, modulo the length) and its body rate per metre of
+    /// arc length.
+    pub fn at(&self, s: f64) -> (Matrix3<f64>, Vector3<f64>) {
+        let (_, t, c) = self.path.frame(s);
+        let z = self.axis;
+        let p = t - z * t.dot(&z);
+        let m = p.norm();
+        let x = p / m;
+        let dp = c - z * c.dot(&z);
+        let dx = (dp - x * x.dot(&dp)) / m;
+        let frame = Matrix3::from_columns(&[x, z.cross(&x), z]);
+        let omega = x.cross(&dx);
+        let r = frame * self.offset;
+        (r, r.transpose() * omega)
+    }
+}
+
+/// How the tool's orientation follows a path's arc length: slerped between corners, or the
+/// path's own frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum OrientationLaw {
+    /// The orientations at a polyline's corners ([`CornerOrientations`]).
+    Corners(CornerOrientations),
+    /// The path's frame against the part's surface ([`PathFrame`]).
+    Frame(PathFrame),
+}
+
+impl OrientationLaw {
+    /// The rotation at arc length `s` (m, modulo the path's length) and its body rate per
+    /// metre of arc length.
+    pub fn at(&self, s: f64) -> (Matrix3<f64>, Vector3<f64>) {
+        match self {
+            OrientationLaw::Corners(c) => c.at(s),
+            OrientationLaw::Frame(f) => f.at(s),
+        }
+    }
+
+    /// The path's length (m).
+    pub fn length(&self) -> f64 {
+        match self {
+            OrientationLaw::Corners(c) => c.length,
+            OrientationLaw::Frame(f) => f.path.length(),
+        }
+    }
+}
+
 /// The tool's orientation along a path as a contour `R_d(τ)` on SO(3), one pass every
 /// `period` of `τ` (the task-space field's orientation).
 #[derive(Clone, Debug, PartialEq)]
 pub enum PathOrientation {
     /// One orientation held along the whole path.
     Held(So3<f64>),
-    /// The orientations at the corners, traced with the path at constant speed.
-    Corners {
-        /// The orientations.
-        corners: CornerOrientations,
+    /// The orientation along the path ([`OrientationLaw`]), traced with it at constant
+    /// speed.
+    Along {
+        /// How the orientation follows the arc length.
+        law: OrientationLaw,
         /// `τ` per pass.
         period: f64,
     },
@@ -106,9 +241,9 @@ impl Contour<f64, So3<f64>, 3> for PathOrientation {
                 velocity: Vector3::zeros(),
                 acceleration: Vector3::zeros(),
             },
-            PathOrientation::Corners { corners, period } => {
-                let speed = corners.length / period;
-                let (r, rate) = corners.at(tau * speed);
+            PathOrientation::Along { law, period } => {
+                let speed = law.length() / period;
+                let (r, rate) = law.at(tau * speed);
                 ContourSample {
                     point: So3::from_matrix_unchecked(r),
                     velocity: rate * speed,
@@ -121,7 +256,7 @@ impl Contour<f64, So3<f64>, 3> for PathOrientation {
     fn period(&self) -> Option<f64> {
         match self {
             PathOrientation::Held(_) => None,
-            PathOrientation::Corners { period, .. } => Some(*period),
+            PathOrientation::Along { period, .. } => Some(*period),
         }
     }
 }

@@ -96,6 +96,7 @@ class CartesianPath:
         tolerance: Optional[float] = None,
         gcode: Optional[_PathLike] = None,
         part: Optional[Tuple[_ArrayLike, _ArrayLike]] = None,
+        tool_frame: Optional[Tuple[float, float, Optional[_ArrayLike]]] = None,
     ) -> CartesianPath: ...
     def sample(self) -> _F64Array: ...
     @property

@@ -3,6 +3,7 @@
 /// A table under the UR5's rectangle (`ur5_cartesian`, the path at z = 0.30 m): its top 3 mm
 /// above the lowest point of a tool ball of 1 cm radius, a stiff contact with friction.
 #[cfg(feature = "contact")]
+#[allow(dead_code)] // not every test file that shares this module uses it
 pub fn table_under_the_rectangle() -> pvfc_sim::contact::spatial::SpatialContactSpec {
     use pvfc_sim::contact::spatial::{SpatialContactSpec, SpatialObstacle, SpatialShape};
     SpatialContactSpec {
@@ -28,4 +29,19 @@ pub fn table_under_the_rectangle() -> pvfc_sim::contact::spatial::SpatialContact
             slip_velocity: 0.01,
         },
     }
+}
+
+/// The small rotation from `a` to `b` (the vee of the skew part of `aᵀb`): accurate near the
+/// identity, where an angle from the trace is not.
+#[allow(dead_code)] // not every test file that shares this module uses it
+pub fn small_rotation(
+    a: &nalgebra::Matrix3<f64>,
+    b: &nalgebra::Matrix3<f64>,
+) -> nalgebra::Vector3<f64> {
+    let m = a.transpose() * b;
+    nalgebra::Vector3::new(
+        m[(2, 1)] - m[(1, 2)],
+        m[(0, 2)] - m[(2, 0)],
+        m[(1, 0)] - m[(0, 1)],
+    ) * 0.5
 }
