@@ -67,7 +67,9 @@ SETTINGS: Dict[str, dict] = {
     "scara_circle": {**SCARA, "base": "scara_circle_saturated.toml", "open": ["largest distance within 2×"]},
     "scara_lissajous": {**SCARA, "base": "scara_lissajous_saturated.toml"},
     "ur5_rectangle": {**UR5, "base": "ur5_rectangle_saturated.toml"},
-    "ur5_circle": {**UR5, "base": "ur5_circle_saturated.toml"},
+    # Open (issue 51): the largest distance holds at 8 s (1.85×) but counts every lap after
+    # the first, and the learned pace's transients grow it with the run: 5.8× in 16 s.
+    "ur5_circle": {**UR5, "base": "ur5_circle_saturated.toml", "open": ["largest distance within 2×"]},
     "panda_circle": {**PANDA, "base": "panda_circle_saturated.toml"},
 }
 THRESHOLDS = [0.3, 0.5, 0.7, 0.9, 0.95]
