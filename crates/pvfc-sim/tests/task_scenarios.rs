@@ -300,7 +300,10 @@ fn bad_task_settings_name_the_key() {
         c.orientations = turned;
     }
     let e = s.validate().unwrap_err().to_string();
-    assert!(e.contains("orientations or fixed_orientation"), "{e}");
+    assert!(
+        e.contains("give one of orientations, tool_frame and fixed_orientation"),
+        "{e}"
+    );
 }
 
 /// A stiff field far from the path: with `k = 10/s` the UR5's start (17 cm off the rectangle)
