@@ -328,3 +328,19 @@ fn feeds_are_the_speeds_of_their_stretches() {
             .is_none()
     );
 }
+
+/// Found by fuzzing (fuzz/fuzz_targets/gcode.rs, CI): a code number past `u32` after carriage
+/// returns (which the gcode crate's lexer skips) overflowed inside the crate; it is an error
+/// naming the code, as with spaces.
+#[test]
+fn a_code_number_past_u32_after_carriage_returns_is_an_error() {
+    let bytes: &[u8] = b"G20 G9G2G20 G\r\r999900000\xbf00000000000295170617\nG0 X1 3 \x131 Z0 G9G2G20 G\r\r999999999992999999999999959\r9\r\r\r\r\r11!G18 X1 3 X1 Z-1 R-2 F2992999Z-\xff\xff\xffH13\x0b\x000\n!0\n";
+    let text = String::from_utf8_lossy(bytes);
+    let e = error(&text);
+    assert!(e.message.contains("code number this large"), "{e:?}");
+    let e = error("G0 X0\nG1 X10\nG\r\r\t 999999999999\n");
+    assert!(
+        e.line == 3 && e.message.contains("G: a code number this large"),
+        "{e:?}"
+    );
+}

@@ -242,7 +242,9 @@ fn oversized_code(source: &str) -> Option<(usize, char)> {
             }
             b'G' | b'g' | b'M' | b'm' | b'T' | b't' if !in_paren => {
                 let mut j = i + 1;
-                while j < bytes.len() && (bytes[j] == b' ' || bytes[j] == b'\t') {
+                // The gcode crate's lexer skips spaces, tabs and carriage returns between a
+                // letter and its number.
+                while j < bytes.len() && matches!(bytes[j], b' ' | b'\t' | b'\r') {
                     j += 1;
                 }
                 let digits = bytes[j..].iter().take_while(|c| c.is_ascii_digit());
