@@ -506,45 +506,20 @@ where
                     SVector::<T, 6>::new(a[0], a[1], a[2], b[0], b[1], b[2])
                 };
                 if self.axis_only {
-                    return self.finish(
-                        self.axis_pull_back(
-                            q,
-                            v,
-                            &kin,
-                            (&w, &w_dot, &c.velocity),
-                            (&w_r, &w_r_dot, wd),
-                        ),
+                    self.axis_pull_back(q, v, &kin, (&w, &w_dot, &c.velocity), (&w_r, &w_r_dot, wd))
+                } else {
+                    self.pull_back::<6>(
                         q,
-                        u,
-                        gradient,
-                        &g,
-                        l1_dot,
-                    );
+                        v,
+                        &kin.jac,
+                        &kin.jac_dot,
+                        &stack(&w, &w_r),
+                        &stack(&w_dot, &w_r_dot),
+                        &stack(&c.velocity, wd),
+                    )
                 }
-                self.pull_back::<6>(
-                    q,
-                    v,
-                    &kin.jac,
-                    &kin.jac_dot,
-                    &stack(&w, &w_r),
-                    &stack(&w_dot, &w_r_dot),
-                    &stack(&c.velocity, wd),
-                )
             }
         };
-        self.finish(pulled, q, u, gradient, &g, l1_dot)
-    }
-
-    /// The field's sample from the pulled-back task velocity.
-    fn finish(
-        &self,
-        pulled: Pulled<T, N>,
-        q: &JointSpace<T, N>,
-        u: T,
-        gradient: SVector<T, N>,
-        g: &crate::pacing::PacingGains<T>,
-        l1_dot: T,
-    ) -> FieldSample<T, JointSpace<T, N>, N> {
         FieldSample {
             contour: ContourSample {
                 point: *q,
