@@ -228,7 +228,8 @@ for example in scara_contour:models/scara.urdf: ur5_tool_path:models/ur5/ur5_rob
 done
 
 stage "pytest"
-(cd crates/pvfc-py && "$py" -m pytest -q -p no:cacheprovider --durations=10)
+# Bounded: a hung test fails the stage (after pytest's faulthandler has printed where it hangs).
+(cd crates/pvfc-py && timeout --kill-after=30 1200 "$py" -m pytest -q -p no:cacheprovider --durations=10)
 
 stage "stubtest"
 "$py" -m mypy.stubtest pvfc
@@ -247,7 +248,8 @@ wheel_on() {
   "$v_env/bin/python" -m pip install --quiet --upgrade pip
   "$v_env/bin/python" -m pip install --quiet --only-binary=:all: "$wheel[test,reference]"
   (cd crates/pvfc-py && env PATH="$v_env/bin:/usr/bin:/bin" PVFC_CLI="$PWD/../../target/release/pvfc" \
-    "$v_env/bin/python" -m pytest -q -p no:cacheprovider --benchmark-disable -k "not for_an_hour")
+    timeout --kill-after=30 900 "$v_env/bin/python" -m pytest -q -p no:cacheprovider --benchmark-disable \
+      -k "not for_an_hour")
 }
 pids=()
 versions=()

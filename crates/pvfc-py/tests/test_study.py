@@ -232,12 +232,17 @@ def _columns(r: "pvfc.SimulationResult") -> dict:
 
 
 def test_results_pickle_bit_for_bit_and_cross_processes():
+    import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
     scenarios = [short(2.0), pvfc.Scenario.preset("contact_wall")]
     local = [pvfc.simulate(s) for s in scenarios]
     assert local[1].contact is not None
-    with ProcessPoolExecutor(max_workers=2) as pool:
+    # Fresh interpreters ("spawn"), never fork: this process has threads by now (Dask's, the
+    # library's), and a forked child can deadlock on a lock one of them held (CPython 3.12+
+    # warns of it; the default becomes "forkserver" in 3.14).
+    spawn = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=2, mp_context=spawn) as pool:
         remote = list(pool.map(pvfc.simulate, scenarios))
     for a in local:
         back = pickle.loads(pickle.dumps(a))
