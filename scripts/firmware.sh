@@ -4,7 +4,9 @@
 # controller faulted), compare its trace with the host twin (tests/firmware_twin.rs), and count
 # the instructions of a control step from an execution trace.
 # Then the same for the 6-joint step (--bin ur5) and the passive digital controller (--bin
-# passive).
+# passive), and the RTIC firmware (examples/firmware/rtic): its run, its trace against its host
+# twin (the operator's commands replayed at the periods it applied them), its control period
+# counted.
 # Needs: rustup target thumbv7em-none-eabihf, qemu-system-arm, binutils-arm-none-eabi.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,7 +36,7 @@ echo "--- the trace against the host twin"
 # compile the whole dependency tree a second time (three minutes on two cores).
 twin=$(cargo test --locked --no-run --message-format=json | python3 scripts/cargo_artifact.py firmware_twin exe)
 test -x "$twin" || { echo "cargo test did not build tests/firmware_twin.rs" >&2; exit 1; }
-PVFC_FIRMWARE_TRACE="$out/trace.txt" "$twin" --ignored --nocapture \
+PVFC_FIRMWARE_TRACE="$out/trace.txt" "$twin" --ignored --nocapture firmware_trace_matches_the_host_twin \
   2>&1 | grep -E "firmware vs|host f32 vs|test result|panicked|assert" | tee "$out/twin.txt"
 grep -q "test result: ok. 1 passed" "$out/twin.txt"
 
@@ -65,3 +67,21 @@ for symbol in pvfc_control_step pvfc_passive_step pvfc_encoder_step; do
   python3 scripts/firmware_instructions.py "$fw/target/thumbv7em-none-eabihf/release/passive" \
     --symbol "$symbol" --steps 1000
 done | tee "$out/passive_instructions.txt"
+
+echo "--- the RTIC firmware (SysTick at 1 kHz, the passive controller from encoder counts, an operator's script)"
+(cd $fw && cargo build --locked --release -p pvfc-firmware-rtic)
+rtic=$fw/target/thumbv7em-none-eabihf/release/pvfc-firmware-rtic
+arm-none-eabi-size "$rtic" | tee -a "$out/size.txt"
+status=0
+timeout 120 qemu-system-arm -machine netduinoplus2 -nographic -semihosting-config enable=on,target=native \
+  -kernel "$rtic" > "$out/rtic.txt" || status=$?
+grep -E "^cmd|pvfc rtic" "$out/rtic.txt"
+if [ "$status" -ne 0 ]; then
+  echo "the RTIC firmware exited with $status (a controller fault, or QEMU failed)" >&2
+  exit 1
+fi
+PVFC_RTIC_TRACE="$out/rtic.txt" "$twin" --ignored --nocapture rtic_trace_matches_the_host_twin \
+  2>&1 | grep -E "vs host|test result|panicked|assert" | tee "$out/rtic_twin.txt"
+grep -q "test result: ok. 1 passed" "$out/rtic_twin.txt"
+python3 scripts/firmware_instructions.py "$rtic" --symbol pvfc_drive_period --steps 1000 \
+  | tee "$out/rtic_instructions.txt"

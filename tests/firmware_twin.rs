@@ -1,11 +1,15 @@
-//! The firmware's host twin: the closed loop of `examples/firmware` (the same `hil.rs`) in
-//! f64 and in f32 on the host. `firmware_trace_matches_the_host_twin` compares the trace the
-//! firmware printed in QEMU (file named by `PVFC_FIRMWARE_TRACE`; CI runs it with
-//! `scripts/firmware.sh`) with the twins.
+//! The firmware's host twin: the closed loops of `examples/firmware` (the same `hil.rs`, and
+//! the RTIC firmware's `drive.rs`) in f64 and in f32 on the host.
+//! `firmware_trace_matches_the_host_twin` and `rtic_trace_matches_the_host_twin` compare the
+//! traces the firmwares printed in QEMU (files named by `PVFC_FIRMWARE_TRACE`,
+//! `PVFC_RTIC_TRACE`; CI runs them with `scripts/firmware.sh`) with the twins.
 
 #[path = "../examples/firmware/src/hil.rs"]
 #[allow(dead_code)]
 mod hil;
+
+#[path = "../examples/firmware/src/drive.rs"]
+mod drive;
 
 use hil::{Plant, Sample, STEPS, TRACE_EVERY};
 use pvfc::prelude::*;
@@ -128,6 +132,229 @@ fn firmware_trace_matches_the_host_twin() {
     assert!(vs64[0] < 2e-4, "q: firmware vs host f64 {:e} rad", vs64[0]);
     assert!(vs64[1] < 2e-4, "τ: firmware vs host f64 {:e}", vs64[1]);
     assert!(vs64[3] < 2e-2, "κ_a: firmware vs host f64 {:e} J", vs64[3]);
+}
+
+/// The RTIC firmware's control task, period for period, in the scalar `T`: the setpoints
+/// applied at the periods `setpoints` gives (the firmware's `cmd` lines, or its script).
+fn rtic_twin<T: Real>(
+    setpoints: &[(u32, drive::Setpoint)],
+) -> (Vec<Sample<f64>>, Vec<Option<ErrorKind>>) {
+    let mut drive = drive::Drive::<T>::new().unwrap();
+    let mut plant = Plant::<T>::default();
+    let f = |x: T| nalgebra::try_convert::<T, f64>(x).unwrap();
+    let mut setpoint = drive::Setpoint::STOPPED;
+    let (mut out, mut faults) = (vec![], vec![]);
+    for step in 0..STEPS as u32 {
+        if let Some((_, s)) = setpoints.iter().find(|(at, _)| *at == step) {
+            setpoint = *s;
+        }
+        let o = drive.period(setpoint, drive::encoder_counts(&plant.q));
+        faults.push(o.fault);
+        if step % TRACE_EVERY as u32 == 0 {
+            let c = drive.controller().controller();
+            out.push(Sample {
+                step: step as usize,
+                q: [f(plant.q[0]), f(plant.q[1])],
+                torque: [f(o.torque[0]), f(o.torque[1])],
+                tau: f(c.state().unwrapped_tau(c.law().field().period())),
+                potential: o.potential.map_or(f64::NAN, f),
+                kinetic_energy: f(plant.kinetic_energy()),
+            });
+        }
+        plant.advance(&o.torque);
+    }
+    // The drive keeps the first fault it latched.
+    assert_eq!(drive.fault(), faults.iter().flatten().next().copied());
+    (out, faults)
+}
+
+/// The script's commands as the setpoints the firmware applies, at the periods it sends them.
+fn script_setpoints() -> Vec<(u32, drive::Setpoint)> {
+    let mut s = drive::Setpoint::STOPPED;
+    drive::SCRIPT
+        .iter()
+        .map(|(at, c)| {
+            s = s.after(*c);
+            (*at, s)
+        })
+        .collect()
+}
+
+/// Mean kinetic energy of the arm over the samples in `[from, to)` (J).
+fn mean_kinetic(t: &[Sample<f64>], from: usize, to: usize) -> f64 {
+    let s: Vec<f64> = t
+        .iter()
+        .filter(|x| (from..to).contains(&x.step))
+        .map(|x| x.kinetic_energy)
+        .collect();
+    s.iter().sum::<f64>() / s.len() as f64
+}
+
+#[test]
+fn the_rtic_drive_obeys_the_operator() {
+    let (t, faults) = rtic_twin::<f64>(&script_setpoints());
+    assert!(faults.iter().all(Option::is_none), "no fault");
+    let at = |step: usize| t[step / TRACE_EVERY];
+    // Stopped until the start: the safe torque, the arm at rest.
+    assert!(t[..2]
+        .iter()
+        .all(|x| x.torque == [0.0; 2] && x.q == [0.0; 2]));
+    // Started at r = 1: the arm reaches for the contour (U falls by 10× before 4 s).
+    assert!(
+        at(3900).potential < 0.1 * at(200).potential,
+        "U {} -> {}",
+        at(200).potential,
+        at(3900).potential
+    );
+    // r = 2 speeds it up, r = 0 brakes it: the arm's mean kinetic energy over each phase,
+    // against the same run without that command.
+    let without = |i: usize| {
+        let mut s = script_setpoints();
+        let speed = s[i - 1].1.speed;
+        s[i].1.speed = speed;
+        s[i + 1..]
+            .iter_mut()
+            .for_each(|x| x.1.speed = speed.max(x.1.speed));
+        rtic_twin::<f64>(&s).0
+    };
+    let (fast, kept) = (
+        mean_kinetic(&t, 5_000, 7_000),
+        mean_kinetic(&without(1), 5_000, 7_000),
+    );
+    println!("r = 2 from 4 s: {fast:.3e} J over 5–7 s, {kept:.3e} J at r = 1");
+    assert!(
+        fast > 1.5 * kept,
+        "r = 2: {fast:.2e} J against {kept:.2e} J at r = 1"
+    );
+    let (braked, kept) = (
+        mean_kinetic(&t, 8_500, 9_500),
+        mean_kinetic(&without(2), 8_500, 9_500),
+    );
+    println!("r = 0 from 7 s: {braked:.3e} J over 8.5–9.5 s, {kept:.3e} J at r = 2");
+    assert!(
+        braked < 0.5 * kept,
+        "r = 0: {braked:.2e} J against {kept:.2e} J at r = 2"
+    );
+    // Stopped again: the safe torque.
+    assert!(t[95..]
+        .iter()
+        .all(|x| x.torque == [0.0; 2] && x.potential.is_nan()));
+}
+
+#[test]
+fn a_fault_latches_the_safe_torque() {
+    // A corrupted command (a speed that is not a number) at 3 s, a good one after it.
+    let mut setpoints = script_setpoints();
+    let bad = drive::Setpoint {
+        run: true,
+        speed: f32::NAN,
+    };
+    setpoints.insert(1, (3_000, bad));
+    setpoints.insert(
+        2,
+        (
+            3_001,
+            drive::Setpoint {
+                run: true,
+                speed: 1.0,
+            },
+        ),
+    );
+    let (t, faults) = rtic_twin::<f64>(&setpoints);
+    let latched: Vec<usize> = faults
+        .iter()
+        .enumerate()
+        .filter_map(|(i, f)| f.map(|_| i))
+        .collect();
+    assert_eq!(latched, [3_000], "latched once, at the bad command");
+    assert_eq!(faults[3_000], Some(ErrorKind::NonFinite));
+    assert!(
+        t[30..]
+            .iter()
+            .all(|x| x.torque == [0.0; 2] && x.potential.is_nan()),
+        "the safe torque from then on"
+    );
+    assert!(t[29].torque != [0.0; 2]);
+}
+
+/// Parses the RTIC firmware's `cmd STEP RUN SPEED_e3` lines.
+fn parse_commands(text: &str) -> Vec<(u32, drive::Setpoint)> {
+    text.lines()
+        .filter_map(|l| l.strip_prefix("cmd "))
+        .map(|l| {
+            let x: Vec<i64> = l.split_whitespace().map(|w| w.parse().unwrap()).collect();
+            (
+                x[0] as u32,
+                drive::Setpoint {
+                    run: x[1] == 1,
+                    speed: x[2] as f32 * 1e-3,
+                },
+            )
+        })
+        .collect()
+}
+
+#[test]
+#[ignore = "needs the RTIC firmware's trace: scripts/firmware.sh runs it"]
+fn rtic_trace_matches_the_host_twin() {
+    let path = std::env::var("PVFC_RTIC_TRACE").expect("PVFC_RTIC_TRACE names the trace");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let fw = parse(&text);
+    let commands = parse_commands(&text);
+    assert_eq!(
+        fw.len(),
+        STEPS / TRACE_EVERY,
+        "the firmware printed every sample"
+    );
+    assert_eq!(
+        commands,
+        script_setpoints(),
+        "the firmware applied the script at its periods"
+    );
+    assert!(text.contains("0 messages dropped, no fault"));
+    let (host64, _) = rtic_twin::<f64>(&commands);
+    let (host32, _) = rtic_twin::<f32>(&commands);
+    // U is printed as -1 where the controller was not stepped; the twin has NaN there.
+    let finite = |t: &[Sample<f64>]| -> Vec<Sample<f64>> {
+        t.iter()
+            .map(|x| Sample {
+                potential: if x.potential.is_finite() {
+                    x.potential
+                } else {
+                    -1e-9
+                },
+                ..*x
+            })
+            .collect()
+    };
+    let (host64, host32) = (finite(&host64), finite(&host32));
+    let vs64 = worst(&fw, &host64);
+    let vs32 = worst(&fw, &host32);
+    println!(
+        "rtic vs host f64: max |Δq| {:.2e} rad, |Δτ| {:.2e}, |ΔU| {:.2e}, |Δκ| {:.2e} J",
+        vs64[0], vs64[1], vs64[2], vs64[3]
+    );
+    println!(
+        "rtic vs host f32: max |Δq| {:.2e} rad, |Δτ| {:.2e}, |ΔU| {:.2e}, |Δκ| {:.2e} J",
+        vs32[0], vs32[1], vs32[2], vs32[3]
+    );
+    let f32_vs_f64 = worst(&host32, &host64);
+    println!(
+        "host f32 vs host f64: max |Δq| {:.2e} rad, |Δτ| {:.2e}, |ΔU| {:.2e}, |Δκ| {:.2e} J",
+        f32_vs_f64[0], f32_vs_f64[1], f32_vs_f64[2], f32_vs_f64[3]
+    );
+    // The same arithmetic as the host's f32 but for the square root (the target's
+    // `Real::sqrt_fast`): measured 6.8e-6 rad (the print's resolution is 1e-6); bound 1e-5.
+    assert!(vs32[0] < 1e-5, "q: firmware vs host f32 {:e} rad", vs32[0]);
+    // Against f64 the encoders' counts amplify rounding (an angle one count apart rounds to
+    // another count, and the loop runs on from there): the firmware is as far from the f64
+    // twin as the host's own f32 twin is, within 10 %.
+    assert!(
+        vs64[0] <= 1.1 * f32_vs_f64[0] + 1e-5,
+        "q: firmware vs host f64 {:e} rad, host f32 vs f64 {:e} rad",
+        vs64[0],
+        f32_vs_f64[0]
+    );
 }
 
 #[path = "../examples/firmware/src/ur5.rs"]
