@@ -94,6 +94,28 @@ fn worst(a: &[Sample<f64>], b: &[Sample<f64>]) -> [f64; 4] {
     w
 }
 
+/// The largest differences (`worst`) of a firmware's trace against the f64 and the f32 twins,
+/// and of the f32 twin against the f64 one, printed.
+fn compare(
+    name: &str,
+    fw: &[Sample<f64>],
+    host64: &[Sample<f64>],
+    host32: &[Sample<f64>],
+) -> [[f64; 4]; 3] {
+    let w = [worst(fw, host64), worst(fw, host32), worst(host32, host64)];
+    for (what, d) in [
+        (format!("{name} vs host f64"), w[0]),
+        (format!("{name} vs host f32"), w[1]),
+        ("host f32 vs host f64".to_string(), w[2]),
+    ] {
+        println!(
+            "{what}: max |Δq| {:.2e} rad, |Δτ| {:.2e}, |ΔU| {:.2e}, |Δκ| {:.2e} J",
+            d[0], d[1], d[2], d[3]
+        );
+    }
+    w
+}
+
 #[test]
 #[ignore = "needs the firmware's trace: scripts/firmware.sh runs it"]
 fn firmware_trace_matches_the_host_twin() {
@@ -106,21 +128,7 @@ fn firmware_trace_matches_the_host_twin() {
     );
     let host64 = twin::<f64>();
     let host32 = twin::<f32>();
-    let vs64 = worst(&fw, &host64);
-    let vs32 = worst(&fw, &host32);
-    let f32_vs_f64 = worst(&host32, &host64);
-    println!(
-        "firmware vs host f64: max |Δq| {:.2e} rad, |Δτ| {:.2e}, |ΔU| {:.2e}, |Δκ_a| {:.2e} J",
-        vs64[0], vs64[1], vs64[2], vs64[3]
-    );
-    println!(
-        "firmware vs host f32: max |Δq| {:.2e} rad, |Δτ| {:.2e}, |ΔU| {:.2e}, |Δκ_a| {:.2e} J",
-        vs32[0], vs32[1], vs32[2], vs32[3]
-    );
-    println!(
-        "host f32 vs host f64: max |Δq| {:.2e} rad, |Δτ| {:.2e}, |ΔU| {:.2e}, |Δκ_a| {:.2e} J",
-        f32_vs_f64[0], f32_vs_f64[1], f32_vs_f64[2], f32_vs_f64[3]
-    );
+    let [vs64, vs32, _] = compare("firmware", &fw, &host64, &host32);
     // The printed trace is quantised (1 µrad, 1e-6 in τ, 1e-9 in U, 1 µJ). The target and the
     // host in f32 run the same arithmetic but for the square root (the host's hardware one,
     // the target's `Real::sqrt_fast`): measured ≤ 1.2e-6 rad, about the print's resolution;
@@ -328,21 +336,7 @@ fn rtic_trace_matches_the_host_twin() {
             .collect()
     };
     let (host64, host32) = (finite(&host64), finite(&host32));
-    let vs64 = worst(&fw, &host64);
-    let vs32 = worst(&fw, &host32);
-    println!(
-        "rtic vs host f64: max |Δq| {:.2e} rad, |Δτ| {:.2e}, |ΔU| {:.2e}, |Δκ| {:.2e} J",
-        vs64[0], vs64[1], vs64[2], vs64[3]
-    );
-    println!(
-        "rtic vs host f32: max |Δq| {:.2e} rad, |Δτ| {:.2e}, |ΔU| {:.2e}, |Δκ| {:.2e} J",
-        vs32[0], vs32[1], vs32[2], vs32[3]
-    );
-    let f32_vs_f64 = worst(&host32, &host64);
-    println!(
-        "host f32 vs host f64: max |Δq| {:.2e} rad, |Δτ| {:.2e}, |ΔU| {:.2e}, |Δκ| {:.2e} J",
-        f32_vs_f64[0], f32_vs_f64[1], f32_vs_f64[2], f32_vs_f64[3]
-    );
+    let [vs64, vs32, f32_vs_f64] = compare("rtic", &fw, &host64, &host32);
     // The same arithmetic as the host's f32 but for the square root (the target's
     // `Real::sqrt_fast`): measured 6.8e-6 rad (the print's resolution is 1e-6); bound 1e-5.
     assert!(vs32[0] < 1e-5, "q: firmware vs host f32 {:e} rad", vs32[0]);

@@ -99,3 +99,26 @@ pub struct Sample<T> {
     /// `κ_a`.
     pub kinetic_energy: T,
 }
+
+impl Sample<f32> {
+    /// The sample as the firmwares print it: scaled 32-bit integers, so that no float
+    /// formatting and no 64-bit division is linked (step; q in µrad; torque in mN·m; τ in
+    /// 1e-6; U in 1e-9, −1 where the controller was not stepped; the kinetic energy in µJ).
+    pub fn printed(&self) -> [i32; 8] {
+        let potential = if self.potential.is_finite() {
+            (self.potential * 1e9) as i32
+        } else {
+            -1
+        };
+        [
+            self.step as i32,
+            (self.q[0] * 1e6) as i32,
+            (self.q[1] * 1e6) as i32,
+            (self.torque[0] * 1e3) as i32,
+            (self.torque[1] * 1e3) as i32,
+            (self.tau * 1e6) as i32,
+            potential,
+            (self.kinetic_energy * 1e6) as i32,
+        ]
+    }
+}

@@ -146,16 +146,17 @@ fn report() -> ! {
     });
     hprintln!("# step q1_urad q2_urad t1_mNm t2_mNm tau_e6 U_e9 kappa_uJ");
     for s in trace.iter() {
+        let x = s.printed();
         hprintln!(
             "{} {} {} {} {} {} {} {}",
-            s.step,
-            (s.q[0] * 1e6) as i32,
-            (s.q[1] * 1e6) as i32,
-            (s.torque[0] * 1e3) as i32,
-            (s.torque[1] * 1e3) as i32,
-            (s.tau * 1e6) as i32,
-            (s.potential * 1e9) as i32,
-            (s.kinetic_energy * 1e6) as i32
+            x[0],
+            x[1],
+            x[2],
+            x[3],
+            x[4],
+            x[5],
+            x[6],
+            x[7]
         );
     }
     match fault {

@@ -229,21 +229,20 @@ mod app {
                     u8::from(setpoint.run),
                     (setpoint.speed * 1e3) as i32
                 ),
-                Telemetry::Sample(s) => hprintln!(
-                    "{} {} {} {} {} {} {} {}",
-                    s.step,
-                    (s.q[0] * 1e6) as i32,
-                    (s.q[1] * 1e6) as i32,
-                    (s.torque[0] * 1e3) as i32,
-                    (s.torque[1] * 1e3) as i32,
-                    (s.tau * 1e6) as i32,
-                    if s.potential.is_finite() {
-                        (s.potential * 1e9) as i32
-                    } else {
-                        -1
-                    },
-                    (s.kinetic_energy * 1e6) as i32
-                ),
+                Telemetry::Sample(s) => {
+                    let x = s.printed();
+                    hprintln!(
+                        "{} {} {} {} {} {} {} {}",
+                        x[0],
+                        x[1],
+                        x[2],
+                        x[3],
+                        x[4],
+                        x[5],
+                        x[6],
+                        x[7]
+                    )
+                }
                 Telemetry::Fault { step, kind } => {
                     hprintln!("pvfc rtic: FAULT at period {}: {}", step, kind.as_str())
                 }
