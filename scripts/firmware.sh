@@ -73,8 +73,10 @@ echo "--- the RTIC firmware (SysTick at 1 kHz, the passive controller from encod
 rtic=$fw/target/thumbv7em-none-eabihf/release/pvfc-firmware-rtic
 arm-none-eabi-size "$rtic" | tee -a "$out/size.txt"
 status=0
+# QEMU's clock counts instructions (-icount): the periods at which the operator's commands
+# land do not depend on how busy the host is.
 timeout 120 qemu-system-arm -machine netduinoplus2 -nographic -semihosting-config enable=on,target=native \
-  -kernel "$rtic" > "$out/rtic.txt" || status=$?
+  -icount shift=0,sleep=off -kernel "$rtic" > "$out/rtic.txt" || status=$?
 grep -E "^cmd|pvfc rtic" "$out/rtic.txt"
 if [ "$status" -ne 0 ]; then
   echo "the RTIC firmware exited with $status (a controller fault, or QEMU failed)" >&2

@@ -314,11 +314,16 @@ fn rtic_trace_matches_the_host_twin() {
         STEPS / TRACE_EVERY,
         "the firmware printed every sample"
     );
-    assert_eq!(
-        commands,
-        script_setpoints(),
-        "the firmware applied the script at its periods"
-    );
+    // Each command lands at the period the script sends it (QEMU counting instructions), or a
+    // period or two later if the host kept QEMU from running the operator's task in time.
+    let script = script_setpoints();
+    assert_eq!(commands.len(), script.len(), "one setpoint per command");
+    for (got, sent) in commands.iter().zip(&script) {
+        assert!(
+            got.1 == sent.1 && (sent.0..=sent.0 + 2).contains(&got.0),
+            "{got:?} for {sent:?}"
+        );
+    }
     assert!(text.contains("0 messages dropped, no fault"));
     let (host64, _) = rtic_twin::<f64>(&commands);
     let (host32, _) = rtic_twin::<f32>(&commands);

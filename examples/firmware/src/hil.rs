@@ -104,13 +104,13 @@ impl Sample<f32> {
     /// The sample as the firmwares print it: scaled 32-bit integers, so that no float
     /// formatting and no 64-bit division is linked (step; q in µrad; torque in mN·m; τ in
     /// 1e-6; U in 1e-9, −1 where the controller was not stepped; the kinetic energy in µJ).
-    pub fn printed(&self) -> [i32; 8] {
+    pub fn printed(&self) -> Printed {
         let potential = if self.potential.is_finite() {
             (self.potential * 1e9) as i32
         } else {
             -1
         };
-        [
+        Printed([
             self.step as i32,
             (self.q[0] * 1e6) as i32,
             (self.q[1] * 1e6) as i32,
@@ -119,6 +119,21 @@ impl Sample<f32> {
             (self.tau * 1e6) as i32,
             potential,
             (self.kinetic_energy * 1e6) as i32,
-        ]
+        ])
+    }
+}
+
+/// A trace line's integers, written separated by spaces.
+pub struct Printed(pub [i32; 8]);
+
+impl core::fmt::Display for Printed {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        for (i, x) in self.0.iter().enumerate() {
+            if i > 0 {
+                f.write_str(" ")?;
+            }
+            write!(f, "{x}")?;
+        }
+        Ok(())
     }
 }

@@ -146,18 +146,7 @@ fn report() -> ! {
     });
     hprintln!("# step q1_urad q2_urad t1_mNm t2_mNm tau_e6 U_e9 kappa_uJ");
     for s in trace.iter() {
-        let x = s.printed();
-        hprintln!(
-            "{} {} {} {} {} {} {} {}",
-            x[0],
-            x[1],
-            x[2],
-            x[3],
-            x[4],
-            x[5],
-            x[6],
-            x[7]
-        );
+        hprintln!("{}", s.printed());
     }
     match fault {
         None => {

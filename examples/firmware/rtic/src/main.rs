@@ -230,18 +230,7 @@ mod app {
                     (setpoint.speed * 1e3) as i32
                 ),
                 Telemetry::Sample(s) => {
-                    let x = s.printed();
-                    hprintln!(
-                        "{} {} {} {} {} {} {} {}",
-                        x[0],
-                        x[1],
-                        x[2],
-                        x[3],
-                        x[4],
-                        x[5],
-                        x[6],
-                        x[7]
-                    )
+                    hprintln!("{}", s.printed())
                 }
                 Telemetry::Fault { step, kind } => {
                     hprintln!("pvfc rtic: FAULT at period {}: {}", step, kind.as_str())
