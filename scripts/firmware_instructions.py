@@ -13,7 +13,10 @@ refill; conditional branches counted as taken); VDIV.F32 and VSQRT.F32 14; VLDR/
 VFMA/VFMS/VMLA/VMLS 3; SDIV/UDIV 7 (2-12); the rest 1. No wait states (flash at the core
 clock, as QEMU models it). An estimate, not a measurement.
 
-Usage: firmware_instructions.py ELF [--steps N]
+Usage: firmware_instructions.py ELF [--steps N] [--symbol NAME] [--machine MACHINE]
+
+(The cycle estimate is the Cortex-M4's table whatever the machine: for another core, read the
+instruction count.)
 """
 
 import argparse
@@ -56,6 +59,7 @@ def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("elf")
     ap.add_argument("--steps", type=int, default=1000)
+    ap.add_argument("--machine", default="netduinoplus2", help="QEMU's machine (-machine)")
     ap.add_argument("--symbol", default="pvfc_control_step", help="the function whose calls are counted")
     ap.add_argument("--by-function", action="store_true", help="also tally the instructions per function")
     args = ap.parse_args()
@@ -70,7 +74,7 @@ def main() -> int:
     fifo = os.path.join(tempfile.mkdtemp(), "trace")
     os.mkfifo(fifo)
     qemu = subprocess.Popen(
-        ["qemu-system-arm", "-machine", "netduinoplus2", "-nographic", "-semihosting-config",
+        ["qemu-system-arm", "-machine", args.machine, "-nographic", "-semihosting-config",
          "enable=on,target=native", "-singlestep", "-d", "exec,nochain", "-D", fifo,
          # Time in instructions (1 ns each), not the host's clock: traced one at a time, the
          # target would otherwise see its timer fire again before a period's work is done, and
