@@ -6,8 +6,10 @@
 # layout (examples/firmware/memory/), report flash and RAM, run its 10,000 steps in QEMU (a
 # clock counting instructions, so a slow core's steps still fit their periods), compare its
 # trace with the host twin (tests/firmware_twin.rs) and count the instructions of a step.
-# Needs what scripts/firmware.sh needs, and the rustup targets thumbv6m-none-eabi and
-# thumbv8m.main-none-eabihf.
+# Then the same loop on RISC-V (examples/firmware/riscv, RV32IMAC without an FPU, QEMU's
+# `virt`), which counts its steps itself from the core's minstret.
+# Needs what scripts/firmware.sh needs, qemu-system-riscv32 (Debian: qemu-system-misc), and the
+# rustup targets thumbv6m-none-eabi, thumbv8m.main-none-eabihf, riscv32imac-unknown-none-elf.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 fw=examples/firmware
@@ -44,4 +46,21 @@ for spec in microbit:thumbv6m-none-eabi:200 mps2-an500:thumbv7em-none-eabihf:100
   read -r text data bss _ <<< "$size"
   echo "$machine $target: flash $((text + data)) B, RAM $((data + bss)) B; $count" >> "$out/cores.txt"
 done
+echo "--- RISC-V (riscv32imac-unknown-none-elf, QEMU's virt)"
+(cd $fw && cargo build --locked --release -p pvfc-firmware-riscv --target riscv32imac-unknown-none-elf)
+elf=$fw/target/riscv32imac-unknown-none-elf/release/pvfc-firmware-riscv
+text=$(size -A "$elf" | awk '$1 == ".text" || $1 == ".rodata" || $1 == ".init.rust" { n += $2 } END { print n }')
+trace="$out/trace-riscv.txt"
+status=0
+timeout 300 qemu-system-riscv32 -machine virt -bios none -nographic -semihosting-config enable=on,target=native \
+  -icount shift=0 -kernel "$elf" > "$trace" || status=$?
+tail -n 2 "$trace"
+if [ "$status" -ne 0 ] || ! grep -q "pvfc: done, 10000 steps, no fault" "$trace"; then
+  echo "the RISC-V firmware exited with $status (a controller fault, or QEMU failed)" >&2
+  exit 1
+fi
+PVFC_FIRMWARE_TRACE="$trace" "$twin" --ignored --nocapture firmware_trace_matches_the_host_twin \
+  2>&1 | grep -E "vs host|test result|panicked|assert" | tee "$out/twin-riscv.txt"
+grep -q "test result: ok. 1 passed" "$out/twin-riscv.txt"
+echo "virt riscv32imac-unknown-none-elf: code and read-only data $text B; $(grep "instructions per step" "$trace")" >> "$out/cores.txt"
 cat "$out/cores.txt"
