@@ -18,6 +18,24 @@ mkdir -p "$out"
 twin=$(cargo test --locked --no-run --message-format=json | python3 scripts/cargo_artifact.py firmware_twin exe)
 test -x "$twin" || { echo "cargo test did not build tests/firmware_twin.rs" >&2; exit 1; }
 
+# run_and_compare NAME QEMU ARGS...: runs a firmware in QEMU (a clock counting instructions:
+# a slow core's steps still fit their periods) into $out/trace-NAME.txt; it must end its 10,000
+# steps without a fault, and its trace must match the host twin's.
+run_and_compare() {
+  local name=$1
+  shift
+  local trace="$out/trace-$name.txt" status=0
+  timeout 300 "$@" -nographic -semihosting-config enable=on,target=native > "$trace" || status=$?
+  tail -n 2 "$trace"
+  if [ "$status" -ne 0 ] || ! grep -q "pvfc: done, 10000 steps, no fault" "$trace"; then
+    echo "the firmware on $name exited with $status (a controller fault, or QEMU failed)" >&2
+    exit 1
+  fi
+  PVFC_FIRMWARE_TRACE="$trace" "$twin" --ignored --nocapture firmware_trace_matches_the_host_twin \
+    2>&1 | grep -E "vs host|test result|panicked|assert" | tee "$out/twin-$name.txt"
+  grep -q "test result: ok. 1 passed" "$out/twin-$name.txt"
+}
+
 : > "$out/cores.txt"
 for spec in microbit:thumbv6m-none-eabi:200 mps2-an500:thumbv7em-none-eabihf:1000 \
             mps2-an505:thumbv8m.main-none-eabihf:1000; do
@@ -28,18 +46,7 @@ for spec in microbit:thumbv6m-none-eabi:200 mps2-an500:thumbv7em-none-eabihf:100
   elf=$fw/target/cores/$machine/$target/release/pvfc-firmware
   size=$(arm-none-eabi-size "$elf" | tail -n 1)
   echo "$size"
-  trace="$out/trace-$machine.txt"
-  status=0
-  timeout 300 qemu-system-arm -machine "$machine" -nographic -semihosting-config enable=on,target=native \
-    -icount shift=0,sleep=off -kernel "$elf" > "$trace" || status=$?
-  tail -n 1 "$trace"
-  if [ "$status" -ne 0 ] || ! grep -q "pvfc: done, 10000 steps, no fault" "$trace"; then
-    echo "the firmware on $machine exited with $status (a controller fault, or QEMU failed)" >&2
-    exit 1
-  fi
-  PVFC_FIRMWARE_TRACE="$trace" "$twin" --ignored --nocapture firmware_trace_matches_the_host_twin \
-    2>&1 | grep -E "vs host|test result|panicked|assert" | tee "$out/twin-$machine.txt"
-  grep -q "test result: ok. 1 passed" "$out/twin-$machine.txt"
+  run_and_compare "$machine" qemu-system-arm -machine "$machine" -icount shift=0,sleep=off -kernel "$elf"
   count=$(python3 scripts/firmware_instructions.py "$elf" --machine "$machine" --steps "$steps" \
     | grep "instructions per step")
   echo "$count"
@@ -50,17 +57,6 @@ echo "--- RISC-V (riscv32imac-unknown-none-elf, QEMU's virt)"
 (cd $fw && cargo build --locked --release -p pvfc-firmware-riscv --target riscv32imac-unknown-none-elf)
 elf=$fw/target/riscv32imac-unknown-none-elf/release/pvfc-firmware-riscv
 text=$(size -A "$elf" | awk '$1 == ".text" || $1 == ".rodata" || $1 == ".init.rust" { n += $2 } END { print n }')
-trace="$out/trace-riscv.txt"
-status=0
-timeout 300 qemu-system-riscv32 -machine virt -bios none -nographic -semihosting-config enable=on,target=native \
-  -icount shift=0 -kernel "$elf" > "$trace" || status=$?
-tail -n 2 "$trace"
-if [ "$status" -ne 0 ] || ! grep -q "pvfc: done, 10000 steps, no fault" "$trace"; then
-  echo "the RISC-V firmware exited with $status (a controller fault, or QEMU failed)" >&2
-  exit 1
-fi
-PVFC_FIRMWARE_TRACE="$trace" "$twin" --ignored --nocapture firmware_trace_matches_the_host_twin \
-  2>&1 | grep -E "vs host|test result|panicked|assert" | tee "$out/twin-riscv.txt"
-grep -q "test result: ok. 1 passed" "$out/twin-riscv.txt"
-echo "virt riscv32imac-unknown-none-elf: code and read-only data $text B; $(grep "instructions per step" "$trace")" >> "$out/cores.txt"
+run_and_compare riscv qemu-system-riscv32 -machine virt -bios none -icount shift=0 -kernel "$elf"
+echo "virt riscv32imac-unknown-none-elf: code and read-only data $text B; $(grep "instructions per step" "$out/trace-riscv.txt")" >> "$out/cores.txt"
 cat "$out/cores.txt"
