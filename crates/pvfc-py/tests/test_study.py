@@ -113,23 +113,30 @@ def test_a_local_cluster_of_worker_processes_gives_the_same_numbers(study, local
             same_bits(local, pvfc.sweep(study, client, batch_size=2))
 
 
-def _start(args, **kw):
-    return subprocess.Popen([sys.executable, "-m", *args], stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL, **kw)
+def _start(args, log):
+    """`python -m ARGS`, its output into the file `log`."""
+    with open(log, "wb") as out:
+        return subprocess.Popen([sys.executable, "-m", *args], stdout=out, stderr=subprocess.STDOUT)
 
 
 def test_a_scheduler_and_two_workers_as_processes_and_a_worker_killed(study, local, tmp_path):
     file = tmp_path / "scheduler.json"
-    procs = [_start(["distributed.cli.dask_scheduler", "--host", "127.0.0.1",
-                     "--scheduler-file", str(file), "--no-dashboard"])]
+    # Any free port (the workers find it in the scheduler file): the default, 8786, is taken
+    # when another suite runs beside this one, and a scheduler that cannot bind exits.
+    log = tmp_path / "scheduler.log"
+    procs = [_start(["distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0",
+                     "--scheduler-file", str(file), "--no-dashboard"], log)]
     try:
-        for _ in range(2):
+        for i in range(2):
             procs.append(_start(["distributed.cli.dask_worker", "--scheduler-file", str(file),
                                  "--nthreads", "1", "--nworkers", "1", "--no-dashboard",
-                                 "--no-nanny"]))
+                                 "--no-nanny"], tmp_path / f"worker{i}.log"))
         deadline = time.time() + 60
-        while not file.exists() and time.time() < deadline:
+        while not file.exists() and time.time() < deadline and procs[0].poll() is None:
             time.sleep(0.2)
+        if not file.exists():
+            pytest.fail(f"the scheduler did not start (exit {procs[0].poll()}):\n"
+                        + log.read_text(errors="replace")[-3000:])
         with distributed.Client(scheduler_file=str(file), timeout=60) as client:
             client.wait_for_workers(2, timeout=60)
             same_bits(local, pvfc.sweep(study, client, batch_size=1))

@@ -1,0 +1,153 @@
+//! The frames of pvfc-link: what is sent is what is read, a corrupted frame is never read as
+//! a message, and a receiver finds the next frame after any garbage.
+
+use proptest::prelude::*;
+use pvfc_link::{
+    encode, Actuate, Command, Decoder, DriveState, LinkError, Sense, MAX_FRAME, MAX_JOINTS,
+};
+
+fn sense(seq: u32, counts: &[i32], command: Option<Command>) -> Sense {
+    Sense {
+        seq,
+        counts: counts.iter().copied().collect(),
+        command,
+    }
+}
+
+fn frame<M: serde::Serialize>(message: &M) -> Vec<u8> {
+    let mut out = [0u8; MAX_FRAME];
+    let n = encode(message, &mut out).unwrap();
+    out[..n].to_vec()
+}
+
+/// Every result a decoder yields over `bytes`.
+fn read_all<M: serde::de::DeserializeOwned>(bytes: &[u8]) -> Vec<Result<M, LinkError>> {
+    let mut d = Decoder::<M>::new();
+    bytes.iter().filter_map(|b| d.push(*b)).collect()
+}
+
+fn command() -> impl Strategy<Value = Option<Command>> {
+    prop_oneof![
+        Just(None),
+        Just(Some(Command::Stop)),
+        any::<f32>().prop_map(|r| Some(Command::Start(r))),
+        any::<f32>().prop_map(|r| Some(Command::Speed(r))),
+    ]
+}
+
+/// `a == b`, NaNs equal by their bits (a float survives the wire bit for bit).
+fn same_bits(a: &Sense, b: &Sense) -> bool {
+    let bits = |c: &Option<Command>| match c {
+        Some(Command::Start(r)) => Some((0, r.to_bits())),
+        Some(Command::Speed(r)) => Some((1, r.to_bits())),
+        Some(Command::Stop) => Some((2, 0)),
+        None => None,
+    };
+    a.seq == b.seq && a.counts == b.counts && bits(&a.command) == bits(&b.command)
+}
+
+proptest! {
+    #[test]
+    fn what_is_sent_is_read(
+        seq in any::<u32>(),
+        counts in prop::collection::vec(any::<i32>(), 0..=MAX_JOINTS),
+        command in command(),
+        torque in prop::collection::vec(any::<f32>(), 0..=MAX_JOINTS),
+    ) {
+        let s = sense(seq, &counts, command);
+        let bytes = frame(&s);
+        // One 0, at the end; within MAX_FRAME.
+        prop_assert!(bytes.len() <= MAX_FRAME);
+        prop_assert_eq!(bytes.iter().position(|b| *b == 0), Some(bytes.len() - 1));
+        let got = read_all::<Sense>(&bytes);
+        prop_assert_eq!(got.len(), 1);
+        prop_assert!(same_bits(got[0].as_ref().unwrap(), &s));
+        let a = Actuate { seq, torque: torque.iter().copied().collect(), state: DriveState::Fault(3) };
+        let got = read_all::<Actuate>(&frame(&a));
+        let back = got[0].as_ref().unwrap();
+        prop_assert_eq!(back.seq, a.seq);
+        prop_assert_eq!(back.state, a.state);
+        let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        prop_assert_eq!(bits(&back.torque), bits(&a.torque));
+    }
+
+    #[test]
+    fn after_any_garbage_the_next_frame_is_read(
+        garbage in prop::collection::vec(any::<u8>(), 0..300),
+        seq in any::<u32>(),
+    ) {
+        let s = sense(seq, &[1, -2], Some(Command::Speed(2.0)));
+        let mut bytes = garbage;
+        bytes.push(0);
+        bytes.extend(frame(&s));
+        let got = read_all::<Sense>(&bytes);
+        prop_assert_eq!(got.last().unwrap(), &Ok(s));
+    }
+}
+
+/// Every single-bit error in a frame (its terminating 0 aside) is caught, and the clean frame
+/// after it is read; for each of a few frames, all of its bits.
+#[test]
+fn no_single_bit_error_is_read_as_a_message() {
+    let frames = [
+        sense(0, &[0, 0], None),
+        sense(7, &[131_072, -65_536], Some(Command::Start(1.0))),
+        sense(
+            u32::MAX,
+            &[i32::MIN, i32::MAX, 5, -5, 0, 1],
+            Some(Command::Stop),
+        ),
+    ];
+    let next = sense(12, &[3, 4], None);
+    let mut caught = [0usize; 5];
+    for s in &frames {
+        let clean = frame(s);
+        for byte in 0..clean.len() - 1 {
+            for bit in 0..8 {
+                let mut bytes = clean.clone();
+                bytes[byte] ^= 1 << bit;
+                bytes.extend(frame(&next));
+                let got = read_all::<Sense>(&bytes);
+                let (last, rest) = got.split_last().unwrap();
+                assert_eq!(
+                    last,
+                    &Ok(next.clone()),
+                    "frame {s:?}, byte {byte}, bit {bit}"
+                );
+                for r in rest {
+                    let e = r.as_ref().expect_err("a corrupted frame read as a message");
+                    caught[*e as usize] += 1;
+                }
+            }
+        }
+    }
+    // Most are caught by the CRC; a flip in a stuffing code, or into a 0, by the stuffing.
+    assert!(
+        caught[LinkError::Crc as usize] > 0 && caught[LinkError::Stuffing as usize] > 0,
+        "{caught:?}"
+    );
+}
+
+#[test]
+fn a_frame_too_long_or_empty_is_an_error_and_the_next_is_read() {
+    let s = sense(1, &[1, 2], None);
+    let mut bytes = vec![0x55u8; 3 * MAX_FRAME];
+    bytes.push(0);
+    bytes.push(0); // an empty frame
+    bytes.extend(frame(&s));
+    let got = read_all::<Sense>(&bytes);
+    assert_eq!(got, [Err(LinkError::TooLong), Err(LinkError::Empty), Ok(s)]);
+}
+
+#[test]
+fn a_message_too_long_for_a_frame_is_refused() {
+    // MAX_JOINTS joints at their longest fit a frame; a buffer too short for one is refused.
+    let full = sense(
+        u32::MAX,
+        &[i32::MIN; MAX_JOINTS],
+        Some(Command::Start(f32::NAN)),
+    );
+    assert!(frame(&full).len() <= MAX_FRAME);
+    let mut small = [0u8; 8];
+    assert_eq!(encode(&full, &mut small), Err(LinkError::TooLong));
+}
