@@ -6,7 +6,7 @@
 # Then the same for the 6-joint step (--bin ur5) and the passive digital controller (--bin
 # passive), and the RTIC firmware (examples/firmware/rtic): its run, its trace against its host
 # twin (the operator's commands replayed at the periods it applied them), its control period
-# counted.
+# counted; then its hardware-in-the-loop binary against a plant on the host.
 # Needs: rustup target thumbv7em-none-eabihf, qemu-system-arm, binutils-arm-none-eabi.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -87,3 +87,10 @@ PVFC_RTIC_TRACE="$out/rtic.txt" "$twin" --ignored --nocapture rtic_trace_matches
 grep -q "test result: ok. 1 passed" "$out/rtic_twin.txt"
 python3 scripts/firmware_instructions.py "$rtic" --symbol pvfc_drive_period --steps 1000 \
   | tee "$out/rtic_instructions.txt"
+
+echo "--- hardware in the loop: the RTIC drive (--bin hil) on QEMU's USART1, the plant on the host"
+# Lockstep over a Unix socket, 10,000 periods, one frame corrupted on purpose and one period
+# skipped (tests/firmware_twin.rs, hil_run_matches_the_host_twin).
+PVFC_HIL_FIRMWARE="$fw/target/thumbv7em-none-eabihf/release/hil" timeout 300 "$twin" --ignored --nocapture \
+  hil_run_matches_the_host_twin 2>&1 | grep -E "^hil|host twin|test result|panicked|assert" | tee "$out/hil.txt"
+grep -q "test result: ok. 1 passed" "$out/hil.txt"

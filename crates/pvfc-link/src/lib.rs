@@ -76,6 +76,8 @@ pub struct Actuate {
     pub torque: Vec<f32, MAX_JOINTS>,
     /// The drive's state after the period.
     pub state: DriveState,
+    /// The frames the drive could not read so far (corrupted on the way, or not a [`Sense`]).
+    pub errors: u32,
 }
 
 /// A frame that could not be written or read.

@@ -62,11 +62,17 @@ proptest! {
         let got = read_all::<Sense>(&bytes);
         prop_assert_eq!(got.len(), 1);
         prop_assert!(same_bits(got[0].as_ref().unwrap(), &s));
-        let a = Actuate { seq, torque: torque.iter().copied().collect(), state: DriveState::Fault(3) };
+        let a = Actuate {
+            seq,
+            torque: torque.iter().copied().collect(),
+            state: DriveState::Fault(3),
+            errors: seq / 2,
+        };
         let got = read_all::<Actuate>(&frame(&a));
         let back = got[0].as_ref().unwrap();
         prop_assert_eq!(back.seq, a.seq);
         prop_assert_eq!(back.state, a.state);
+        prop_assert_eq!(back.errors, a.errors);
         let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         prop_assert_eq!(bits(&back.torque), bits(&a.torque));
     }

@@ -3,7 +3,8 @@ use std::{env, fs, path::PathBuf};
 
 fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
-    fs::copy("../memory/netduinoplus2.x", out.join("memory.x")).expect("examples/firmware/memory/netduinoplus2.x");
+    fs::copy("../memory/netduinoplus2.x", out.join("memory.x"))
+        .expect("examples/firmware/memory/netduinoplus2.x");
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rerun-if-changed=../memory/netduinoplus2.x");
 }
