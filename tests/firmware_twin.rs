@@ -370,6 +370,20 @@ struct Line {
     after_gap: Option<(pvfc_link::DriveState, [f32; 2])>,
 }
 
+/// Period `k` of the host's plant: a sample every `TRACE_EVERY` periods (the angles and the
+/// torque), then one period at `torque`.
+fn advance(plant: &mut Plant<f64>, k: u32, torque: Vector2<f64>, out: &mut Vec<Sample<f64>>) {
+    if k.is_multiple_of(TRACE_EVERY as u32) {
+        out.push(Sample {
+            step: k as usize,
+            q: [plant.q[0], plant.q[1]],
+            torque: [torque[0], torque[1]],
+            ..Sample::default()
+        });
+    }
+    plant.advance(&torque);
+}
+
 /// The period at which the host corrupts its frame on purpose (one bit flipped).
 const CORRUPT_AT: u32 = 5_000;
 
@@ -454,13 +468,7 @@ fn hil_run(elf: &str) -> (Vec<Sample<f64>>, Line) {
         );
     };
     let torque = Vector2::new(f64::from(a.torque[0]), f64::from(a.torque[1]));
-    out.push(Sample {
-        step: 0,
-        q: [plant.q[0], plant.q[1]],
-        torque: [torque[0], torque[1]],
-        ..Sample::default()
-    });
-    plant.advance(&torque);
+    advance(&mut plant, 0, torque, &mut out);
     // What the drive could not read while it booted (a frame cut by the USART's start) is not
     // the run's.
     let boot_errors = a.errors;
@@ -510,15 +518,7 @@ fn hil_run(elf: &str) -> (Vec<Sample<f64>>, Line) {
         );
         line.drive_errors = a.errors - boot_errors;
         let torque = Vector2::new(f64::from(a.torque[0]), f64::from(a.torque[1]));
-        if k % TRACE_EVERY as u32 == 0 {
-            out.push(Sample {
-                step: k as usize,
-                q: [plant.q[0], plant.q[1]],
-                torque: [torque[0], torque[1]],
-                ..Sample::default()
-            });
-        }
-        plant.advance(&torque);
+        advance(&mut plant, k, torque, &mut out);
     }
     // A period skipped (the host ran one without the drive's torque): the drive must latch
     // its link fault and answer with the safe torque.
@@ -551,16 +551,12 @@ fn hil_twin<T: Real>() -> Vec<Sample<f64>> {
             setpoint = *s;
         }
         let o = d.period(setpoint, drive::encoder_counts(&plant.q));
-        let torque = Vector2::new(f(o.torque[0]), f(o.torque[1]));
-        if k % TRACE_EVERY as u32 == 0 {
-            out.push(Sample {
-                step: k as usize,
-                q: [plant.q[0], plant.q[1]],
-                torque: [torque[0], torque[1]],
-                ..Sample::default()
-            });
-        }
-        plant.advance(&torque);
+        advance(
+            &mut plant,
+            k,
+            Vector2::new(f(o.torque[0]), f(o.torque[1])),
+            &mut out,
+        );
     }
     out
 }
