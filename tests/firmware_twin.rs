@@ -399,16 +399,26 @@ fn hil_run(elf: &str) -> (Vec<Sample<f64>>, Line) {
     let socket = dir.join("usart1.sock");
     let _ = std::fs::remove_file(&socket);
     let log = std::fs::File::create(dir.join("qemu.log")).unwrap();
-    let mut qemu = std::process::Command::new("qemu-system-arm")
-        .args(["-machine", "netduinoplus2", "-nographic"])
-        .args(["-semihosting-config", "enable=on,target=native"])
-        .arg("-serial")
-        .arg(format!("unix:{},server=on,wait=on", socket.display()))
-        .args(["-kernel", elf])
-        .stdout(log.try_clone().unwrap())
-        .stderr(log)
-        .spawn()
-        .expect("qemu-system-arm runs");
+    /// QEMU, ended when the run ends, however it ends (a failed assertion included).
+    struct Qemu(std::process::Child);
+    impl Drop for Qemu {
+        fn drop(&mut self) {
+            self.0.kill().ok();
+            self.0.wait().ok();
+        }
+    }
+    let _qemu = Qemu(
+        std::process::Command::new("qemu-system-arm")
+            .args(["-machine", "netduinoplus2", "-nographic"])
+            .args(["-semihosting-config", "enable=on,target=native"])
+            .arg("-serial")
+            .arg(format!("unix:{},server=on,wait=on", socket.display()))
+            .args(["-kernel", elf])
+            .stdout(log.try_clone().unwrap())
+            .stderr(log)
+            .spawn()
+            .expect("qemu-system-arm runs"),
+    );
     let start = Instant::now();
     let mut stream = loop {
         match UnixStream::connect(&socket) {
@@ -532,8 +542,6 @@ fn hil_run(elf: &str) -> (Vec<Sample<f64>>, Line) {
     let n = encode(&sense, &mut frame).unwrap();
     let a = answer(&mut stream, &frame[..n], gap, &mut line).expect("an answer after the gap");
     line.after_gap = Some((a.state, [a.torque[0], a.torque[1]]));
-    qemu.kill().ok();
-    qemu.wait().ok();
     (out, line)
 }
 
