@@ -9,7 +9,9 @@ mod common;
 use common::setups::test_pace;
 use nalgebra::Vector2;
 use proptest::prelude::*;
-use pvfc_core::pace::{drive_limited_rates, DriveLimits, PaceProfile, PaceTable};
+use pvfc_core::pace::{
+    drive_limited_rates, drive_limited_rates_with_miss, DriveLimits, PaceProfile, PaceTable,
+};
 use pvfc_core::prelude::*;
 use pvfc_core::ErrorKind;
 
@@ -303,4 +305,94 @@ fn a_table_below_fine_rates_stays_below_them_everywhere() {
     assert!(PaceTable::<f64, 64>::below(&fine, 0.0, 64, period).is_err());
     assert!(PaceTable::<f64, 64>::below(&fine[..10], 1.0, 64, period).is_err());
     assert!(PaceTable::<f64, 64>::below(&fine, 1.0, 65, period).is_err());
+}
+
+/// The drives' limits of `check_profile` with friction compensation `fric`.
+fn lissajous_limits(fric: [f64; 2]) -> DriveLimits<f64, 2> {
+    DriveLimits::new(Vector2::new(15.0, 5.0))
+        .unwrap()
+        .with_headroom(0.8)
+        .unwrap()
+        .with_friction_compensation(Vector2::from(fric))
+        .unwrap()
+}
+
+/// A missed torque the size of more Coulomb friction is more friction compensation: the
+/// rates planned with `miss[j] = m ∘ sign(ξ_d(τ_j))` are those planned with the compensation
+/// raised by `m`; and with no miss, those of `drive_limited_rates`.
+#[test]
+fn a_missed_torque_is_planned_as_the_torque_it_is() {
+    let scara = Scara::<f64>::pelican();
+    let contour = Lissajous::<f64, 2>::paper();
+    let (n, period) = (1500, 6.0);
+    let (fric, more) = ([2.0, 3.0], [0.5, 0.75]);
+    let step = period / n as f64;
+    let miss: Vec<Vector2<f64>> = (0..n)
+        .map(|j| {
+            let v = Contour::<f64, Torus<f64, 2>, 2>::sample(&contour, j as f64 * step).velocity;
+            Vector2::from_fn(|i, _| {
+                let sign = if v[i] > 0.0 {
+                    1.0
+                } else if v[i] < 0.0 {
+                    -1.0
+                } else {
+                    0.0
+                };
+                more[i] * sign
+            })
+        })
+        .collect();
+    let plan = |limits: &DriveLimits<f64, 2>, miss: Option<&[Vector2<f64>]>| {
+        let mut rates = vec![4.0; n];
+        match miss {
+            Some(m) => {
+                drive_limited_rates_with_miss(&scara, &contour, limits, period, &mut rates, m)
+            }
+            None => drive_limited_rates(&scara, &contour, limits, period, &mut rates),
+        }
+        .unwrap();
+        rates
+    };
+    let base = lissajous_limits(fric);
+    let raised = lissajous_limits([fric[0] + more[0], fric[1] + more[1]]);
+    let with_miss = plan(&base, Some(&miss));
+    let as_friction = plan(&raised, None);
+    for (j, (a, b)) in with_miss.iter().zip(&as_friction).enumerate() {
+        assert!((a - b).abs() <= 1e-12 * b.abs(), "τ_{j}: {a} against {b}");
+    }
+    // The miss slows the plan (the drives give it part of their torque)...
+    let plain = plan(&base, None);
+    let lap = |r: &[f64]| {
+        (0..n)
+            .map(|j| 2.0 * step / (r[j] + r[(j + 1) % n]))
+            .sum::<f64>()
+    };
+    assert!(
+        lap(&with_miss) > 1.01 * lap(&plain),
+        "{} against {}",
+        lap(&with_miss),
+        lap(&plain)
+    );
+    // ...and a miss of zero changes nothing.
+    let zero = vec![Vector2::zeros(); n];
+    assert_eq!(plan(&base, Some(&zero)), plain);
+}
+
+#[test]
+fn a_missed_torque_of_the_wrong_length_or_not_finite_is_refused() {
+    let scara = Scara::<f64>::pelican();
+    let contour = Lissajous::<f64, 2>::paper();
+    let limits = lissajous_limits([2.0, 3.0]);
+    let mut rates = vec![1.0; 10];
+    let run = |rates: &mut [f64], miss: &[Vector2<f64>]| {
+        drive_limited_rates_with_miss(&scara, &contour, &limits, 6.0, rates, miss)
+            .map_err(|e| e.kind())
+    };
+    assert_eq!(
+        run(&mut rates, &[Vector2::zeros(); 9]),
+        Err(ErrorKind::DimensionMismatch)
+    );
+    let mut bad = [Vector2::zeros(); 10];
+    bad[3][1] = f64::NAN;
+    assert_eq!(run(&mut rates, &bad), Err(ErrorKind::NonFinite));
 }

@@ -25,6 +25,8 @@
 //! 3. a forward pass: `x_{j+1} ≤ x_j + 2Δ u_max(x_j)`.
 //!
 //! Both passes go round the closed contour until nothing changes (at most three laps each).
+//! [`drive_limited_rates_with_miss`] adds, at each point, a torque the model misses (measured
+//! on the plant along the contour) to what the drives must deliver.
 //! The admissible set of `(x, u)` at each point is convex, so each bound is found by
 //! bisection on `x`.
 
@@ -144,7 +146,13 @@ struct Row<T: Real, const D: usize> {
 }
 
 impl<T: Real, const D: usize> Row<T, D> {
-    fn at<G, Sys, X>(system: &Sys, contour: &X, limits: &DriveLimits<T, D>, tau: T) -> Self
+    fn at<G, Sys, X>(
+        system: &Sys,
+        contour: &X,
+        limits: &DriveLimits<T, D>,
+        tau: T,
+        miss: Option<&Tangent<T, D>>,
+    ) -> Self
     where
         G: LieGroup<T, D>,
         Sys: MechanicalSystem<T, G, D>,
@@ -155,6 +163,9 @@ impl<T: Real, const D: usize> Row<T, D> {
         let mut offset = Tangent::zeros();
         if limits.gravity {
             offset += system.gravity(&s.point);
+        }
+        if let Some(miss) = miss {
+            offset += miss;
         }
         for i in 0..D {
             let v = s.velocity[i];
@@ -253,6 +264,59 @@ where
     Sys: MechanicalSystem<T, G, D>,
     X: Contour<T, G, D>,
 {
+    plan(system, contour, limits, period, rates, None)
+}
+
+/// [`drive_limited_rates`] with the torque the model misses: at each point `τ_j` the drives
+/// also deliver `miss[j]` (per joint, signed: what a plant's friction and inertia errors ask of
+/// them beyond the model's motion torque there, as measured along the contour), so each limit
+/// bounds `T(τ_j) + miss[j]`. With every `miss[j] = 0` the rates are
+/// [`drive_limited_rates`]'s.
+///
+/// Errors: those of [`drive_limited_rates`]; `DimensionMismatch` for a `miss` not of
+/// `rates.len()` points; `NonFinite` for a non-finite entry.
+pub fn drive_limited_rates_with_miss<T, G, Sys, X, const D: usize>(
+    system: &Sys,
+    contour: &X,
+    limits: &DriveLimits<T, D>,
+    period: T,
+    rates: &mut [T],
+    miss: &[Tangent<T, D>],
+) -> Result<()>
+where
+    T: Real,
+    G: LieGroup<T, D>,
+    Sys: MechanicalSystem<T, G, D>,
+    X: Contour<T, G, D>,
+{
+    if miss.len() != rates.len() {
+        return Err(Error::new(
+            ErrorKind::DimensionMismatch,
+            "drive_limited_rates_with_miss: one missed torque per point",
+        ));
+    }
+    ensure_finite(
+        miss.iter().flat_map(|m| m.iter()),
+        "drive_limited_rates_with_miss: missed torques",
+    )?;
+    plan(system, contour, limits, period, rates, Some(miss))
+}
+
+/// The passes of [`drive_limited_rates`], with the missed torques if any.
+fn plan<T, G, Sys, X, const D: usize>(
+    system: &Sys,
+    contour: &X,
+    limits: &DriveLimits<T, D>,
+    period: T,
+    rates: &mut [T],
+    miss: Option<&[Tangent<T, D>]>,
+) -> Result<()>
+where
+    T: Real,
+    G: LieGroup<T, D>,
+    Sys: MechanicalSystem<T, G, D>,
+    X: Contour<T, G, D>,
+{
     let n = rates.len();
     if n < 3 {
         return Err(Error::new(
@@ -275,7 +339,10 @@ where
     }
     let step = period / cast::<T>(n as f64);
     let two_step = step + step;
-    let row = |j: usize| Row::at(system, contour, limits, step * cast::<T>(j as f64));
+    let row = |j: usize| {
+        let tau = step * cast::<T>(j as f64);
+        Row::at(system, contour, limits, tau, miss.map(|m| &m[j]))
+    };
     let at_rest = || {
         Error::new(
             ErrorKind::InvalidParameter,

@@ -34,7 +34,7 @@ pub mod learned;
 pub mod table;
 pub mod throttle;
 
-pub use drive_limits::{drive_limited_rates, DriveLimits};
+pub use drive_limits::{drive_limited_rates, drive_limited_rates_with_miss, DriveLimits};
 pub use learned::{LearnedPace, PaceLearning};
 pub use table::PaceTable;
 pub use throttle::{PaceThrottle, Throttled};
