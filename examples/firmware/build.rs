@@ -9,7 +9,8 @@ fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
     let machine = env::var("PVFC_MACHINE").unwrap_or_else(|_| "netduinoplus2".to_string());
     let layout = format!("memory/{machine}.x");
-    fs::copy(&layout, out.join("memory.x")).expect("the machine's memory layout is in examples/firmware");
+    fs::copy(&layout, out.join("memory.x"))
+        .expect("the machine's memory layout is in examples/firmware");
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rerun-if-changed={layout}");
     println!("cargo:rerun-if-env-changed=PVFC_MACHINE");
