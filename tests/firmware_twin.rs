@@ -147,9 +147,19 @@ fn firmware_trace_matches_the_host_twin() {
 fn rtic_twin<T: Real>(
     setpoints: &[(u32, drive::Setpoint)],
 ) -> (Vec<Sample<f64>>, Vec<Option<ErrorKind>>) {
+    drive_twin::<T, T>(setpoints)
+}
+
+/// The drive in the scalar `T` against the plant in the scalar `P`, period for period, the
+/// setpoints applied at the periods `setpoints` gives: its samples and each period's latched
+/// fault.
+fn drive_twin<T: Real, P: Real>(
+    setpoints: &[(u32, drive::Setpoint)],
+) -> (Vec<Sample<f64>>, Vec<Option<ErrorKind>>) {
     let mut drive = drive::Drive::<T>::new().unwrap();
-    let mut plant = Plant::<T>::default();
+    let mut plant = Plant::<P>::default();
     let f = |x: T| nalgebra::try_convert::<T, f64>(x).unwrap();
+    let g = |x: P| nalgebra::try_convert::<P, f64>(x).unwrap();
     let mut setpoint = drive::Setpoint::STOPPED;
     let (mut out, mut faults) = (vec![], vec![]);
     for step in 0..STEPS as u32 {
@@ -162,14 +172,14 @@ fn rtic_twin<T: Real>(
             let c = drive.controller().controller();
             out.push(Sample {
                 step: step as usize,
-                q: [f(plant.q[0]), f(plant.q[1])],
+                q: [g(plant.q[0]), g(plant.q[1])],
                 torque: [f(o.torque[0]), f(o.torque[1])],
                 tau: f(c.state().unwrapped_tau(c.law().field().period())),
                 potential: o.potential.map_or(f64::NAN, f),
-                kinetic_energy: f(plant.kinetic_energy()),
+                kinetic_energy: g(plant.kinetic_energy()),
             });
         }
-        plant.advance(&o.torque);
+        plant.advance(&o.torque.map(|x| cast::<P>(f(x))));
     }
     // The drive keeps the first fault it latched.
     assert_eq!(drive.fault(), faults.iter().flatten().next().copied());
@@ -384,13 +394,30 @@ fn advance(plant: &mut Plant<f64>, k: u32, torque: Vector2<f64>, out: &mut Vec<S
     plant.advance(&torque);
 }
 
+/// The host's frame of period `seq`: the plant's encoder counts and `command`; its bytes and
+/// their length.
+fn sense_frame(
+    seq: u32,
+    plant: &Plant<f64>,
+    command: Option<drive::Command>,
+) -> ([u8; pvfc_link::MAX_FRAME], usize) {
+    let sense = pvfc_link::Sense {
+        seq,
+        counts: drive::encoder_counts(&plant.q).iter().copied().collect(),
+        command,
+    };
+    let mut frame = [0u8; pvfc_link::MAX_FRAME];
+    let n = pvfc_link::encode(&sense, &mut frame).unwrap();
+    (frame, n)
+}
+
 /// The period at which the host corrupts its frame on purpose (one bit flipped).
 const CORRUPT_AT: u32 = 5_000;
 
 /// The RTIC firmware's `hil` binary in QEMU (USART1 on a Unix socket), in lockstep with the
 /// host's plant: the operator's script, the encoders' counts, one frame a period each way.
 fn hil_run(elf: &str) -> (Vec<Sample<f64>>, Line) {
-    use pvfc_link::{encode, Actuate, Decoder, DriveState, Sense, MAX_FRAME};
+    use pvfc_link::{Actuate, Decoder, DriveState};
     use std::io::{Read, Write};
     use std::os::unix::net::UnixStream;
     use std::time::{Duration, Instant};
@@ -457,13 +484,7 @@ fn hil_run(elf: &str) -> (Vec<Sample<f64>>, Line) {
     // The drive boots after QEMU accepts the connection: bytes before its USART is enabled are
     // lost. Period 0 is sent until answered (the arm at rest, stopped: no period changes
     // anything before the script starts it); only then does the run count frames.
-    let boot = Sense {
-        seq: 0,
-        counts: drive::encoder_counts(&plant.q).iter().copied().collect(),
-        command: None,
-    };
-    let mut frame = [0u8; MAX_FRAME];
-    let n = encode(&boot, &mut frame).unwrap();
+    let (frame, n) = sense_frame(0, &plant, None);
     assert!(
         drive::SCRIPT[0].0 > 0,
         "the script's first command comes after period 0"
@@ -484,22 +505,11 @@ fn hil_run(elf: &str) -> (Vec<Sample<f64>>, Line) {
     let boot_errors = a.errors;
     line = Line::default();
     for k in 1..STEPS as u32 {
-        let counts = drive::encoder_counts(&plant.q);
         let command = drive::SCRIPT
             .iter()
             .find(|(at, _)| *at == k)
-            .map(|(_, c)| match *c {
-                drive::Command::Start(r) => pvfc_link::Command::Start(r),
-                drive::Command::Speed(r) => pvfc_link::Command::Speed(r),
-                drive::Command::Stop => pvfc_link::Command::Stop,
-            });
-        let sense = Sense {
-            seq: k,
-            counts: counts.iter().copied().collect(),
-            command,
-        };
-        let mut frame = [0u8; MAX_FRAME];
-        let n = encode(&sense, &mut frame).unwrap();
+            .map(|(_, c)| *c);
+        let (frame, n) = sense_frame(k, &plant, command);
         // At CORRUPT_AT the first frame sent has one bit flipped: the drive must not answer it.
         let mut corrupt = k == CORRUPT_AT;
         let a = loop {
@@ -533,40 +543,10 @@ fn hil_run(elf: &str) -> (Vec<Sample<f64>>, Line) {
     // A period skipped (the host ran one without the drive's torque): the drive must latch
     // its link fault and answer with the safe torque.
     let gap = STEPS as u32 + 1;
-    let sense = Sense {
-        seq: gap,
-        counts: drive::encoder_counts(&plant.q).iter().copied().collect(),
-        command: None,
-    };
-    let mut frame = [0u8; MAX_FRAME];
-    let n = encode(&sense, &mut frame).unwrap();
+    let (frame, n) = sense_frame(gap, &plant, None);
     let a = answer(&mut stream, &frame[..n], gap, &mut line).expect("an answer after the gap");
     line.after_gap = Some((a.state, [a.torque[0], a.torque[1]]));
     (out, line)
-}
-
-/// The same loop on the host: the drive in `T` (f32: as on the target, but for the square
-/// root), the plant in f64 (as the host runs it).
-fn hil_twin<T: Real>() -> Vec<Sample<f64>> {
-    let mut d = drive::Drive::<T>::new().unwrap();
-    let f = |x: T| nalgebra::try_convert::<T, f64>(x).unwrap();
-    let mut plant = Plant::<f64>::default();
-    let setpoints = script_setpoints();
-    let mut setpoint = drive::Setpoint::STOPPED;
-    let mut out = vec![];
-    for k in 0..STEPS as u32 {
-        if let Some((_, s)) = setpoints.iter().find(|(at, _)| *at == k) {
-            setpoint = *s;
-        }
-        let o = d.period(setpoint, drive::encoder_counts(&plant.q));
-        advance(
-            &mut plant,
-            k,
-            Vector2::new(f(o.torque[0]), f(o.torque[1])),
-            &mut out,
-        );
-    }
-    out
 }
 
 #[test]
@@ -577,7 +557,13 @@ fn hil_run_matches_the_host_twin() {
     let t0 = std::time::Instant::now();
     let (fw, line) = hil_run(&elf);
     let seconds = t0.elapsed().as_secs_f64();
-    let (twin, twin64) = (hil_twin::<f32>(), hil_twin::<f64>());
+    // The same loop on the host: the drive in f32 (as on the target, but for the square root)
+    // and in f64, the plant in f64 (as the host runs it).
+    let script = script_setpoints();
+    let (twin, twin64) = (
+        drive_twin::<f32, f64>(&script).0,
+        drive_twin::<f64, f64>(&script).0,
+    );
     let worst = |a: &[Sample<f64>], b: &[Sample<f64>]| {
         let (mut dq, mut dt) = (0.0f64, 0.0f64);
         for (x, y) in a.iter().zip(b) {

@@ -26,16 +26,9 @@ pub type Passive<T> = PassiveController<
     2,
 >;
 
-/// What an operator asks for.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Command {
-    /// Run the controller at the nominal speed `r` of eq. (36).
-    Start(f32),
-    /// Change the nominal speed `r` (0: the field's own pace is no longer pushed).
-    Speed(f32),
-    /// The safe torque (zero) from the next period; the controller is not stepped.
-    Stop,
-}
+/// What an operator asks for: the command the hardware-in-the-loop frames carry
+/// (`pvfc_link::Command`: start at a nominal speed `r` of eq. (36), change `r`, stop).
+pub use pvfc_link::Command;
 
 /// The operator's script of the RTIC firmware (`rtic/`), the commands one would send over the
 /// serial line in a hardware-in-the-loop run, by control period: start at `r = 1`, faster at

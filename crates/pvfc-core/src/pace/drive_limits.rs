@@ -289,20 +289,11 @@ where
     Sys: MechanicalSystem<T, G, D>,
     X: Contour<T, G, D>,
 {
-    if miss.len() != rates.len() {
-        return Err(Error::new(
-            ErrorKind::DimensionMismatch,
-            "drive_limited_rates_with_miss: one missed torque per point",
-        ));
-    }
-    ensure_finite(
-        miss.iter().flat_map(|m| m.iter()),
-        "drive_limited_rates_with_miss: missed torques",
-    )?;
     plan(system, contour, limits, period, rates, Some(miss))
 }
 
-/// The passes of [`drive_limited_rates`], with the missed torques if any.
+/// The passes of [`drive_limited_rates`], with the missed torques if any; every input checked
+/// here.
 fn plan<T, G, Sys, X, const D: usize>(
     system: &Sys,
     contour: &X,
@@ -336,6 +327,18 @@ where
             ErrorKind::InvalidParameter,
             "drive_limited_rates: the period must be finite and > 0",
         ));
+    }
+    if let Some(miss) = miss {
+        if miss.len() != n {
+            return Err(Error::new(
+                ErrorKind::DimensionMismatch,
+                "drive_limited_rates_with_miss: one missed torque per point",
+            ));
+        }
+        ensure_finite(
+            miss.iter().flat_map(|m| m.iter()),
+            "drive_limited_rates_with_miss: missed torques",
+        )?;
     }
     let step = period / cast::<T>(n as f64);
     let two_step = step + step;

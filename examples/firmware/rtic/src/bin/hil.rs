@@ -32,7 +32,7 @@ pub const LINK_FAULT: u8 = 255;
 
 #[rtic::app(device = stm32f4::stm32f405, peripherals = true)]
 mod app {
-    use super::drive::{Command, Drive, Setpoint};
+    use super::drive::{Drive, Setpoint};
     use super::LINK_FAULT;
     use cortex_m_semihosting::{debug, hprintln};
     use pvfc_link::{encode, Actuate, Decoder, DriveState, Sense, MAX_FRAME};
@@ -127,11 +127,7 @@ mod app {
             }
             *l.next = Some(sense.seq.wrapping_add(1));
             if let Some(c) = sense.command {
-                *l.setpoint = l.setpoint.after(match c {
-                    pvfc_link::Command::Start(r) => Command::Start(r),
-                    pvfc_link::Command::Speed(r) => Command::Speed(r),
-                    pvfc_link::Command::Stop => Command::Stop,
-                });
+                *l.setpoint = l.setpoint.after(c);
             }
             let mut torque = [0.0f32; 2];
             if !*l.link_fault {
