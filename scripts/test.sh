@@ -145,6 +145,52 @@ py="$(cd "$venv" && pwd)/bin/python"   # absolute: the pytest stage runs from an
 "$py" -m pip install --quiet "$wheel[test,reference]"
 "$py" -c "import pvfc, numpy; print('pvfc', pvfc.__version__, 'numpy', numpy.__version__)"
 
+stage "The release builds of the stages below: the pvfc command and the side-by-side examples"
+# Built here, before the suites below start, so that the command they run is ready.
+cargo build --locked --release --bin pvfc --example scara_contour --example ur5_tool_path \
+  --example part_program
+
+stage "The wheel on the oldest and the newest CPython it claims (3.9, 3.13), with no Rust on the path: started"
+# pyenv's interpreters; the reference packages as binary wheels only (on 3.9 the newest
+# Pinocchio and MuJoCo with a wheel for it). The parity tests use the pvfc command built above
+# (PVFC_CLI). Both suites run in the background, each into its own log, beside the stages
+# below (whose programs leave a core idle most of the time), and their results are shown at the
+# end; each is a process group of its own, stopped if this script stops first. The hour-long
+# MuJoCo energy loop runs in the pytest stage below only (it checks the controller, not the
+# interpreter).
+export wheel
+wheel_on() {
+  local version=$1 base=$2
+  local v_env="$PWD/target/py-venv-$version"
+  rm -rf "$v_env"
+  "$base/bin/python3" -m venv "$v_env"
+  "$v_env/bin/python" -m pip install --quiet --upgrade pip
+  "$v_env/bin/python" -m pip install --quiet --only-binary=:all: "$wheel[test,reference]"
+  (cd crates/pvfc-py && env PATH="$v_env/bin:/usr/bin:/bin" PVFC_CLI="$PWD/../../target/release/pvfc" \
+    timeout --kill-after=30 900 "$v_env/bin/python" -m pytest -q -p no:cacheprovider --benchmark-disable \
+      -k "not for_an_hour")
+}
+pids=()
+versions=()
+trap 'for p in "${pids[@]}"; do kill -- "-$p" 2>/dev/null || true; done' EXIT
+for version in 3.9 3.13; do
+  base=""
+  if command -v pyenv >/dev/null; then
+    base=$(ls -d "$(pyenv root)/versions/$version".* 2>/dev/null | sort -V | tail -n 1 || true)
+  fi
+  if [ -z "$base" ] || [ ! -x "$base/bin/python3" ]; then
+    if [ -n "${PVFC_REQUIRE_VALGRIND:-}" ]; then
+      echo "CPython $version (pyenv) is needed in CI" >&2
+      exit 1
+    fi
+    echo "CPython $version not found (pyenv): skipping the wheel's tests on it"
+    continue
+  fi
+  setsid bash -c "$(declare -f wheel_on); wheel_on $(printf %q "$version") $(printf %q "$base")" >"target/py-$version.log" 2>&1 &
+  pids+=("$!")
+  versions+=("$version")
+done
+
 stage "MuJoCo: the C++ torque loop (examples/cpp/mujoco_ur5.cpp) on the mujoco wheel's library"
 mujoco_dir=$("$py" -c "import mujoco, os; print(os.path.dirname(mujoco.__file__))")
 # Builds the MuJoCo example into $1 against the pvfc package installed in $2.
@@ -210,8 +256,6 @@ stage "The same examples in Rust, Python and C++ (examples/side_by_side): the sa
 rm -rf target/cmake-side
 cmake -S examples/side_by_side -B target/cmake-side -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build target/cmake-side >/dev/null
-cargo build --locked --release --example scara_contour --example ur5_tool_path \
-  --example part_program
 # Each entry: the program, the URDF, the tip (the part program on the UR5 and on the Panda).
 for example in scara_contour:models/scara.urdf: ur5_tool_path:models/ur5/ur5_robot.urdf: \
   part_program:models/ur5/ur5_robot.urdf:tool0 \
@@ -234,54 +278,6 @@ stage "pytest"
 stage "stubtest"
 "$py" -m mypy.stubtest pvfc
 
-stage "The wheel on the oldest and the newest CPython it claims (3.9, 3.13), with no Rust on the path"
-# pyenv's interpreters; the reference packages as binary wheels only (on 3.9 the newest
-# Pinocchio and MuJoCo with a wheel for it). The parity tests use the pvfc command built by
-# the pytest stage above (PVFC_CLI). Both interpreters run side by side (each suite is mostly
-# one Python thread), each into its own log, shown when it fails; the hour-long MuJoCo energy
-# loop runs in the pytest stage above only (it checks the controller, not the interpreter).
-wheel_on() {
-  local version=$1 base=$2
-  local v_env="$PWD/target/py-venv-$version"
-  rm -rf "$v_env"
-  "$base/bin/python3" -m venv "$v_env"
-  "$v_env/bin/python" -m pip install --quiet --upgrade pip
-  "$v_env/bin/python" -m pip install --quiet --only-binary=:all: "$wheel[test,reference]"
-  (cd crates/pvfc-py && env PATH="$v_env/bin:/usr/bin:/bin" PVFC_CLI="$PWD/../../target/release/pvfc" \
-    timeout --kill-after=30 900 "$v_env/bin/python" -m pytest -q -p no:cacheprovider --benchmark-disable \
-      -k "not for_an_hour")
-}
-pids=()
-versions=()
-for version in 3.9 3.13; do
-  base=""
-  if command -v pyenv >/dev/null; then
-    base=$(ls -d "$(pyenv root)/versions/$version".* 2>/dev/null | sort -V | tail -n 1 || true)
-  fi
-  if [ -z "$base" ] || [ ! -x "$base/bin/python3" ]; then
-    if [ -n "${PVFC_REQUIRE_VALGRIND:-}" ]; then
-      echo "CPython $version (pyenv) is needed in CI" >&2
-      exit 1
-    fi
-    echo "CPython $version not found (pyenv): skipping the wheel's tests on it"
-    continue
-  fi
-  wheel_on "$version" "$base" >"target/py-$version.log" 2>&1 &
-  pids+=("$!")
-  versions+=("$version")
-done
-failed=0
-for i in "${!pids[@]}"; do
-  if wait "${pids[$i]}"; then
-    echo "CPython ${versions[$i]}: $(tail -n 1 "target/py-${versions[$i]}.log")"
-  else
-    echo "CPython ${versions[$i]}: the wheel's tests failed:" >&2
-    cat "target/py-${versions[$i]}.log" >&2
-    failed=1
-  fi
-done
-[ "$failed" = 0 ] || exit 1
-
 stage "The sdist builds from source (into a wheel, installed and imported)"
 # The Rust dependencies of the release build above are reused (CARGO_TARGET_DIR).
 rm -rf target/sdist-wheel target/py-venv-sdist
@@ -293,4 +289,19 @@ repo=$PWD
 import pvfc
 r = pvfc.Robot.from_urdf('$repo/models/ur5/ur5_robot.urdf', tip='tool0')
 print('pvfc', pvfc.__version__, 'from the sdist:', r.dof, 'joints')")
+
+stage "The wheel on CPython 3.9 and 3.13: the results"
+failed=0
+for i in "${!pids[@]}"; do
+  if wait "${pids[$i]}"; then
+    echo "CPython ${versions[$i]}: $(tail -n 1 "target/py-${versions[$i]}.log")"
+  else
+    echo "CPython ${versions[$i]}: the wheel's tests failed:" >&2
+    cat "target/py-${versions[$i]}.log" >&2
+    failed=1
+  fi
+done
+pids=()
+[ "$failed" = 0 ] || exit 1
+
 stage "done"
