@@ -7,6 +7,7 @@ use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use pvfc_control::error::SimError;
 use pvfc_control::model::cartesian::{CartesianSpec, PoseSpec};
 use pvfc_control::model::gcode::{PartProgram, ProgramError};
+use pvfc_control::model::path_orientation::PathFrame;
 use pvfc_control::model::tool_path::ToolPath;
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
@@ -192,6 +193,15 @@ fn every_refusal_names_its_line_and_column() {
         ("G0 X0\nM98 P100\n", 2, 1, "M98: not supported"),
         ("G0 X1\nG0 X2\n", 1, 1, "no cutting move"),
         ("G0 X0\nG1 X10 I5\n", 2, 1, "on a straight move"),
+        ("G0 X0\nG64\nG1 X10\n", 2, 1, "G64 needs P"),
+        (
+            "G0 X0\nG1 X10\nG64 P0 G1 Y5\n",
+            3,
+            1,
+            "the tolerance must be > 0",
+        ),
+        ("G0 X0\nG1 X10 P2\n", 2, 8, "only as G64's tolerance"),
+        ("G0 X0\nG64 P1 P2\n", 2, 8, "P given twice"),
         // Found by fuzzing (fuzz/fuzz_targets/gcode.rs): the parser's code number overflows.
         (
             "G0 X0\nG1 X10\n (G1) G2000000000000 X0\n",
@@ -343,4 +353,122 @@ fn a_code_number_past_u32_after_carriage_returns_is_an_error() {
         e.line == 3 && e.message.contains("G: a code number this large"),
         "{e:?}"
     );
+}
+
+/// The largest turn of the path's direction where one piece meets the next (rad).
+fn largest_kink(p: &ToolPath) -> f64 {
+    let l = p.length();
+    let starts = p.piece_starts();
+    starts[..starts.len() - 1]
+        .iter()
+        .map(|&s| p.tangent((s - 1e-9 * l).rem_euclid(l)).angle(&p.tangent(s)))
+        .fold(0.0, f64::max)
+}
+
+const SHARP_RECTANGLE: &str =
+    "G21 G90 G17 G64 P0.1\nG0 X0 Y0\nG1 X40 F600\nG1 Y20\nG1 X0 F300\nG1 Y0\nM30\n";
+
+#[test]
+fn g64_blends_each_sharp_corner_by_the_arc_that_leaves_it_by_the_tolerance() {
+    let program = PartProgram::parse(SHARP_RECTANGLE).unwrap();
+    let blended: Vec<bool> = program.moves.iter().map(|m| m.blended).collect();
+    assert_eq!(
+        blended,
+        [false, true, false, true, false, true, false, true]
+    );
+    let p = program.tool_path().unwrap();
+    // A right angle's blend leaves the corner by r (√2 − 1): r = 0.1 mm / (√2 − 1); the path
+    // is the rectangle's rounded polygon of that radius, starting where the closing corner's
+    // blend ends.
+    let r = 0.1e-3 / (2f64.sqrt() - 1.0);
+    let corners =
+        [[0.0, 0.0], [0.04, 0.0], [0.04, 0.02], [0.0, 0.02]].map(|[x, y]| Vector3::new(x, y, 0.0));
+    let polygon = ToolPath::rounded_polygon(&corners, r).unwrap();
+    assert!((p.length() - polygon.length()).abs() < 1e-15);
+    assert!(farthest(&p, &polygon, 4000) < 1e-15);
+    assert!(farthest(&polygon, &p, 4000) < 1e-15);
+    assert!((p.point(0.0) - Vector3::new(r, 0.0, 0.0)).norm() < 1e-15);
+    for c in &corners {
+        let d = p.closest(c).distance;
+        assert!(
+            (d - 0.1e-3).abs() < 1e-12,
+            "the corner {c:?} is {d} m off the path"
+        );
+    }
+    assert!(largest_kink(&p) < 1e-6, "{}", largest_kink(&p));
+    // The blend's feed is the lower of its two moves': 600 and 300 mm/min at the second
+    // corner, 600 where the program has one feed.
+    let feeds: Vec<f64> = program
+        .moves
+        .iter()
+        .map(|m| m.feed.unwrap() * 6e4)
+        .collect();
+    let expected = [600.0, 600.0, 600.0, 300.0, 300.0, 300.0, 300.0, 300.0];
+    for (f, e) in feeds.iter().zip(expected) {
+        assert!((f - e).abs() < 1e-9, "{feeds:?}");
+    }
+    // The same program without G64 keeps its corners, kinks of 90°.
+    let sharp = path(&SHARP_RECTANGLE.replace(" G64 P0.1", ""));
+    assert!((largest_kink(&sharp) - PI / 2.0).abs() < 1e-6);
+    assert!((sharp.length() - 0.12).abs() < 1e-15);
+    // The tool's frame along the path (a lead of 0.2 rad) needs a direction that does not
+    // jump: the blended program has one, the sharp one is refused at its first corner.
+    let normal = Vector3::z();
+    assert!(PathFrame::new(&p, normal, 0.2, 0.0).is_ok());
+    let e = PathFrame::new(&sharp, normal, 0.2, 0.0).unwrap_err();
+    assert!(
+        e.contains("turns sharply by 90.0°") && e.contains("G64"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_blend_takes_at_most_half_of_each_move() {
+    // A tolerance far above the sides: each side is shared by two blends and taken whole, so
+    // a 1 mm square becomes the circle of 0.5 mm through its sides' midpoints.
+    let p = path("G64 P5\nG0 X0 Y0\nG1 X1\nG1 Y1\nG1 X0\nG1 Y0\n");
+    assert!((p.length() - TAU * 0.5e-3).abs() < 1e-15, "{}", p.length());
+    let centre = Vector3::new(0.5e-3, 0.5e-3, 0.0);
+    for k in 0..64 {
+        let x = p.point(p.length() * k as f64 / 64.0);
+        assert!(((x - centre).norm() - 0.5e-3).abs() < 1e-15);
+    }
+    assert!(largest_kink(&p) < 1e-6);
+    // A short side limits its two blends: 10 × 1 mm at P0.5, the short sides taken whole.
+    let q = path("G64 P0.5\nG0 X0 Y0\nG1 X10\nG1 Y1\nG1 X0\nG1 Y0\n");
+    let r = 0.5e-3; // the half side's tangent length at 90°
+    assert!((q.length() - (2.0 * (10e-3 - 2.0 * r) + TAU * r)).abs() < 1e-15);
+    assert!(largest_kink(&q) < 1e-6);
+}
+
+#[test]
+fn g61_keeps_sharp_the_corners_after_it_and_arcs_stay_as_they_are() {
+    // Blending from the first move to the third only: two corners blended (after X40 and
+    // after Y20); the corners into and out of the G61 moves stay sharp.
+    let program =
+        PartProgram::parse("G0 X0 Y0\nG64 P0.1 G1 X40\nG1 Y20\nG1 X0\nG61 G1 Y0\n").unwrap();
+    let blended = program.moves.iter().filter(|m| m.blended).count();
+    assert_eq!(blended, 2);
+    let p = program.tool_path().unwrap();
+    assert!((largest_kink(&p) - PI / 2.0).abs() < 1e-6);
+    // A line meeting an arc at an angle is not blended: a half disc, its two corners sharp.
+    let disc = PartProgram::parse("G64 P0.1\nG0 X-10 Y0\nG1 X10\nG3 X-10 Y0 I-10 J0\n").unwrap();
+    assert!(disc.moves.iter().all(|m| !m.blended));
+    assert!((largest_kink(&disc.tool_path().unwrap()) - PI / 2.0).abs() < 1e-6);
+    // Nor is a reversal (out and back along one line).
+    let back = PartProgram::parse("G64 P0.1\nG0 X0 Y0\nG1 X10\nG1 X0\n").unwrap();
+    assert!(back.moves.iter().all(|m| !m.blended));
+}
+
+#[test]
+fn a_blended_program_is_the_same_in_inches_and_in_a_turned_plane() {
+    // P in the program's units: inches with G20.
+    let mm = path("G21 G64 P0.254\nG0 X0 Y0\nG1 X25.4\nG1 Y12.7\nG1 X0\nG1 Y0\n");
+    let inch = path("G20 G64 P0.01\nG0 X0 Y0\nG1 X1\nG1 Y0.5\nG1 X0\nG1 Y0\n");
+    assert!((mm.length() - inch.length()).abs() < 1e-15);
+    assert!(farthest(&mm, &inch, 2000) < 1e-15);
+    // In the ZX plane (G18) the blends turn about Y, the path the XY one's turned.
+    let zx = path("G18 G64 P0.254\nG0 Z0 X0\nG1 Z25.4\nG1 X12.7\nG1 Z0\nG1 X0\n");
+    assert!((zx.length() - mm.length()).abs() < 1e-15);
+    assert!(largest_kink(&zx) < 1e-6);
 }

@@ -47,6 +47,27 @@ def test_a_bad_program_names_its_line_and_column(tmp_path):
         pvfc.CartesianPath(points=[[0, 0, 0], [1, 0, 0], [1, 1, 0]], part=([0, 0, math.nan], [0, 0, 0]))
 
 
+def test_g64_blends_the_plates_sharp_corners_and_a_bad_g64_is_named(repo, tmp_path):
+    plate = pvfc.CartesianPath(gcode=repo / "scenarios" / "parts" / "plate.nc", samples=64)
+    sharp_text = (repo / "scenarios" / "parts" / "plate.nc").read_text().replace(" G64 P0.5", "")
+    sharp = tmp_path / "sharp.nc"
+    sharp.write_text(sharp_text)
+    # Each blend shortens the path by 2 r tan(θ/2) − r θ, r = P / (1/cos(θ/2) − 1), P = 0.5 mm:
+    # four corners of 90° (the rectangle's three, one where the contour closes, and the
+    # notch's bottom) and four of 45° (the chamfer's two and the notch's mouth).
+    def saved(turn):
+        r = 0.5e-3 / (1.0 / math.cos(turn / 2) - 1.0)
+        return 2 * r * math.tan(turn / 2) - r * turn
+
+    exact = pvfc.CartesianPath(gcode=sharp, samples=64).length
+    expected = exact - 4 * saved(math.pi / 2) - 4 * saved(math.pi / 4)
+    assert plate.length == pytest.approx(expected, rel=1e-12)
+    bad = tmp_path / "bad.nc"
+    bad.write_text("G0 X0 Y0\nG64\nG1 X10\nG1 Y10\nG1 X0 Y0\n")
+    with pytest.raises(pvfc.InvalidParameterError, match=r"bad\.nc: line 2, column 1: G64 needs P"):
+        pvfc.CartesianPath(gcode=bad)
+
+
 def test_a_part_programs_feeds_pace_the_field(repo, ur5):
     """``Controller.compose(..., pace={"feeds": path})``: on the contour the tool centre point's
     field velocity is the feed of the stretch it is on (the bracket's outline at F6000, its

@@ -17,8 +17,17 @@
 //!   default) or absolute (G90.1). A feed F is in units per minute (G94) and holds until
 //!   changed.
 //! - Helical arcs (an arc that also moves along its plane's normal) are refused.
+//! - Corners: G64 P<tolerance> blends, from its block on, each corner where a straight move
+//!   meets a straight move by the circular arc (tangent to both) that leaves the corner by at
+//!   most the tolerance, its tangent lengths at most half of either move (so that blends never
+//!   overlap); G61 (and G61.1) keeps the corners sharp again (the default). A corner is blended
+//!   when both its moves were read in G64; with two tolerances, by the smaller. The blend is a
+//!   cutting move of its own ([`ProgramMove::blended`]) at the lower of its two moves' feeds.
+//!   Corners where an arc meets a move are kept as they are (CAM's arcs meet their moves
+//!   tangentially), as are reversals and turns below 1e-4 rad.
 //! - Accepted and without effect on the path: comments, line numbers (N), tool changes (T),
-//!   spindle speeds (S), M0–M9 and M30, G40, G49, G54, G80, G94. Any other word is an error.
+//!   spindle speeds (S), M0–M9 and M30, G40, G49, G54, G80, G94. Any other word is an error,
+//!   and so is a P anywhere but after G64.
 
 use nalgebra::{Unit, Vector3};
 
@@ -45,8 +54,10 @@ pub struct ProgramMove {
     pub segment: Segment,
     /// The feed in force (m/s), if the program set one.
     pub feed: Option<f64>,
-    /// The line it is on (1-based).
+    /// The line it is on (1-based); a blend's is its second move's.
     pub line: usize,
+    /// A corner's blend (G64) inserted before the move on `line`, not a move of the program.
+    pub blended: bool,
 }
 
 /// A part program's cutting moves, from where the first begins.
@@ -79,6 +90,8 @@ impl PartProgram {
         })?;
         let mut state = Modal::default();
         let mut moves = Vec::new();
+        // Per move, the blending tolerance in force (m; G64 P).
+        let mut tolerances = Vec::new();
         let mut start = None;
         let mut after_last_cut = false;
         for block in &program.blocks {
@@ -103,10 +116,22 @@ impl PartProgram {
                 }
             }
             for w in &block.word_addresses {
-                words.argument(w.letter, &w.value, w.span, source, &lines)?;
+                words.argument(w.letter, &w.value, w.span, &lines)?;
             }
             // Modal settings first (a block may set the units and move).
             state.apply(&words);
+            if let Some((true, at)) = words.blending {
+                // P in the block's units (a block may set G20/G21 and G64 together).
+                match words.tolerance {
+                    Some(p) if p > 0.0 => state.blend = Some(p * state.unit),
+                    Some(p) => {
+                        return Err(lines.error(at, format!("G64 P{p}: the tolerance must be > 0")))
+                    }
+                    None => {
+                        return Err(lines.error(at, "G64 needs P, the distance the path may leave a corner by when it blends it".into()))
+                    }
+                }
+            }
             let Some(motion) =
                 words
                     .motion
@@ -146,7 +171,9 @@ impl PartProgram {
                         segment: Segment::Line { to },
                         feed: state.feed,
                         line,
+                        blended: false,
                     });
+                    tolerances.push(state.blend);
                 }
                 Motion::Clockwise | Motion::CounterClockwise => {
                     let (center, axis) = state
@@ -157,7 +184,9 @@ impl PartProgram {
                         segment: Segment::Arc { to, center, axis },
                         feed: state.feed,
                         line,
+                        blended: false,
                     });
+                    tolerances.push(state.blend);
                 }
             }
             state.position = to;
@@ -169,6 +198,7 @@ impl PartProgram {
                 message: "no cutting move (G1, G2 or G3)".into(),
             });
         };
+        let (start, moves) = blend_corners(start, moves, &tolerances);
         Ok(PartProgram { start, moves })
     }
 
@@ -183,6 +213,107 @@ impl PartProgram {
             }
         })
     }
+}
+
+/// A turn below this (rad) is left as it is (a blend of it would have a radius of thousands of
+/// its tangent lengths, and no tool feels it); within 1e-6 of π, a reversal (not blended).
+const STRAIGHT: f64 = 1e-4;
+
+/// The program's moves with each corner between two straight moves read in G64 blended by an
+/// arc (see the [module](self)): `tolerances[j]` is the tolerance in force at move `j`. The
+/// closing corner (the last move into the first) counts as a corner too; when it is blended,
+/// the contour starts where its blend ends.
+fn blend_corners(
+    start: Vector3<f64>,
+    moves: Vec<ProgramMove>,
+    tolerances: &[Option<f64>],
+) -> (Vector3<f64>, Vec<ProgramMove>) {
+    let n = moves.len();
+    if n < 2 || tolerances.iter().all(Option::is_none) {
+        return (start, moves);
+    }
+    let end = |j: usize| match moves[j].segment {
+        Segment::Line { to } | Segment::Arc { to, .. } => to,
+    };
+    let from = |j: usize| if j == 0 { start } else { end(j - 1) };
+    // A straight move's direction and length.
+    let line = |j: usize| match moves[j].segment {
+        Segment::Line { to } => {
+            let d = to - from(j);
+            let l = d.norm();
+            (l > 0.0).then(|| (d / l, l))
+        }
+        Segment::Arc { .. } => None,
+    };
+    // The blend at the end of move j (into move j + 1): its tangent length and its arc.
+    let corner = |j: usize| -> Option<(f64, Segment)> {
+        let k = (j + 1) % n;
+        let tolerance = tolerances[j]?.min(tolerances[k]?);
+        let ((a, la), (b, lb)) = (line(j)?, line(k)?);
+        let turn = a.dot(&b).clamp(-1.0, 1.0).acos();
+        if !(STRAIGHT..=std::f64::consts::PI - 1e-6).contains(&turn) {
+            return None;
+        }
+        let half = 0.5 * turn;
+        // The arc leaves the corner by r (1/cos(θ/2) − 1); its tangents are r tan(θ/2) long.
+        let radius = tolerance / (1.0 / half.cos() - 1.0);
+        let tangent = (radius * half.tan()).min(0.5 * la.min(lb));
+        let radius = tangent / half.tan();
+        let here = end(j);
+        let center = here + (b - a).normalize() * (radius / half.cos());
+        let axis = Unit::new_normalize(a.cross(&b));
+        let to = here + b * tangent;
+        (radius.is_finite() && tangent > 0.0)
+            .then_some((tangent, Segment::Arc { to, center, axis }))
+    };
+    let corners: Vec<Option<(f64, Segment)>> = (0..n).map(corner).collect();
+    let feed = |a: Option<f64>, b: Option<f64>| match (a, b) {
+        (Some(x), Some(y)) => Some(x.min(y)),
+        (x, y) => y.or(x),
+    };
+    let mut out = Vec::with_capacity(2 * n);
+    for (j, m) in moves.iter().enumerate() {
+        let mut m = m.clone();
+        if let (Some((tangent, _)), Some((a, _))) = (&corners[j], line(j)) {
+            // The straight move stops short of its corner by the blend's tangent length.
+            m.segment = Segment::Line {
+                to: end(j) - a * *tangent,
+            };
+        }
+        // A straight move that its two blends take whole (each half of it) is left out.
+        let taken = |(_, l): (Vector3<f64>, f64)| {
+            let t = |c: &Option<(f64, Segment)>| c.as_ref().map_or(0.0, |(t, _)| *t);
+            l - t(&corners[j]) - t(&corners[(j + n - 1) % n]) <= PROGRAM_TOLERANCE
+        };
+        if !line(j).is_some_and(taken) {
+            out.push(m);
+        }
+        if let Some((_, arc)) = corners[j] {
+            let k = (j + 1) % n;
+            out.push(ProgramMove {
+                segment: arc,
+                feed: feed(moves[j].feed, moves[k].feed),
+                line: moves[k].line,
+                blended: true,
+            });
+        }
+    }
+    // With the closing corner blended, the contour starts where that blend ends.
+    let start = match &corners[n - 1] {
+        Some((tangent, _)) => line(0).map_or(start, |(b, _)| start + b * *tangent),
+        None => start,
+    };
+    if let (Some((_, Segment::Arc { center, axis, .. })), Some(last)) =
+        (&corners[n - 1], out.last_mut())
+    {
+        // The blend closes the contour exactly where it starts.
+        last.segment = Segment::Arc {
+            to: start,
+            center: *center,
+            axis: *axis,
+        };
+    }
+    (start, out)
 }
 
 /// Byte offsets where each line starts, for line and column numbers.
@@ -297,6 +428,10 @@ struct Words {
     centre: [Option<f64>; 3],
     radius: Option<f64>,
     feed: Option<f64>,
+    /// G64 (true) or G61 (false), and where.
+    blending: Option<(bool, usize)>,
+    /// G64's P.
+    tolerance: Option<f64>,
     first_span: Option<usize>,
 }
 
@@ -337,13 +472,23 @@ impl Words {
             (91, 0) => self.incremental = Some(true),
             (90, 1) => self.incremental_centres = Some(false),
             (91, 1) => self.incremental_centres = Some(true),
+            (64, 0) => self.blending = Some((true, at)),
+            (61, 0 | 1) => self.blending = Some((false, at)),
             (40 | 49 | 54 | 80 | 94, 0) => {}
             _ => {
                 return Err(lines.error(at, format!("G{}: not supported", show(g.number))));
             }
         }
+        let blends = number(g.number) == (64, 0);
         for a in &g.args {
-            self.argument(a.letter, &a.value, a.span, lines.source, lines)?;
+            if blends && a.letter.eq_ignore_ascii_case(&'P') {
+                if self.tolerance.is_some() {
+                    return Err(lines.error(a.span.start, "P given twice in one block".into()));
+                }
+                self.tolerance = Some(literal('P', &a.value, a.span, lines)?);
+                continue;
+            }
+            self.argument(a.letter, &a.value, a.span, lines)?;
         }
         Ok(())
     }
@@ -353,28 +498,11 @@ impl Words {
         letter: char,
         value: &gcode::Value,
         span: gcode::core::Span,
-        source: &str,
         lines: &LineStarts<'_>,
     ) -> Result<(), ProgramError> {
         let at = span.start;
         let letter = letter.to_ascii_uppercase();
-        // The literal's own digits in f64 (the parser keeps an f32: 0.1 µm on a 1 m part).
-        let number = match value {
-            gcode::Value::Literal(x) => source
-                .get(span.start..span.start + span.length)
-                .and_then(|w| w.trim().get(1..))
-                .and_then(|digits| digits.trim().parse::<f64>().ok())
-                .unwrap_or(f64::from(*x)),
-            _ => {
-                return Err(lines.error(
-                    at,
-                    format!("{letter}: variables are not supported, give a number"),
-                ));
-            }
-        };
-        if !number.is_finite() {
-            return Err(lines.error(at, format!("{letter}: not a finite number")));
-        }
+        let number = literal(letter, value, span, lines)?;
         if letter == 'F' && number <= 0.0 {
             return Err(lines.error(at, format!("F{number}: a feed must be > 0")));
         }
@@ -387,7 +515,13 @@ impl Words {
             'K' => &mut self.centre[2],
             'R' => &mut self.radius,
             'F' => &mut self.feed,
-            'S' | 'T' | 'P' | 'N' => return Ok(()),
+            'S' | 'T' | 'N' => return Ok(()),
+            'P' => {
+                return Err(lines.error(
+                    at,
+                    "P: only as G64's tolerance (G64 P0.05) is P supported".into(),
+                ));
+            }
             _ => {
                 return Err(lines.error(at, format!("{letter}{number}: the word {letter} is not supported (axes X, Y, Z; arcs I, J, K, R; feed F)")));
             }
@@ -403,6 +537,36 @@ impl Words {
     }
 }
 
+/// A word's number: the literal's own digits in f64 (the parser keeps an f32: 0.1 µm on a 1 m
+/// part), finite.
+fn literal(
+    letter: char,
+    value: &gcode::Value,
+    span: gcode::core::Span,
+    lines: &LineStarts<'_>,
+) -> Result<f64, ProgramError> {
+    let at = span.start;
+    let letter = letter.to_ascii_uppercase();
+    let number = match value {
+        gcode::Value::Literal(x) => lines
+            .source
+            .get(span.start..span.start + span.length)
+            .and_then(|w| w.trim().get(1..))
+            .and_then(|digits| digits.trim().parse::<f64>().ok())
+            .unwrap_or(f64::from(*x)),
+        _ => {
+            return Err(lines.error(
+                at,
+                format!("{letter}: variables are not supported, give a number"),
+            ));
+        }
+    };
+    if !number.is_finite() {
+        return Err(lines.error(at, format!("{letter}: not a finite number")));
+    }
+    Ok(number)
+}
+
 /// The modal state between blocks.
 struct Modal {
     motion: Option<Motion>,
@@ -414,6 +578,8 @@ struct Modal {
     incremental_centres: bool,
     /// m/s.
     feed: Option<f64>,
+    /// The blending tolerance (m; G64 P), or sharp corners (G61, the default).
+    blend: Option<f64>,
     /// m.
     position: Vector3<f64>,
 }
@@ -427,6 +593,7 @@ impl Default for Modal {
             incremental: false,
             incremental_centres: true,
             feed: None,
+            blend: None,
             position: Vector3::zeros(),
         }
     }
@@ -445,6 +612,9 @@ impl Modal {
         }
         if let Some(i) = w.incremental_centres {
             self.incremental_centres = i;
+        }
+        if let Some((false, _)) = w.blending {
+            self.blend = None;
         }
         if let Some(f) = w.feed {
             // Units per minute to m/s (F > 0 is checked where the word is read).

@@ -140,7 +140,7 @@ impl PathFrame {
             if turn > 1e-3 {
                 let p = path.point(s);
                 return Err(format!(
-                    "tool_frame: the path turns sharply by {:.1}° at ({:.4}, {:.4}, {:.4}) m, {:.4} m along it: the tool's frame would jump there (round the corner: corner_radius > 0, or arcs tangent to their neighbours)",
+                    "tool_frame: the path turns sharply by {:.1}° at ({:.4}, {:.4}, {:.4}) m, {:.4} m along it: the tool's frame would jump there (round the corner: corner_radius > 0, arcs tangent to their neighbours, or G64 P in a part program)",
                     turn.to_degrees(),
                     p.x,
                     p.y,
