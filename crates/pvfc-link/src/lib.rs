@@ -83,7 +83,8 @@ pub struct Actuate {
 /// A frame that could not be written or read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LinkError {
-    /// The message does not fit a frame, or a frame ran past [`MAX_FRAME`] bytes without its 0.
+    /// The message does not fit a frame, or a frame ran past [`MAX_FRAME`] bytes, its 0
+    /// included.
     TooLong,
     /// The bytes between two 0s are not a COBS frame.
     Stuffing,
@@ -156,7 +157,8 @@ impl<M: DeserializeOwned> Decoder<M> {
     /// not be read. The decoder is ready for the next frame either way.
     pub fn push(&mut self, byte: u8) -> Option<Result<M, LinkError>> {
         if byte != 0 {
-            if self.len < MAX_FRAME {
+            // A frame is at most MAX_FRAME bytes with its 0: MAX_FRAME − 1 before it.
+            if self.len < MAX_FRAME - 1 {
                 self.frame[self.len] = byte;
                 self.len += 1;
             } else {

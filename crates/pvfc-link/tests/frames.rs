@@ -146,6 +146,18 @@ fn a_frame_too_long_or_empty_is_an_error_and_the_next_is_read() {
 }
 
 #[test]
+fn a_frame_is_at_most_max_frame_bytes_with_its_zero() {
+    // MAX_FRAME − 1 bytes and the 0 are read as a frame (here not a stuffed one); one more
+    // byte is too long.
+    let mut at_most = vec![0x55u8; MAX_FRAME - 1];
+    at_most.push(0);
+    assert_eq!(read_all::<Sense>(&at_most), [Err(LinkError::Stuffing)]);
+    let mut over = vec![0x55u8; MAX_FRAME];
+    over.push(0);
+    assert_eq!(read_all::<Sense>(&over), [Err(LinkError::TooLong)]);
+}
+
+#[test]
 fn a_message_too_long_for_a_frame_is_refused() {
     // MAX_JOINTS joints at their longest fit a frame; a buffer too short for one is refused.
     let full = sense(
