@@ -17,10 +17,10 @@ studies into OUT as TOML files (`pvfc sweep` runs them; a user can run them agai
    `kd` for every joint, over a grid) and the speed-scaling tracker's threshold and time
    constant. A setting that fails on any tuning condition is out. PVFC keeps the target with
    the least largest distance among those whose laps stay within 1.2× the least on every
-   condition (else the least largest lap); the timed tracker keeps the gains with the least mean distance to the contour;
-   the speed-scaling tracker is kept twice, at the two ends of its trade-off: tuned for
-   accuracy (the least mean distance) and tuned for pace (the least mean lap ÷ least lap,
-   ties broken by distance).
+   condition (else the least largest lap); the timed tracker keeps the gains with the least
+   mean distance to the contour; the speed-scaling tracker is kept twice, at the two ends of
+   its trade-off: tuned for accuracy (the least mean distance) and tuned for pace (the least
+   mean lap ÷ least lap, ties broken by distance).
 2. held out (`heldout_NAME_I`): PVFC and each tracker, tuned, on 32 other plants, a Latin
    hypercube over each link's mass (× 0.85–1.15) and each joint's Coulomb friction
    (× 0.8–1.2), the tuned settings as the study's `set`.
