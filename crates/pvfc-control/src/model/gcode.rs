@@ -17,7 +17,7 @@
 //!   default) or absolute (G90.1). A feed F is in units per minute (G94) and holds until
 //!   changed.
 //! - Helical arcs (an arc that also moves along its plane's normal) are refused.
-//! - Corners: G64 P<tolerance> blends, from its block on, each corner where a straight move
+//! - Corners: `G64 P<tolerance>` blends, from its block on, each corner where a straight move
 //!   meets a straight move by the circular arc (tangent to both) that leaves the corner by at
 //!   most the tolerance, its tangent lengths at most half of either move (so that blends never
 //!   overlap); G61 (and G61.1) keeps the corners sharp again (the default). A corner is blended
