@@ -31,7 +31,7 @@
 
 use nalgebra::{Unit, Vector3};
 
-use super::tool_path::{Segment, ToolPath};
+use super::tool_path::{corner_arc, Segment, ToolPath};
 
 /// How far (m) an arc's end may be off its radius, and the last move off the first's start.
 pub const PROGRAM_TOLERANCE: f64 = 2e-6;
@@ -258,12 +258,10 @@ fn blend_corners(
         // The arc leaves the corner by r (1/cos(θ/2) − 1); its tangents are r tan(θ/2) long.
         let radius = tolerance / (1.0 / half.cos() - 1.0);
         let tangent = (radius * half.tan()).min(0.5 * la.min(lb));
-        let radius = tangent / half.tan();
         let here = end(j);
-        let center = here + (b - a).normalize() * (radius / half.cos());
-        let axis = Unit::new_normalize(a.cross(&b));
+        let (center, axis) = corner_arc(here, a, b, turn, tangent);
         let to = here + b * tangent;
-        (radius.is_finite() && tangent > 0.0)
+        (center.iter().all(|x| x.is_finite()) && tangent > 0.0)
             .then_some((tangent, Segment::Arc { to, center, axis }))
     };
     let corners: Vec<Option<(f64, Segment)>> = (0..n).map(corner).collect();

@@ -237,6 +237,22 @@ pub struct ToolPath {
     normal: Option<Vector3<f64>>,
 }
 
+/// The circular arc that rounds the corner `here` between the unit directions `a` (in) and
+/// `b` (out), which turn by `turn` (rad), with tangents of length `tangent` along each: its
+/// centre and the axis it turns about (right-handed). The arc runs from `here − a·tangent` to
+/// `here + b·tangent`, its radius `tangent / tan(turn/2)`.
+pub(crate) fn corner_arc(
+    here: Vector3<f64>,
+    a: Vector3<f64>,
+    b: Vector3<f64>,
+    turn: f64,
+    tangent: f64,
+) -> (Vector3<f64>, Unit<Vector3<f64>>) {
+    let r = tangent / (turn / 2.0).tan();
+    let center = here + (b - a).normalize() * (r / (turn / 2.0).cos());
+    (center, Unit::new_normalize(a.cross(&b)))
+}
+
 impl ToolPath {
     fn from_pieces(pieces: Vec<Piece>) -> Self {
         let mut starts = Vec::with_capacity(pieces.len() + 1);
@@ -285,9 +301,7 @@ impl ToolPath {
                 continue;
             }
             let (start, end) = (here - a * tangent, here + b * tangent);
-            let r = tangent / (turn / 2.0).tan();
-            let center = here + (b - a).normalize() * (r / (turn / 2.0).cos());
-            let axis = Unit::new_normalize(a.cross(&b));
+            let (center, axis) = corner_arc(here, a, b, turn, tangent);
             let arc = Piece::Arc {
                 center,
                 start: start - center,
