@@ -140,6 +140,11 @@ fn identities<const N: usize>(d: &mut Draw, prismatic: bool) -> Result<(), Strin
         1.0 + rnea_v.amax(),
         "C v + g = RNEA(q, v, 0)",
     )?;
+    // The forward dynamics' pass: CRBA's M and RNEA's bias, each to the bit.
+    let (m_fd, h) = chain.mass_and_bias(&q, &v);
+    if m_fd != chain.crba(&q) || h != rnea_v {
+        return Err("mass_and_bias is not (CRBA, RNEA(q, v, 0)) to the bit".into());
+    }
     let rnea_a = chain.rnea(&q, &zero, &a);
     close(
         (m * a + g - rnea_a).amax(),

@@ -384,6 +384,43 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         tau
     }
 
+    /// `M(q)` and the bias `h(q, v) = C(q, v) v + g(q)` over one kinematics pass: the
+    /// composite-rigid-body algorithm for `M` and the recursive Newton–Euler algorithm at
+    /// `q̈ = 0` for `h` (what the forward dynamics needs, without forming `C`).
+    pub fn mass_and_bias(
+        &self,
+        q: &SVector<T, N>,
+        v: &SVector<T, N>,
+    ) -> (SMatrix<T, N, N>, SVector<T, N>) {
+        let k = self.kinematics(q);
+        let mut forces = [Spatial::zeros(); N];
+        let mut vel = Spatial::zeros();
+        let mut acc = self.gravity_acceleration();
+        for i in 0..N {
+            let s = k.axes[i];
+            let inertia = WorldInertia::of(&self.links[i], &k.link_poses[i]);
+            vel += s * v[i];
+            acc += motion_cross_apply(&vel, &s) * v[i];
+            forces[i] = inertia.apply(&acc) + force_cross_apply(&vel, &inertia.apply(&vel));
+        }
+        let mut m = SMatrix::<T, N, N>::zeros();
+        let mut h = SVector::zeros();
+        let mut ic = WorldInertia::zeros();
+        let mut f = Spatial::zeros();
+        for j in (0..N).rev() {
+            ic += WorldInertia::of(&self.links[j], &k.link_poses[j]);
+            f += forces[j];
+            h[j] = k.axes[j].dot(&f);
+            let ics = ic.apply(&k.axes[j]);
+            for i in 0..=j {
+                let mij = k.axes[i].dot(&ics);
+                m[(i, j)] = mij;
+                m[(j, i)] = mij;
+            }
+        }
+        (m, h)
+    }
+
     /// `M(q)`, `C(q, v)` and `g(q)` in one pass (see the type's documentation).
     pub fn dynamics(
         &self,
@@ -519,6 +556,22 @@ impl<T: Real, G: VectorGroup<T, N>, const N: usize> MechanicalSystem<T, G, N>
         with_gravity: bool,
     ) -> LawProducts<T, N> {
         SerialChain::law_products(self, &q.coordinates(), v, x, a, with_gravity)
+    }
+
+    /// The forward dynamics `q̈ = M⁻¹ (T + F_e − h)` with `M` and `h = C v + g` from
+    /// [`mass_and_bias`](SerialChain::mass_and_bias) (Cholesky; no allocation).
+    fn acceleration(
+        &self,
+        q: &G,
+        v: &Tangent<T, N>,
+        force: &Tangent<T, N>,
+    ) -> Result<Tangent<T, N>> {
+        let (m, h) = self.mass_and_bias(&q.coordinates(), v);
+        let rhs = force - h;
+        match m.cholesky() {
+            Some(ch) => Ok(ch.solve(&rhs)),
+            None => Err(super::acceleration_failure(m.iter(), rhs.iter())),
+        }
     }
 
     #[inline]
