@@ -20,6 +20,10 @@
 //! too). The knots of the stretch `τ` is in are never moved: the pace the robot follows does
 //! not jump.
 //!
+//! The start from rest does not repeat, so nothing is learned from it: learning begins once
+//! `τ` has crossed a whole stretch with the command within the limits or more slowly than the
+//! stretch before (the robot has caught up with the field), or has gone a whole period.
+//!
 //! The pace is `σ(τ) · s(τ)`, `s` piecewise linear between the knots. Passivity does not
 //! depend on it: the coupling is workless for any field (eq. 27).
 
@@ -89,6 +93,86 @@ pub struct LearnedPace<T: Real, P, const K: usize> {
     time: [T; K],
     /// The stretch `[τ_a, τ_{a+1})` of the last `τ` learned from (`K`: none yet).
     current: usize,
+    /// Until learning begins: where the start from rest is.
+    start: Start<T>,
+}
+
+/// The start from rest, watched until it is over: when `τ` has crossed a whole stretch
+/// (entered at one knot, left at the other) with the command within the limits throughout,
+/// or more slowly than the stretch before (`τ̇` no longer rising from rest), or has gone a
+/// whole period.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Start<T> {
+    /// Over: learning has begun.
+    over: bool,
+    /// The last `τ` read, and how far `τ` has gone since the first reading.
+    last: Option<T>,
+    travelled: T,
+    /// The stretch `τ` is in (`None` before the first reading), whether `τ` entered it at
+    /// one of its knots, and whether the command stayed within the limits since.
+    stretch: Option<usize>,
+    entered: bool,
+    within: bool,
+    /// The time spent in the stretch `τ` is in, and in the last whole stretch crossed.
+    time: T,
+    crossed: Option<T>,
+}
+
+impl<T: Real> Start<T> {
+    fn new() -> Self {
+        Start {
+            over: false,
+            last: None,
+            travelled: T::zero(),
+            stretch: None,
+            entered: false,
+            within: true,
+            time: T::zero(),
+            crossed: None,
+        }
+    }
+
+    /// Reads a step of `dt` at `τ`, in stretch `a`, with the share `share` of a limit; whether
+    /// the start is over (from this step on, everything is learned).
+    fn over(&mut self, tau: T, share: T, dt: T, period: T, a: usize) -> bool {
+        if self.over {
+            return true;
+        }
+        if let Some(last) = self.last {
+            let half = period * cast::<T>(0.5);
+            let mut d = tau - last;
+            if d > half {
+                d -= period;
+            } else if d < -half {
+                d += period;
+            }
+            self.travelled += d;
+        }
+        self.last = Some(tau);
+        if self.stretch != Some(a) {
+            if self.entered {
+                // Crossed a whole stretch: within the limits, or slower than the one before
+                // (`τ̇` no longer rises from rest).
+                let slower = self.crossed.is_some_and(|before| self.time > before);
+                if self.within || slower {
+                    self.over = true;
+                }
+                self.crossed = Some(self.time);
+            }
+            self.entered = self.stretch.is_some();
+            self.within = true;
+            self.time = T::zero();
+            self.stretch = Some(a);
+        }
+        self.time += dt;
+        if share > T::one() {
+            self.within = false;
+        }
+        if self.travelled.abs() >= period {
+            self.over = true;
+        }
+        self.over
+    }
 }
 
 impl<T: Real, P, const K: usize> LearnedPace<T, P, K> {
@@ -102,6 +186,7 @@ impl<T: Real, P, const K: usize> LearnedPace<T, P, K> {
             excess: [T::zero(); K],
             time: [T::zero(); K],
             current: K,
+            start: Start::new(),
         }
     }
 
@@ -226,6 +311,13 @@ impl<T: Real, P: PaceProfile<T>, const K: usize> PaceProfile<T> for LearnedPace<
         if !(tau.is_finite() && share.is_finite() && dt.is_finite() && dt >= T::zero()) {
             return false;
         }
+        // The start from rest does not repeat: nothing is learned from it.
+        if !self
+            .start
+            .over(tau, share, dt, period, Self::knot(period, tau).0)
+        {
+            return true;
+        }
         let (a, f) = Self::knot(period, tau);
         if a != self.current {
             if self.current < K {
@@ -317,6 +409,68 @@ mod tests {
         assert!(p.scales()[5] < 1.0, "rose faster than 10 % a lap");
         laps(&mut p, 4, |_| 0.5);
         assert!(p.scales().iter().all(|&s| s == 1.0), "{:?}", p.scales());
+    }
+
+    #[test]
+    fn the_start_from_rest_teaches_nothing() {
+        // Over the limit on the whole first lap while `τ̇` rises from rest (a start that never
+        // catches up): nothing moves until a whole period has gone.
+        let mut p = LearnedPace::<f64, _, K>::periodic(UniformPace, 1.0).unwrap();
+        let (rule, dt) = (rule(), 1e-3);
+        let mut t = 0.0;
+        while t * t / 2.0 < 1.0 - 1e-9 {
+            assert!(p.learn(t * t / 2.0, 3.0, dt, &rule));
+            t += dt;
+        }
+        assert!(p.scales().iter().all(|&s| s == 1.0), "{:?}", p.scales());
+        // The same excess on a later lap slows its stretch.
+        laps(
+            &mut p,
+            2,
+            |x| if (0.5..0.6).contains(&x) { 3.0 } else { 0.5 },
+        );
+        assert!(
+            p.scales()[8] < 1.0 && p.scales()[9] < 1.0,
+            "{:?}",
+            p.scales()
+        );
+
+        // Over the limit while `τ̇` rises, then at a `τ̇` that wobbles about 1: learning begins
+        // in the first lap, once a whole stretch is crossed more slowly than the one before.
+        let mut p = LearnedPace::<f64, _, K>::periodic(UniformPace, 1.0).unwrap();
+        let (mut tau, mut rate) = (0.0f64, 0.0f64);
+        while tau < 0.95 {
+            assert!(p.learn(tau, 3.0, dt, &rule));
+            tau += rate * (1.0 + 0.05 * (40.0 * tau).sin()) * dt;
+            rate = f64::min(rate + 0.01, 1.0);
+        }
+        assert!(
+            p.scales().iter().any(|&s| s < 1.0),
+            "nothing learned: {:?}",
+            p.scales()
+        );
+
+        // Over the limit while `τ̇` rises from rest to 1 (until τ = 0.2), then at that `τ̇`:
+        // learning begins once `τ̇` has stopped rising, and what passes the limit later in the
+        // same lap is learned.
+        let mut p = LearnedPace::<f64, _, K>::periodic(UniformPace, 1.0).unwrap();
+        let (mut tau, mut rate) = (0.0f64, 0.0f64);
+        while tau < 1.0 {
+            let share = if rate < 1.0 || (0.6..0.65).contains(&tau) {
+                3.0
+            } else {
+                0.5
+            };
+            assert!(p.learn(tau, share, dt, &rule));
+            tau += rate * dt;
+            rate = f64::min(rate + 2.5 * dt, 1.0);
+        }
+        let s = p.scales();
+        assert!(
+            s[0..3].iter().all(|&x| x == 1.0),
+            "the start was learned: {s:?}"
+        );
+        assert!(s[10] < 1.0, "the later excess was not learned: {s:?}");
     }
 
     #[test]
