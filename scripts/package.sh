@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # The crates as crates.io would receive them: `cargo publish --dry-run` packages every crate
-# from its own files (in dependency order, each verified by a build against the others'
-# packages), then the `pvfc` command is installed from its packaged crate (its dependencies
-# the packaged pvfc crates, not the workspace) and run from a folder outside the repository:
-# `--version`, `presets`, and a UR5 scenario whose URDF comes from the packaged pvfc-sim.
+# from its own files (in dependency order, each against the others' packages); then every
+# packaged crate is built from its package alone, each once (cargo's own verification builds
+# every crate again as a dependency of the next: pvfc-sim's and pvfc-control's twice): the
+# `pvfc` command is installed from its packaged crate (its dependencies the packaged pvfc
+# crates, not the workspace) and run from a folder outside the repository (`--version`,
+# `presets`, and a UR5 scenario whose URDF comes from the packaged pvfc-sim), and the C
+# library is built from its packaged crate.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_INCREMENTAL=0
@@ -13,13 +16,15 @@ packages=()
 for c in "${crates[@]}"; do packages+=(-p "$c"); done
 version=$(cargo metadata --format-version 1 --no-deps \
   | python3 -c "import json,sys; print(next(p['version'] for p in json.load(sys.stdin)['packages'] if p['name']=='pvfc-cli'))")
-# The verification extracts each packaged crate into cargo's registry folder and does not
-# extract again a name and version it finds there: a second run on one machine would verify
-# against the first run's sources. They are removed first.
+# A packaged crate is unpacked only where no folder of its name is (an earlier run's would
+# stay): they are removed first.
 for c in "${crates[@]}"; do
-  rm -rf "${CARGO_HOME:-$HOME/.cargo}"/registry/src/*/"$c-$version"
+  rm -rf "target/package/$c-$version" "${CARGO_HOME:-$HOME/.cargo}"/registry/src/*/"$c-$version"
 done
-cargo publish --locked --dry-run --allow-dirty "${packages[@]}"
+cargo publish --locked --dry-run --allow-dirty --no-verify "${packages[@]}"
+for c in "${crates[@]}"; do
+  tar -xzf "target/package/$c-$version.crate" -C target/package
+done
 
 # The core's docs as docs.rs builds them ([package.metadata.docs.rs]: every feature).
 RUSTDOCFLAGS="-D warnings" cargo doc --locked --no-deps -p pvfc-core --all-features
@@ -31,9 +36,11 @@ for c in pvfc-core pvfc-workspace-hack pvfc-control pvfc-sim; do
 done
 root=$(mktemp -d)
 outside=$(mktemp -d)
-# The debug profile: the dry run's verification already compiled every dependency in it.
+# The debug profile: the dependencies are those of the builds above.
 CARGO_TARGET_DIR="$PWD/target" cargo install --locked --debug --path "$pkg/pvfc-cli-$version" \
   --root "$root" "${patches[@]}"
+CARGO_TARGET_DIR="$PWD/target" cargo build --locked --manifest-path "$pkg/pvfc-c-$version/Cargo.toml" \
+  "${patches[@]}"
 (
   cd "$outside"
   test "$("$root/bin/pvfc" --version)" = "pvfc $version" || { echo "pvfc --version is not $version" >&2; exit 1; }
@@ -44,4 +51,4 @@ CARGO_TARGET_DIR="$PWD/target" cargo install --locked --debug --path "$pkg/pvfc-
   test -s run/logs/example_urdf_arm.mcap || { echo "the installed pvfc wrote no log" >&2; exit 1; }
 )
 rm -rf "$root" "$outside"
-echo "every crate packages and verifies; pvfc $version installs from its packaged crate and runs outside the repository"
+echo "every crate packages and builds from its package; pvfc $version installs from its packaged crate and runs outside the repository"
