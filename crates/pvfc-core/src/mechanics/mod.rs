@@ -158,11 +158,18 @@ pub trait MechanicalSystem<T: Real, G: LieGroup<T, D>, const D: usize> {
     ) -> Result<Tangent<T, D>> {
         // One pass over the model (a SCARA shares its sin/cos, a chain its kinematics).
         let (m, c, g) = self.inertia_coriolis_gravity(q, v);
-        let rhs = force - c * v - g;
-        match m.cholesky() {
-            Some(ch) => Ok(ch.solve(&rhs)),
-            None => Err(acceleration_failure(m.iter(), rhs.iter())),
-        }
+        solve_acceleration(&m, force - c * v - g)
+    }
+}
+
+/// `q̈ = M⁻¹ rhs` by Cholesky (no allocation), or why not ([`acceleration_failure`]).
+pub(crate) fn solve_acceleration<T: Real, const D: usize>(
+    m: &SMatrix<T, D, D>,
+    rhs: Tangent<T, D>,
+) -> Result<Tangent<T, D>> {
+    match m.cholesky() {
+        Some(ch) => Ok(ch.solve(&rhs)),
+        None => Err(acceleration_failure(m.iter(), rhs.iter())),
     }
 }
 

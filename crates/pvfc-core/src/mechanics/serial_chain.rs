@@ -361,11 +361,15 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
         spatial(Vector3::zeros(), -self.gravity)
     }
 
-    /// The recursive Newton–Euler algorithm: the joint torques `M q̈ + C q̇ + g` that produce
-    /// the accelerations `a` at the state `(q, v)`, gravity included.
-    pub fn rnea(&self, q: &SVector<T, N>, v: &SVector<T, N>, a: &SVector<T, N>) -> SVector<T, N> {
-        let k = self.kinematics(q);
-        let mut forces = [Spatial::zeros(); N];
+    /// RNEA's forward pass: each link's spatial force `I a + v ×* I v` at the joint rates `v`
+    /// and accelerations `a`, gravity included (written in place, as `world_inertias`).
+    fn link_forces(
+        &self,
+        k: &ChainKinematics<T, N>,
+        v: &SVector<T, N>,
+        a: &SVector<T, N>,
+        forces: &mut [Spatial<T>; N],
+    ) {
         let mut vel = Spatial::zeros();
         let mut acc = self.gravity_acceleration();
         for i in 0..N {
@@ -375,6 +379,14 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
             acc += motion_cross_apply(&vel, &s) * v[i] + s * a[i];
             forces[i] = inertia.apply(&acc) + force_cross_apply(&vel, &inertia.apply(&vel));
         }
+    }
+
+    /// The recursive Newton–Euler algorithm: the joint torques `M q̈ + C q̇ + g` that produce
+    /// the accelerations `a` at the state `(q, v)`, gravity included.
+    pub fn rnea(&self, q: &SVector<T, N>, v: &SVector<T, N>, a: &SVector<T, N>) -> SVector<T, N> {
+        let k = self.kinematics(q);
+        let mut forces = [Spatial::zeros(); N];
+        self.link_forces(&k, v, a, &mut forces);
         let mut tau = SVector::zeros();
         let mut f = Spatial::zeros();
         for i in (0..N).rev() {
@@ -394,15 +406,7 @@ impl<T: Real, const N: usize> SerialChain<T, N> {
     ) -> (SMatrix<T, N, N>, SVector<T, N>) {
         let k = self.kinematics(q);
         let mut forces = [Spatial::zeros(); N];
-        let mut vel = Spatial::zeros();
-        let mut acc = self.gravity_acceleration();
-        for i in 0..N {
-            let s = k.axes[i];
-            let inertia = WorldInertia::of(&self.links[i], &k.link_poses[i]);
-            vel += s * v[i];
-            acc += motion_cross_apply(&vel, &s) * v[i];
-            forces[i] = inertia.apply(&acc) + force_cross_apply(&vel, &inertia.apply(&vel));
-        }
+        self.link_forces(&k, v, &SVector::zeros(), &mut forces);
         let mut m = SMatrix::<T, N, N>::zeros();
         let mut h = SVector::zeros();
         let mut ic = WorldInertia::zeros();
@@ -567,11 +571,7 @@ impl<T: Real, G: VectorGroup<T, N>, const N: usize> MechanicalSystem<T, G, N>
         force: &Tangent<T, N>,
     ) -> Result<Tangent<T, N>> {
         let (m, h) = self.mass_and_bias(&q.coordinates(), v);
-        let rhs = force - h;
-        match m.cholesky() {
-            Some(ch) => Ok(ch.solve(&rhs)),
-            None => Err(super::acceleration_failure(m.iter(), rhs.iter())),
-        }
+        super::solve_acceleration(&m, force - h)
     }
 
     #[inline]
