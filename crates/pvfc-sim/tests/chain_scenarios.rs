@@ -586,3 +586,92 @@ fn a_scara_model_error_changes_the_plant_not_the_controller() {
         .to_string();
     assert!(e.contains("sampled mode"), "{e}");
 }
+
+/// The part frame moves the whole task: `ur5_deburr.toml` with its path and its workpiece
+/// given in a part's frame turned 0.3 rad about the base's vertical axis (the UR5's first
+/// joint), the seed and the start turned with it, runs the same motion with the first joint
+/// 0.3 rad on: the same tool-path distance, the same contact forces (turned), the same
+/// energy. Gravity is along that axis, so nothing else may change.
+#[cfg(feature = "contact")]
+#[test]
+fn the_part_frame_moves_the_path_and_the_workpiece_together() {
+    use pvfc_sim::contact::spatial::ObstacleFrame;
+    use pvfc_sim::model::pose::PoseSpec;
+    let turn = 0.3;
+    let base = || {
+        let mut s = Scenario::from_file(&file("ur5_deburr.toml")).unwrap();
+        s.duration = 4.0;
+        s.baseline = None;
+        // Beside the box, whose top the turn leaves as it was, a burr: a ball the tool grazes
+        // 5 mm deep on the path's first straight.
+        let contact = s.contact_3d.as_mut().unwrap();
+        let mut burr = contact.obstacles[0].clone();
+        burr.shape = pvfc_sim::contact::spatial::SpatialShape::Ball { radius: 0.01 };
+        burr.position = [0.55, -0.165, 0.30];
+        contact.obstacles.push(burr);
+        s
+    };
+    let a = base();
+    let mut b = base();
+    let c = b.contour.cartesian_mut().unwrap();
+    c.part = Some(PoseSpec {
+        xyz: [0.0, 0.0, 0.0],
+        rpy: [0.0, 0.0, turn],
+    });
+    c.seed[0] += turn;
+    b.initial.q[0] += turn;
+    for o in &mut b.contact_3d.as_mut().unwrap().obstacles {
+        o.frame = ObstacleFrame::Part;
+    }
+    b.validate().unwrap();
+    let (ta, tb) = (
+        simulate(&a, &mut |_| {}).unwrap(),
+        simulate(&b, &mut |_| {}).unwrap(),
+    );
+    let (ca, cb) = (ta.contact.as_ref().unwrap(), tb.contact.as_ref().unwrap());
+    let peak = ca.normal_force.iter().fold(0.0_f64, |m, f| m.max(*f));
+    assert!(
+        peak > 1.0,
+        "the tool never pressed on the workpiece ({peak} N)"
+    );
+    let r = nalgebra::Rotation3::from_euler_angles(0.0, 0.0, turn);
+    let mut worst = [0.0_f64; 3];
+    for i in 0..ta.q.len() {
+        let (qa, qb) = (&ta.q[i], &tb.q[i]);
+        worst[0] = worst[0].max((qb[0] - qa[0] - turn).abs());
+        for j in 1..6 {
+            worst[0] = worst[0].max((qb[j] - qa[j]).abs());
+        }
+        let fa = r * nalgebra::Vector3::from_column_slice(&ca.force[i]);
+        let fb = nalgebra::Vector3::from_column_slice(&cb.force[i]);
+        worst[1] = worst[1].max((fa - fb).norm());
+        worst[2] = worst[2].max((ca.normal_force[i] - cb.normal_force[i]).abs());
+    }
+    assert!(worst[0] < 1e-7, "joints apart by {:e} rad", worst[0]);
+    assert!(
+        worst[1] < 1e-5 * (1.0 + peak),
+        "forces apart by {:e} N",
+        worst[1]
+    );
+    assert!(
+        worst[2] < 1e-5 * (1.0 + peak),
+        "normal forces apart by {:e} N",
+        worst[2]
+    );
+
+    // A world is built from obstacles placed in the base frame only.
+    let robot = b.robot().unwrap();
+    let e = pvfc_sim::contact::spatial::SpatialWorld::new(b.contact_3d.as_ref().unwrap(), &robot)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("in_base_frame"), "{e}");
+    // In the part's frame without a part: the obstacle is named.
+    let mut c = base();
+    c.contact_3d.as_mut().unwrap().obstacles[0].frame = ObstacleFrame::Part;
+    let e = c.validate().unwrap_err().to_string();
+    assert!(
+        e.contains("contact_3d.obstacles[0]") && e.contains("part"),
+        "{e}"
+    );
+}

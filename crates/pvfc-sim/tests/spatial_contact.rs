@@ -6,7 +6,7 @@
 
 use nalgebra::Vector3;
 use pvfc_sim::contact::spatial::{
-    ArmGeometry, SpatialContactSpec, SpatialObstacle, SpatialShape, SpatialWorld,
+    ArmGeometry, ObstacleFrame, SpatialContactSpec, SpatialObstacle, SpatialShape, SpatialWorld,
 };
 use pvfc_sim::contact::ContactLaw;
 use pvfc_sim::model::robot::Robot;
@@ -33,6 +33,7 @@ fn table_under_tool(robot: &Robot, depth: f64, tool_radius: f64) -> SpatialObsta
     let (_, p) = robot.tool_pose(&Q0).unwrap();
     let top = p.z - tool_radius + depth;
     SpatialObstacle {
+        frame: ObstacleFrame::Base,
         shape: SpatialShape::Box {
             half_extents: [0.3, 0.3, 0.05],
         },
@@ -77,6 +78,7 @@ fn a_spring_contact_pushes_down_its_energy_gradient() {
             let poses = robot.link_poses(&Q0).unwrap();
             let mid = (poses[2].translation + poses[3].translation) * 0.5;
             SpatialObstacle {
+                frame: ObstacleFrame::Base,
                 shape: SpatialShape::Cylinder {
                     radius: 0.05,
                     length: 2.0,
@@ -312,6 +314,7 @@ fn the_urdf_meshes_become_convex_hulls_that_obey_the_energy_gradient() {
     let poses = robot.link_poses(&Q0).unwrap();
     let mid = (poses[2].translation + poses[3].translation) * 0.5;
     let pillar = |x: f64| SpatialObstacle {
+        frame: ObstacleFrame::Base,
         shape: SpatialShape::Cylinder {
             radius: 0.05,
             length: 2.0,
@@ -397,6 +400,7 @@ fn urdf_collision_primitives_are_placed_on_their_bodies() {
     let probe = |p: Vector3<f64>| {
         let mut s = s.clone();
         s.obstacles = vec![SpatialObstacle {
+            frame: ObstacleFrame::Base,
             shape: SpatialShape::Ball { radius: 0.005 },
             position: [p.x, p.y, p.z],
             rpy: [0.0; 3],
@@ -477,6 +481,7 @@ fn a_convex_obstacle_of_a_boxs_corners_or_its_stl_file_touches_as_the_box_does()
         }
     }
     let hull = SpatialObstacle {
+        frame: ObstacleFrame::Base,
         shape: SpatialShape::Convex { points: corners },
         ..table.clone()
     };
@@ -516,6 +521,7 @@ fn a_convex_obstacle_of_a_boxs_corners_or_its_stl_file_touches_as_the_box_does()
     stl.push_str("endsolid box\n");
     std::fs::write(dir.join("box.stl"), stl).unwrap();
     let mesh = SpatialObstacle {
+        frame: ObstacleFrame::Base,
         shape: SpatialShape::Mesh {
             file: "box.stl".into(),
             scale: [1e-3; 3],
@@ -535,6 +541,7 @@ fn a_convex_obstacle_of_a_boxs_corners_or_its_stl_file_touches_as_the_box_does()
     }
     // A file that is not there: an I/O error naming it.
     let missing = SpatialObstacle {
+        frame: ObstacleFrame::Base,
         shape: SpatialShape::Mesh {
             file: "nowhere.stl".into(),
             scale: [1.0; 3],
@@ -548,6 +555,7 @@ fn a_convex_obstacle_of_a_boxs_corners_or_its_stl_file_touches_as_the_box_does()
     std::fs::remove_dir_all(&dir).ok();
     // Points in one plane have no hull: an error naming the obstacle.
     let flat = SpatialObstacle {
+        frame: ObstacleFrame::Base,
         shape: SpatialShape::Convex {
             points: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]],
         },

@@ -11,8 +11,8 @@
 //!     concave link (a fork, a hollow) touches a little earlier than the real one would. The
 //!     UR5 and Panda of `example-robot-data` give their collision geometry only as meshes.
 //! * The world: boxes, balls, cylinders, convex hulls of points or of an STL mesh, each with a
-//!   position and roll–pitch–yaw in the robot's base frame, fixed or moved on keyframes, each with its own
-//!   [`ContactLaw`].
+//!   position and roll–pitch–yaw in the robot's base frame or in the part's
+//!   ([`ObstacleFrame`]), fixed or moved on keyframes, each with its own [`ContactLaw`].
 //! * The force: at each arm–obstacle pair in penetration, the law's force `f` at the arm's
 //!   contact point `p` on link `k`, and `F_e = Σ J_p(q)ᵀ f` with the point's Jacobian
 //!   `J_p = [a_j × (p − o_j)]` (revolute joint `j ≤ k`, axis `a_j` through `o_j`) or `[a_j]`
@@ -84,15 +84,37 @@ pub enum ArmGeometry {
     Urdf,
 }
 
+/// The frame an obstacle's position, orientation and motion are given in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ObstacleFrame {
+    /// The robot's base frame (the default).
+    #[default]
+    Base,
+    /// The part's frame, `contour.cartesian.part`: a workpiece given where its path is, so
+    /// that moving the part moves both.
+    Part,
+}
+
+impl ObstacleFrame {
+    fn is_base(&self) -> bool {
+        *self == ObstacleFrame::Base
+    }
+}
+
 /// A fixed obstacle or workpiece.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpatialObstacle {
     /// Its shape.
     pub shape: SpatialShape,
-    /// Its frame's origin in the robot's base frame (m).
+    /// The frame `position`, `rpy` and `motion` are in (default: the base frame).
+    #[serde(default, skip_serializing_if = "ObstacleFrame::is_base")]
+    pub frame: ObstacleFrame,
+    /// Its frame's origin in `frame` (m).
     pub position: [f64; 3],
-    /// Its frame's roll, pitch, yaw (rad, URDF's convention `R = R_z(y) R_y(p) R_x(r)`).
+    /// Its frame's roll, pitch, yaw in `frame` (rad, URDF's convention
+    /// `R = R_z(y) R_y(p) R_x(r)`).
     #[serde(default)]
     pub rpy: [f64; 3],
     /// Its contact law (default: the world's).
@@ -104,7 +126,8 @@ pub struct SpatialObstacle {
     pub motion: Vec<SpatialKeyframe>,
 }
 
-/// A keyframe of a 3-D obstacle's motion: at time `t` it is displaced by `offset` (base frame).
+/// A keyframe of a 3-D obstacle's motion: at time `t` it is displaced by `offset` (in the
+/// obstacle's `frame`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpatialKeyframe {
@@ -168,6 +191,41 @@ pub(crate) fn setting(m: impl Into<String>) -> SimError {
 }
 
 impl SpatialContactSpec {
+    /// The same world with every obstacle in the base frame: those given in the part's frame
+    /// placed by `part` (the part's pose in the base frame: their pose composed with it, their
+    /// motion's offsets turned by it).
+    ///
+    /// Errors: `Setting` naming the obstacle when one is in the part's frame and there is no
+    /// `part`.
+    pub fn in_base_frame(&self, part: Option<&nalgebra::Isometry3<f64>>) -> Result<Self> {
+        let mut out = self.clone();
+        for (k, o) in out.obstacles.iter_mut().enumerate() {
+            if o.frame == ObstacleFrame::Base {
+                continue;
+            }
+            let Some(part) = part else {
+                return Err(setting(format!(
+                    "contact_3d.obstacles[{k}]: frame = \"part\" needs the part's pose \
+                     (contour.cartesian.part)"
+                )));
+            };
+            let [r, p, y] = o.rpy;
+            let local = nalgebra::Isometry3::from_parts(
+                nalgebra::Translation3::from(Vector3::from(o.position)),
+                nalgebra::UnitQuaternion::from_euler_angles(r, p, y),
+            );
+            let placed = part * local;
+            let (r, p, y) = placed.rotation.euler_angles();
+            o.position = placed.translation.vector.into();
+            o.rpy = [r, p, y];
+            for key in &mut o.motion {
+                key.offset = (part.rotation * Vector3::from(key.offset)).into();
+            }
+            o.frame = ObstacleFrame::Base;
+        }
+        Ok(out)
+    }
+
     /// Checks the numbers (radii, shapes, poses, laws) for a robot of `dof` joints.
     pub fn validate(&self, dof: usize) -> Result<()> {
         let finite = |x: &[f64]| x.iter().all(|v| v.is_finite());

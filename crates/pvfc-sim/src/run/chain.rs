@@ -204,9 +204,17 @@ impl Contact {
         match &s.contact_3d {
             None => Ok(None),
             #[cfg(feature = "contact")]
-            Some(spec) => Ok(Some(Contact {
-                world: crate::contact::spatial::SpatialWorld::new_in(spec, robot, &s.base_dir)?,
-            })),
+            // Obstacles in the part's frame go where the part is.
+            Some(_) => match s.contact_3d_in_base_frame()? {
+                Some(spec) => Ok(Some(Contact {
+                    world: crate::contact::spatial::SpatialWorld::new_in(
+                        &spec,
+                        robot,
+                        &s.base_dir,
+                    )?,
+                })),
+                None => Ok(None),
+            },
             #[cfg(not(feature = "contact"))]
             Some(_) => {
                 let _ = robot;

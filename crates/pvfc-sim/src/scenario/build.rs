@@ -347,6 +347,23 @@ impl Scenario {
         })
     }
 
+    /// `[contact_3d]` with every obstacle in the base frame: those in the part's frame placed
+    /// by `contour.cartesian.part` ([`SpatialContactSpec::in_base_frame`]).
+    ///
+    /// [`SpatialContactSpec::in_base_frame`]: crate::contact::spatial::SpatialContactSpec::in_base_frame
+    pub(crate) fn contact_3d_in_base_frame(
+        &self,
+    ) -> Result<Option<crate::contact::spatial::SpatialContactSpec>> {
+        let Some(spec) = &self.contact_3d else {
+            return Ok(None);
+        };
+        let part = match self.contour.cartesian().and_then(|c| c.part.as_ref()) {
+            Some(p) => Some(p.isometry("contour.cartesian.part")?),
+            None => None,
+        };
+        Ok(Some(spec.in_base_frame(part.as_ref())?))
+    }
+
     /// The checks of a URDF arm's scenario against its robot (the lengths of the per-joint
     /// lists, the 3-D contact, the baseline, the passive drive), for
     /// [`ArmSystem::build`](crate::scenario::ArmSystem::build).
@@ -376,6 +393,7 @@ impl Scenario {
         }
         if let Some(c) = &self.contact_3d {
             c.validate(n)?;
+            self.contact_3d_in_base_frame()?;
             if c.force_schedule.is_some() && self.controller.nominal_speed.is_none() {
                 return Err(SimError::Setting(
                     "contact_3d.force_schedule needs controller.nominal_speed (eq. 36)".into(),

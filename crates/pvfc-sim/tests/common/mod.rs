@@ -14,6 +14,7 @@ pub fn table_under_the_rectangle() -> pvfc_sim::contact::spatial::SpatialContact
         link_radii: vec![],
         tool_radius: 0.01,
         obstacles: vec![SpatialObstacle {
+            frame: Default::default(),
             shape: SpatialShape::Box {
                 half_extents: [0.3, 0.4, 0.05],
             },

@@ -246,6 +246,16 @@ impl SpatialWorld {
     pub fn new_in(spec: &SpatialContactSpec, robot: &Robot, base_dir: &Path) -> Result<Self> {
         let n = robot.dof();
         spec.validate(n)?;
+        if let Some(k) = spec
+            .obstacles
+            .iter()
+            .position(|o| o.frame != super::ObstacleFrame::Base)
+        {
+            return Err(setting(format!(
+                "contact_3d.obstacles[{k}]: in the part's frame; place it first \
+                 (SpatialContactSpec::in_base_frame)"
+            )));
+        }
         // Each link's segment, from its frame's origin to the next frame's, in its own frame
         // (constant: the next joint's origin is fixed in this link).
         let poses = robot.link_poses(&vec![0.0; n])?;
