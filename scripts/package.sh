@@ -22,6 +22,8 @@ for c in "${crates[@]}"; do
   rm -rf "target/package/$c-$version" "${CARGO_HOME:-$HOME/.cargo}"/registry/src/*/"$c-$version"
 done
 cargo publish --locked --dry-run --allow-dirty --no-verify "${packages[@]}"
+# The same packages as files (target/package/NAME-VERSION.crate), unpacked to be built.
+cargo package --locked --allow-dirty --no-verify "${packages[@]}"
 for c in "${crates[@]}"; do
   tar -xzf "target/package/$c-$version.crate" -C target/package
 done
@@ -39,7 +41,10 @@ outside=$(mktemp -d)
 # The debug profile: the dependencies are those of the builds above.
 CARGO_TARGET_DIR="$PWD/target" cargo install --locked --debug --path "$pkg/pvfc-cli-$version" \
   --root "$root" "${patches[@]}"
-CARGO_TARGET_DIR="$PWD/target" cargo build --locked --manifest-path "$pkg/pvfc-c-$version/Cargo.toml" \
+# A library's package has no Cargo.lock: the workspace's pins its dependencies' versions (cargo
+# only drops the entries it does not need).
+cp Cargo.lock "$pkg/pvfc-c-$version/Cargo.lock"
+CARGO_TARGET_DIR="$PWD/target" cargo build --manifest-path "$pkg/pvfc-c-$version/Cargo.toml" \
   "${patches[@]}"
 (
   cd "$outside"
