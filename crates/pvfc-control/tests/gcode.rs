@@ -451,10 +451,11 @@ fn g61_keeps_sharp_the_corners_after_it_and_arcs_stay_as_they_are() {
     assert_eq!(blended, 2);
     let p = program.tool_path().unwrap();
     assert!((largest_kink(&p) - PI / 2.0).abs() < 1e-6);
-    // A line meeting an arc at an angle is not blended: a half disc, its two corners sharp.
-    let disc = PartProgram::parse("G64 P0.1\nG0 X-10 Y0\nG1 X10\nG3 X-10 Y0 I-10 J0\n").unwrap();
-    assert!(disc.moves.iter().all(|m| !m.blended));
-    assert!((largest_kink(&disc.tool_path().unwrap()) - PI / 2.0).abs() < 1e-6);
+    // Two arcs meeting at an angle are not blended: a lens, its two corners sharp.
+    let lens =
+        PartProgram::parse("G64 P0.1\nG0 X0 Y0\nG3 X10 Y0 I5 J5\nG3 X0 Y0 I-5 J-5\n").unwrap();
+    assert!(lens.moves.iter().all(|m| !m.blended));
+    assert!((largest_kink(&lens.tool_path().unwrap()) - PI / 2.0).abs() < 1e-6);
     // Nor is a reversal (out and back along one line).
     let back = PartProgram::parse("G64 P0.1\nG0 X0 Y0\nG1 X10\nG1 X0\n").unwrap();
     assert!(back.moves.iter().all(|m| !m.blended));
@@ -471,4 +472,85 @@ fn a_blended_program_is_the_same_in_inches_and_in_a_turned_plane() {
     let zx = path("G18 G64 P0.254\nG0 Z0 X0\nG1 Z25.4\nG1 X12.7\nG1 Z0\nG1 X0\n");
     assert!((zx.length() - mm.length()).abs() < 1e-15);
     assert!(largest_kink(&zx) < 1e-6);
+}
+
+/// The distance from `x` to the path `p`.
+fn off(p: &ToolPath, x: Vector3<f64>) -> f64 {
+    p.closest(&x).distance
+}
+
+/// Corners where a line meets an arc, of both senses: the fillet tangent to both, leaving the
+/// corner by the tolerance (the largest within it), the rest of the path where it was.
+#[test]
+fn g64_blends_a_line_into_an_arc_by_the_fillet_tangent_to_both() {
+    let mm = |x: f64, y: f64| Vector3::new(x, y, 0.0) * 1e-3;
+    let tolerance = 0.1e-3;
+    // A half disc: the line along its diameter, the arc turning the corner's way (the fillet
+    // inside the circle), at both ends.
+    let disc = "G0 X-10 Y0\nG1 X10\nG3 X-10 Y0 I-10 J0\n";
+    // A plate with a round notch in its lower side: the arc turns against the corners (the
+    // fillets outside its circle), then four straight corners.
+    let notch = "G0 X0 Y0\nG1 X10\nG3 X30 Y0 I10 J0\nG1 X40\nG1 Y20\nG1 X0\nG1 Y0\n";
+    for (text, corners) in [
+        (disc, vec![mm(10.0, 0.0), mm(-10.0, 0.0)]),
+        (
+            notch,
+            vec![
+                mm(10.0, 0.0),
+                mm(30.0, 0.0),
+                mm(40.0, 0.0),
+                mm(40.0, 20.0),
+                mm(0.0, 20.0),
+                mm(0.0, 0.0),
+            ],
+        ),
+    ] {
+        let program = PartProgram::parse(&format!("G64 P0.1\n{text}")).unwrap();
+        assert_eq!(
+            program.moves.iter().filter(|m| m.blended).count(),
+            corners.len(),
+            "{text}"
+        );
+        let blended = program.tool_path().unwrap();
+        let sharp = path(text);
+        // Smooth: no kink at any piece's start.
+        assert!(
+            largest_kink(&blended) < 1e-6,
+            "{text}: {}",
+            largest_kink(&blended)
+        );
+        // Each corner left by the tolerance: the largest fillet within it.
+        for (i, c) in corners.iter().enumerate() {
+            let d = off(&blended, *c);
+            assert!(
+                d <= tolerance * (1.0 + 1e-9) && d >= 0.999 * tolerance,
+                "{text}: corner {i} left by {d:e}"
+            );
+        }
+        // Elsewhere the path is the program's: every point within the tolerance of it, and on
+        // the arc (away from the blends) on its circle.
+        assert!(farthest(&blended, &sharp, 4000) <= tolerance * (1.0 + 1e-9));
+        assert!(farthest(&sharp, &blended, 4000) <= tolerance * (1.0 + 1e-9));
+    }
+    // The fillet's ends are on the moves it joins: on the half disc, the fillet into the arc
+    // touches the circle of radius 10 mm about the origin.
+    let program = PartProgram::parse(&format!("G64 P0.1\n{disc}")).unwrap();
+    let mut at = program.start;
+    for m in &program.moves {
+        let to = match m.segment {
+            pvfc_control::model::tool_path::Segment::Line { to }
+            | pvfc_control::model::tool_path::Segment::Arc { to, .. } => to,
+        };
+        if m.blended {
+            // One end on the diameter (y = 0), the other on the circle.
+            let (on_line, on_circle) = if at[1].abs() < 1e-15 {
+                (at, to)
+            } else {
+                (to, at)
+            };
+            assert!(on_line[1].abs() < 1e-15, "{on_line}");
+            assert!((on_circle.norm() - 10e-3).abs() < 1e-15, "{on_circle}");
+        }
+        at = to;
+    }
 }

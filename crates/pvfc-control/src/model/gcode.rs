@@ -18,20 +18,22 @@
 //!   changed.
 //! - Helical arcs (an arc that also moves along its plane's normal) are refused.
 //! - Corners: `G64 P<tolerance>` blends, from its block on, each corner where a straight move
-//!   meets a straight move by the circular arc (tangent to both) that leaves the corner by at
-//!   most the tolerance, its tangent lengths at most half of either move (so that blends never
+//!   meets a straight move or an arc by the circular arc (tangent to both) that leaves the
+//!   corner by at most the tolerance, taking at most half of either move (so that blends never
 //!   overlap); G61 (and G61.1) keeps the corners sharp again (the default). A corner is blended
 //!   when both its moves were read in G64; with two tolerances, by the smaller. The blend is a
 //!   cutting move of its own ([`ProgramMove::blended`]) at the lower of its two moves' feeds.
-//!   Corners where an arc meets a move are kept as they are (CAM's arcs meet their moves
-//!   tangentially), as are reversals and turns below 1e-4 rad.
+//!   Between two lines the blend is the largest arc within the tolerance; between a line and
+//!   an arc (in the arc's plane), the fillet of the largest radius within it. Corners where two
+//!   arcs meet, or where a line leaves an arc's plane, are kept as they are, as are reversals
+//!   and turns below 1e-4 rad.
 //! - Accepted and without effect on the path: comments, line numbers (N), tool changes (T),
 //!   spindle speeds (S), M0–M9 and M30, G40, G49, G54, G80, G94. Any other word is an error,
 //!   and so is a P anywhere but after G64.
 
 use nalgebra::{Unit, Vector3};
 
-use super::tool_path::{corner_arc, Segment, ToolPath};
+use super::tool_path::{arc_sweep, corner_arc, Segment, ToolPath};
 
 /// How far (m) an arc's end may be off its radius, and the last move off the first's start.
 pub const PROGRAM_TOLERANCE: f64 = 2e-6;
@@ -219,10 +221,269 @@ impl PartProgram {
 /// its tangent lengths, and no tool feels it); within 1e-6 of π, a reversal (not blended).
 const STRAIGHT: f64 = 1e-4;
 
-/// The program's moves with each corner between two straight moves read in G64 blended by an
-/// arc (see the [module](self)): `tolerances[j]` is the tolerance in force at move `j`. The
-/// closing corner (the last move into the first) counts as a corner too; when it is blended,
-/// the contour starts where its blend ends.
+/// What a move is near a corner: a straight move (its unit direction and length) or an arc
+/// (its circle, the axis it turns about and its sweep).
+#[derive(Clone, Copy, Debug)]
+enum Near {
+    Line {
+        dir: Vector3<f64>,
+        length: f64,
+    },
+    Arc {
+        center: Vector3<f64>,
+        radius: f64,
+        axis: Unit<Vector3<f64>>,
+        sweep: f64,
+    },
+}
+
+impl Near {
+    /// The move from `from` along `segment`, or `None` for a move of no length.
+    fn of(from: Vector3<f64>, segment: &Segment) -> Option<Near> {
+        match *segment {
+            Segment::Line { to } => {
+                let d = to - from;
+                let length = d.norm();
+                (length > 0.0).then(|| Near::Line {
+                    dir: d / length,
+                    length,
+                })
+            }
+            Segment::Arc { to, center, axis } => {
+                let (s, e) = (from - center, to - center);
+                let radius = s.norm();
+                let sweep = arc_sweep(s, e, &axis, (to - from).norm() <= PROGRAM_TOLERANCE);
+                (radius > 0.0).then_some(Near::Arc {
+                    center,
+                    radius,
+                    axis,
+                    sweep,
+                })
+            }
+        }
+    }
+
+    /// The unit tangent at `x` (a point of the move), in the direction of travel.
+    fn tangent(&self, x: Vector3<f64>) -> Vector3<f64> {
+        match *self {
+            Near::Line { dir, .. } => dir,
+            Near::Arc { center, axis, .. } => axis.cross(&(x - center)).normalize(),
+        }
+    }
+
+    /// The same move travelled backwards (its sweep and length unchanged).
+    fn reversed(self) -> Near {
+        match self {
+            Near::Line { dir, length } => Near::Line { dir: -dir, length },
+            Near::Arc {
+                center,
+                radius,
+                axis,
+                sweep,
+            } => Near::Arc {
+                center,
+                radius,
+                axis: -axis,
+                sweep,
+            },
+        }
+    }
+}
+
+/// A corner's blend: where it leaves the move into the corner, where it joins the move out of
+/// it, the arc between, and how much of each move it takes (a length, or an arc's angle).
+#[derive(Clone, Debug)]
+struct Blend {
+    leaves: Vector3<f64>,
+    joins: Vector3<f64>,
+    arc: Segment,
+    taken_in: f64,
+    taken_out: f64,
+}
+
+/// The blend at corner `here` from the straight move `line` (its direction `a`, into the
+/// corner) to the arc `circle` (out of it), turning about `n` (unit, `a × b` of the corner's
+/// tangents), of radius `rho`: the fillet's centre is `rho` from the line, on the inside of the
+/// turn, and `R ∓ rho` from the circle's centre (inside the circle where the arc turns the same
+/// way as the corner). `None` where no such fillet touches both moves within half of each, or
+/// where it leaves the corner by more than `tolerance`.
+fn line_to_arc(
+    here: Vector3<f64>,
+    line: (Vector3<f64>, f64),
+    circle: (Vector3<f64>, f64, Unit<Vector3<f64>>, f64),
+    n: Unit<Vector3<f64>>,
+    rho: f64,
+    tolerance: f64,
+) -> Option<Blend> {
+    let ((a, length), (c, radius, axis, sweep)) = (line, circle);
+    let inward = n.cross(&a);
+    let reach = radius - axis.dot(&n).signum() * rho;
+    if reach <= 0.0 {
+        return None;
+    }
+    // The fillet's centre P + s a + ρ (n × a), |it − c| = R ∓ ρ: the root nearest the corner,
+    // which must be before it (s ≤ 0).
+    let d0 = here + inward * rho - c;
+    let half_b = a.dot(&d0);
+    let disc = half_b * half_b - d0.norm_squared() + reach * reach;
+    if disc < 0.0 {
+        return None;
+    }
+    let (s1, s2) = (-half_b + disc.sqrt(), -half_b - disc.sqrt());
+    let s = if s1.abs() <= s2.abs() { s1 } else { s2 };
+    if !(s <= 1e-15 && -s <= 0.5 * length) {
+        return None;
+    }
+    let leaves = here + a * s;
+    let center = leaves + inward * rho;
+    let out = (center - c).normalize();
+    let joins = c + out * radius;
+    // The arc's angle from the corner to where the fillet joins it, within half its sweep.
+    let (p0, p1) = ((here - c).normalize(), out);
+    let taken = p0.cross(&p1).dot(&axis).atan2(p0.dot(&p1));
+    if !(taken >= -1e-12 && taken <= 0.5 * sweep) {
+        return None;
+    }
+    if (here - center).norm() - rho > tolerance {
+        return None;
+    }
+    Some(Blend {
+        leaves,
+        joins,
+        arc: Segment::Arc {
+            to: joins,
+            center,
+            axis: n,
+        },
+        taken_in: -s,
+        taken_out: taken.max(0.0),
+    })
+}
+
+/// The blend at corner `here` from move `into` to move `out` (see the [module](self)): the
+/// arc tangent to both that leaves the corner by at most `tolerance`, taking at most half of
+/// either move; `None` for a turn below [`STRAIGHT`], a reversal, two arcs, or an arc whose
+/// plane is not the corner's.
+fn blend(here: Vector3<f64>, into: Near, out: Near, tolerance: f64) -> Option<Blend> {
+    let (a, b) = (into.tangent(here), out.tangent(here));
+    let turn = a.dot(&b).clamp(-1.0, 1.0).acos();
+    if !(STRAIGHT..=std::f64::consts::PI - 1e-6).contains(&turn) {
+        return None;
+    }
+    let n = Unit::new_normalize(a.cross(&b));
+    let in_plane = |near: &Near| match near {
+        Near::Line { .. } => true,
+        Near::Arc { axis, .. } => (axis.dot(&n).abs() - 1.0).abs() <= 1e-9,
+    };
+    if !(in_plane(&into) && in_plane(&out)) {
+        return None;
+    }
+    let half = 0.5 * turn;
+    // Between two lines the arc leaves the corner by r (1/cos(θ/2) − 1); its tangents are
+    // r tan(θ/2) long.
+    let radius = tolerance / (1.0 / half.cos() - 1.0);
+    match (into, out) {
+        (Near::Line { length: la, .. }, Near::Line { length: lb, .. }) => {
+            let tangent = (radius * half.tan()).min(0.5 * la.min(lb));
+            let (center, axis) = corner_arc(here, a, b, turn, tangent);
+            let joins = here + b * tangent;
+            (center.iter().all(|x| x.is_finite()) && tangent > 0.0).then_some(Blend {
+                leaves: here - a * tangent,
+                joins,
+                arc: Segment::Arc {
+                    to: joins,
+                    center,
+                    axis,
+                },
+                taken_in: tangent,
+                taken_out: tangent,
+            })
+        }
+        (Near::Line { .. }, Near::Arc { .. }) => {
+            line_into_arc(here, into, out, n, radius, tolerance)
+        }
+        (Near::Arc { .. }, Near::Line { .. }) => {
+            // The same corner travelled backwards: a line into an arc.
+            let b = line_into_arc(here, out.reversed(), into.reversed(), -n, radius, tolerance)?;
+            let Segment::Arc { center, .. } = b.arc else {
+                return None;
+            };
+            Some(Blend {
+                leaves: b.joins,
+                joins: b.leaves,
+                arc: Segment::Arc {
+                    to: b.leaves,
+                    center,
+                    axis: n,
+                },
+                taken_in: b.taken_out,
+                taken_out: b.taken_in,
+            })
+        }
+        (Near::Arc { .. }, Near::Arc { .. }) => None,
+    }
+}
+
+/// The largest fillet ([`line_to_arc`]) at `here` from the straight move `line` into the arc
+/// `arc`, turning about `n`; `radius` is the straight corner's (see [`largest`]).
+fn line_into_arc(
+    here: Vector3<f64>,
+    line: Near,
+    arc: Near,
+    n: Unit<Vector3<f64>>,
+    radius: f64,
+    tolerance: f64,
+) -> Option<Blend> {
+    let (
+        Near::Line { dir, length },
+        Near::Arc {
+            center,
+            radius: r,
+            axis,
+            sweep,
+        },
+    ) = (line, arc)
+    else {
+        return None;
+    };
+    largest(radius, |rho| {
+        line_to_arc(
+            here,
+            (dir, length),
+            (center, r, axis, sweep),
+            n,
+            rho,
+            tolerance,
+        )
+    })
+}
+
+/// The fillet of the largest radius that `fillet` accepts, by bisection from twice the
+/// straight corners' `radius` down (the curvature of an arc moves it by less than that).
+fn largest(radius: f64, fillet: impl Fn(f64) -> Option<Blend>) -> Option<Blend> {
+    let (mut lo, mut hi) = (0.0, 2.0 * radius);
+    if let Some(b) = fillet(hi) {
+        return Some(b);
+    }
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if fillet(mid).is_some() {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    if lo > 0.0 {
+        fillet(lo)
+    } else {
+        None
+    }
+}
+
+/// The program's moves with each corner read in G64 blended by an arc (see the
+/// [module](self)): `tolerances[j]` is the tolerance in force at move `j`. The closing corner
+/// (the last move into the first) counts as a corner too; when it is blended, the contour
+/// starts where its blend ends.
 fn blend_corners(
     start: Vector3<f64>,
     moves: Vec<ProgramMove>,
@@ -236,35 +497,14 @@ fn blend_corners(
         Segment::Line { to } | Segment::Arc { to, .. } => to,
     };
     let from = |j: usize| if j == 0 { start } else { end(j - 1) };
-    // A straight move's direction and length.
-    let line = |j: usize| match moves[j].segment {
-        Segment::Line { to } => {
-            let d = to - from(j);
-            let l = d.norm();
-            (l > 0.0).then(|| (d / l, l))
-        }
-        Segment::Arc { .. } => None,
-    };
-    // The blend at the end of move j (into move j + 1): its tangent length and its arc.
-    let corner = |j: usize| -> Option<(f64, Segment)> {
+    let near = |j: usize| Near::of(from(j), &moves[j].segment);
+    // The blend at the end of move j (into move j + 1).
+    let corner = |j: usize| -> Option<Blend> {
         let k = (j + 1) % n;
         let tolerance = tolerances[j]?.min(tolerances[k]?);
-        let ((a, la), (b, lb)) = (line(j)?, line(k)?);
-        let turn = a.dot(&b).clamp(-1.0, 1.0).acos();
-        if !(STRAIGHT..=std::f64::consts::PI - 1e-6).contains(&turn) {
-            return None;
-        }
-        let half = 0.5 * turn;
-        // The arc leaves the corner by r (1/cos(θ/2) − 1); its tangents are r tan(θ/2) long.
-        let radius = tolerance / (1.0 / half.cos() - 1.0);
-        let tangent = (radius * half.tan()).min(0.5 * la.min(lb));
-        let here = end(j);
-        let (center, axis) = corner_arc(here, a, b, turn, tangent);
-        let to = here + b * tangent;
-        (center.iter().all(|x| x.is_finite()) && tangent > 0.0)
-            .then_some((tangent, Segment::Arc { to, center, axis }))
+        blend(end(j), near(j)?, near(k)?, tolerance)
     };
-    let corners: Vec<Option<(f64, Segment)>> = (0..n).map(corner).collect();
+    let corners: Vec<Option<Blend>> = (0..n).map(corner).collect();
     let feed = |a: Option<f64>, b: Option<f64>| match (a, b) {
         (Some(x), Some(y)) => Some(x.min(y)),
         (x, y) => y.or(x),
@@ -272,24 +512,33 @@ fn blend_corners(
     let mut out = Vec::with_capacity(2 * n);
     for (j, m) in moves.iter().enumerate() {
         let mut m = m.clone();
-        if let (Some((tangent, _)), Some((a, _))) = (&corners[j], line(j)) {
-            // The straight move stops short of its corner by the blend's tangent length.
-            m.segment = Segment::Line {
-                to: end(j) - a * *tangent,
+        let before = &corners[(j + n - 1) % n];
+        if let Some(b) = &corners[j] {
+            // The move stops where its corner's blend leaves it.
+            m.segment = match m.segment {
+                Segment::Line { .. } => Segment::Line { to: b.leaves },
+                Segment::Arc { center, axis, .. } => Segment::Arc {
+                    to: b.leaves,
+                    center,
+                    axis,
+                },
             };
         }
-        // A straight move that its two blends take whole (each half of it) is left out.
-        let taken = |(_, l): (Vector3<f64>, f64)| {
-            let t = |c: &Option<(f64, Segment)>| c.as_ref().map_or(0.0, |(t, _)| *t);
-            l - t(&corners[j]) - t(&corners[(j + n - 1) % n]) <= PROGRAM_TOLERANCE
+        // A move that its two blends take whole (each half of it) is left out.
+        let taken = before.as_ref().map_or(0.0, |b| b.taken_out)
+            + corners[j].as_ref().map_or(0.0, |b| b.taken_in);
+        let whole = match near(j) {
+            Some(Near::Line { length, .. }) => length - taken <= PROGRAM_TOLERANCE,
+            Some(Near::Arc { sweep, radius, .. }) => (sweep - taken) * radius <= PROGRAM_TOLERANCE,
+            None => false,
         };
-        if !line(j).is_some_and(taken) {
+        if !whole {
             out.push(m);
         }
-        if let Some((_, arc)) = corners[j] {
+        if let Some(b) = &corners[j] {
             let k = (j + 1) % n;
             out.push(ProgramMove {
-                segment: arc,
+                segment: b.arc,
                 feed: feed(moves[j].feed, moves[k].feed),
                 line: moves[k].line,
                 blended: true,
@@ -297,12 +546,14 @@ fn blend_corners(
         }
     }
     // With the closing corner blended, the contour starts where that blend ends.
-    let start = match &corners[n - 1] {
-        Some((tangent, _)) => line(0).map_or(start, |(b, _)| start + b * *tangent),
-        None => start,
-    };
-    if let (Some((_, Segment::Arc { center, axis, .. })), Some(last)) =
-        (&corners[n - 1], out.last_mut())
+    let start = corners[n - 1].as_ref().map_or(start, |b| b.joins);
+    if let (
+        Some(Blend {
+            arc: Segment::Arc { center, axis, .. },
+            ..
+        }),
+        Some(last),
+    ) = (&corners[n - 1], out.last_mut())
     {
         // The blend closes the contour exactly where it starts.
         last.segment = Segment::Arc {

@@ -253,6 +253,24 @@ pub(crate) fn corner_arc(
     (center, Unit::new_normalize(a.cross(&b)))
 }
 
+/// The angle an arc turns right-handed about `axis` from `s` to `e` (both from its centre), in
+/// (0, 2π]: an arc that ends where it starts (`closed`) is a whole circle.
+pub(crate) fn arc_sweep(
+    s: Vector3<f64>,
+    e: Vector3<f64>,
+    axis: &Vector3<f64>,
+    closed: bool,
+) -> f64 {
+    let turn = s.cross(&e).dot(axis).atan2(s.dot(&e));
+    if closed {
+        std::f64::consts::TAU
+    } else if turn <= 0.0 {
+        turn + std::f64::consts::TAU
+    } else {
+        turn
+    }
+}
+
 impl ToolPath {
     fn from_pieces(pieces: Vec<Piece>) -> Self {
         let mut starts = Vec::with_capacity(pieces.len() + 1);
@@ -412,15 +430,7 @@ impl ToolPath {
                             "the arc's radius is {rs:.6} m at its start and {re:.6} m at its end"
                         )));
                     }
-                    let turn = s.cross(&e).dot(&axis).atan2(s.dot(&e));
-                    // Right-handed about `axis`, in (0, 2π]: a move back to its start is a circle.
-                    let angle = if (to - at).norm() <= tolerance {
-                        std::f64::consts::TAU
-                    } else if turn <= 0.0 {
-                        turn + std::f64::consts::TAU
-                    } else {
-                        turn
-                    };
+                    let angle = arc_sweep(s, e, &axis, (to - at).norm() <= tolerance);
                     let piece = Piece::Arc {
                         center,
                         start: s,
