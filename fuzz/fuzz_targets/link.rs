@@ -8,11 +8,8 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use pvfc_link::{encode, Actuate, Decoder, LinkError, Sense, MAX_FRAME};
+use pvfc_link::{encode, frame, frame_len, Actuate, Decoder, LinkError, Sense, MAX_FRAME};
 use serde::{de::DeserializeOwned, Serialize};
-
-/// CRC-16/IBM-SDLC, as the link computes it.
-const CRC: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_IBM_SDLC);
 
 /// Feeds `bytes` to a decoder of `M`; each message read must encode again, and its frame must
 /// decode to a message that encodes to the same frame.
@@ -53,13 +50,10 @@ fuzz_target!(|data: &[u8]| {
         check::<Actuate>(rest);
         return;
     }
-    // The body framed as the link frames it, then a 0.
-    let mut raw = rest.to_vec();
-    raw.extend_from_slice(&CRC.checksum(rest).to_le_bytes());
-    let mut stuffed = vec![0u8; cobs::max_encoding_length(raw.len())];
-    let n = cobs::encode(&raw, &mut stuffed);
+    // The body framed as the link frames it, its 0 included.
+    let mut stuffed = vec![0u8; frame_len(rest.len())];
+    let n = frame(rest, &mut stuffed).expect("frame_len bytes hold the frame");
     stuffed.truncate(n);
-    stuffed.push(0);
     check::<Sense>(&stuffed);
     check::<Actuate>(&stuffed);
     // A frame longer than the link's reads as too long, never as a message.

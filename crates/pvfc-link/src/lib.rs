@@ -115,13 +115,32 @@ pub fn encode<M: Serialize>(message: &M, out: &mut [u8]) -> Result<usize, LinkEr
     let n = postcard::to_slice(message, &mut raw[..MAX_MESSAGE - 2])
         .map_err(|_| LinkError::TooLong)?
         .len();
-    let crc = CRC.checksum(&raw[..n]);
-    raw[n..n + 2].copy_from_slice(&crc.to_le_bytes());
-    let stuffed = cobs::max_encoding_length(n + 2);
+    frame(&raw[..n], out)
+}
+
+/// The room the frame of a body of `body` bytes needs, its terminating 0 included: the frame's
+/// length for a body of fewer than 254 bytes, at most one byte more per 254 beyond.
+pub fn frame_len(body: usize) -> usize {
+    cobs::max_encoding_length(body + 2) + 1
+}
+
+/// Frames `body` as the link does (its CRC appended, the whole COBS-stuffed, then a 0) at the
+/// start of `out` (at least [`frame_len`] bytes) and returns the frame's length. [`encode`]
+/// frames a message's postcard bytes with it; any body can be framed, so that a test reaches
+/// the message decoder behind a valid CRC (a frame longer than [`MAX_FRAME`] reads as
+/// [`LinkError::TooLong`]).
+pub fn frame(body: &[u8], out: &mut [u8]) -> Result<usize, LinkError> {
+    let stuffed = cobs::max_encoding_length(body.len() + 2);
     if out.len() < stuffed + 1 {
         return Err(LinkError::TooLong);
     }
-    let len = cobs::encode(&raw[..n + 2], &mut out[..stuffed]);
+    let crc = CRC.checksum(body).to_le_bytes();
+    let mut encoder = cobs::CobsEncoder::new(&mut out[..stuffed]);
+    encoder
+        .push(body)
+        .and_then(|()| encoder.push(&crc))
+        .map_err(|_| LinkError::TooLong)?;
+    let len = encoder.finalize();
     out[len] = 0;
     Ok(len + 1)
 }

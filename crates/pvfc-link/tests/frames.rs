@@ -3,7 +3,8 @@
 
 use proptest::prelude::*;
 use pvfc_link::{
-    encode, Actuate, Command, Decoder, DriveState, LinkError, Sense, MAX_FRAME, MAX_JOINTS,
+    encode, frame_len, Actuate, Command, Decoder, DriveState, LinkError, Sense, MAX_FRAME,
+    MAX_JOINTS,
 };
 
 fn sense(seq: u32, counts: &[i32], command: Option<Command>) -> Sense {
@@ -168,4 +169,41 @@ fn a_message_too_long_for_a_frame_is_refused() {
     assert!(frame(&full).len() <= MAX_FRAME);
     let mut small = [0u8; 8];
     assert_eq!(encode(&full, &mut small), Err(LinkError::TooLong));
+}
+
+proptest! {
+    /// `frame` is the link's framing of any body: a message's postcard bytes frame as
+    /// `encode` frames the message, and any body of up to the message's size reads back past
+    /// the CRC (as that message, or as `Message` when it is not one).
+    #[test]
+    fn any_body_frames_as_the_link_frames_a_message(
+        seq in any::<u32>(),
+        counts in prop::collection::vec(any::<i32>(), 0..=MAX_JOINTS),
+        command in command(),
+        noise in prop::collection::vec(any::<u8>(), 0..60),
+    ) {
+        let s = sense(seq, &counts, command);
+        let mut buf = [0u8; MAX_FRAME];
+        let body = postcard::to_slice(&s, &mut buf).unwrap().to_vec();
+        let mut out = vec![0u8; frame_len(body.len())];
+        let n = pvfc_link::frame(&body, &mut out).unwrap();
+        prop_assert_eq!(&out[..n], &frame(&s)[..]);
+        // Both are the wire format, built here from its parts: COBS(body ‖ CRC) ‖ 0.
+        const CRC: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_IBM_SDLC);
+        let mut raw = body.clone();
+        raw.extend_from_slice(&CRC.checksum(&body).to_le_bytes());
+        let mut wire = vec![0u8; cobs::max_encoding_length(raw.len())];
+        let m = cobs::encode(&raw, &mut wire);
+        wire.truncate(m);
+        wire.push(0);
+        prop_assert_eq!(&out[..n], &wire[..]);
+        let mut out = vec![0u8; frame_len(noise.len())];
+        let n = pvfc_link::frame(&noise, &mut out).unwrap();
+        prop_assert_eq!(n, out.len(), "frame_len is the frame's length");
+        let read = read_all::<Sense>(&out[..n]);
+        prop_assert_eq!(read.len(), 1);
+        prop_assert!(!matches!(read[0], Err(LinkError::Crc | LinkError::Stuffing)));
+        // Too small a buffer is refused, not overrun.
+        prop_assert_eq!(pvfc_link::frame(&noise, &mut out[..n - 1]), Err(LinkError::TooLong));
+    }
 }
