@@ -311,14 +311,11 @@ impl<T: Real, P: PaceProfile<T>, const K: usize> PaceProfile<T> for LearnedPace<
         if !(tau.is_finite() && share.is_finite() && dt.is_finite() && dt >= T::zero()) {
             return false;
         }
+        let (a, f) = Self::knot(period, tau);
         // The start from rest does not repeat: nothing is learned from it.
-        if !self
-            .start
-            .over(tau, share, dt, period, Self::knot(period, tau).0)
-        {
+        if !self.start.over(tau, share, dt, period, a) {
             return true;
         }
-        let (a, f) = Self::knot(period, tau);
         if a != self.current {
             if self.current < K {
                 self.settle((a + K - 1) % K, a, rule);

@@ -209,11 +209,11 @@ impl SpatialContactSpec {
                      (contour.cartesian.part)"
                 )));
             };
-            let [r, p, y] = o.rpy;
-            let local = nalgebra::Isometry3::from_parts(
-                nalgebra::Translation3::from(Vector3::from(o.position)),
-                nalgebra::UnitQuaternion::from_euler_angles(r, p, y),
-            );
+            let local = crate::model::pose::PoseSpec {
+                xyz: o.position,
+                rpy: o.rpy,
+            }
+            .isometry(&format!("contact_3d.obstacles[{k}]"))?;
             let placed = part * local;
             let (r, p, y) = placed.rotation.euler_angles();
             o.position = placed.translation.vector.into();
