@@ -451,12 +451,10 @@ fn g61_keeps_sharp_the_corners_after_it_and_arcs_stay_as_they_are() {
     assert_eq!(blended, 2);
     let p = program.tool_path().unwrap();
     assert!((largest_kink(&p) - PI / 2.0).abs() < 1e-6);
-    // Two arcs meeting at an angle are not blended: a lens, its two corners sharp.
-    let lens =
-        PartProgram::parse("G64 P0.1\nG0 X0 Y0\nG3 X10 Y0 I5 J5\nG3 X0 Y0 I-5 J-5\n").unwrap();
+    // Nor is a G61 lens (two arcs meeting at right angles), nor a reversal (out and back along one line).
+    let lens = PartProgram::parse("G61\nG0 X0 Y0\nG3 X10 Y0 I5 J5\nG3 X0 Y0 I-5 J-5\n").unwrap();
     assert!(lens.moves.iter().all(|m| !m.blended));
     assert!((largest_kink(&lens.tool_path().unwrap()) - PI / 2.0).abs() < 1e-6);
-    // Nor is a reversal (out and back along one line).
     let back = PartProgram::parse("G64 P0.1\nG0 X0 Y0\nG1 X10\nG1 X0\n").unwrap();
     assert!(back.moves.iter().all(|m| !m.blended));
 }
@@ -477,6 +475,28 @@ fn a_blended_program_is_the_same_in_inches_and_in_a_turned_plane() {
 /// The distance from `x` to the path `p`.
 fn off(p: &ToolPath, x: Vector3<f64>) -> f64 {
     p.closest(&x).distance
+}
+
+/// Checks the blended `program` of the sharp `text`: no kink at any piece's start, each of
+/// `corners` left by `tolerance` (the largest fillet within it, to 0.1 %), and every point of
+/// either path within the tolerance of the other.
+fn blended_within(program: &PartProgram, text: &str, corners: &[Vector3<f64>], tolerance: f64) {
+    let blended = program.tool_path().unwrap();
+    let sharp = path(text);
+    assert!(
+        largest_kink(&blended) < 1e-6,
+        "{text}: {}",
+        largest_kink(&blended)
+    );
+    for (i, c) in corners.iter().enumerate() {
+        let d = off(&blended, *c);
+        assert!(
+            d <= tolerance * (1.0 + 1e-9) && d >= 0.999 * tolerance,
+            "{text}: corner {i} left by {d:e}"
+        );
+    }
+    assert!(farthest(&blended, &sharp, 4000) <= tolerance * (1.0 + 1e-9));
+    assert!(farthest(&sharp, &blended, 4000) <= tolerance * (1.0 + 1e-9));
 }
 
 /// Corners where a line meets an arc, of both senses: the fillet tangent to both, leaving the
@@ -511,26 +531,7 @@ fn g64_blends_a_line_into_an_arc_by_the_fillet_tangent_to_both() {
             corners.len(),
             "{text}"
         );
-        let blended = program.tool_path().unwrap();
-        let sharp = path(text);
-        // Smooth: no kink at any piece's start.
-        assert!(
-            largest_kink(&blended) < 1e-6,
-            "{text}: {}",
-            largest_kink(&blended)
-        );
-        // Each corner left by the tolerance: the largest fillet within it.
-        for (i, c) in corners.iter().enumerate() {
-            let d = off(&blended, *c);
-            assert!(
-                d <= tolerance * (1.0 + 1e-9) && d >= 0.999 * tolerance,
-                "{text}: corner {i} left by {d:e}"
-            );
-        }
-        // Elsewhere the path is the program's: every point within the tolerance of it, and on
-        // the arc (away from the blends) on its circle.
-        assert!(farthest(&blended, &sharp, 4000) <= tolerance * (1.0 + 1e-9));
-        assert!(farthest(&sharp, &blended, 4000) <= tolerance * (1.0 + 1e-9));
+        blended_within(&program, text, &corners, tolerance);
     }
     // The fillet's ends are on the moves it joins: on the half disc, the fillet into the arc
     // touches the circle of radius 10 mm about the origin.
@@ -552,5 +553,62 @@ fn g64_blends_a_line_into_an_arc_by_the_fillet_tangent_to_both() {
             assert!((on_circle.norm() - 10e-3).abs() < 1e-15, "{on_circle}");
         }
         at = to;
+    }
+}
+
+/// Corners where two arcs meet: a lens (both arcs turning the corners' way: the fillet inside
+/// both circles) and a scalloped edge (a convex arc into a concave one and back: inside one
+/// circle, outside the other). The fillet tangent to both, leaving each corner by the
+/// tolerance, its ends on the two circles.
+#[test]
+fn g64_blends_an_arc_into_an_arc_by_the_fillet_tangent_to_both() {
+    let mm = |x: f64, y: f64| Vector3::new(x, y, 0.0) * 1e-3;
+    let tolerance = 0.1e-3;
+    // The lens: arcs of radius 5√2 mm about (5, ±5) mm, meeting at right angles.
+    let lens = "G0 X0 Y0\nG3 X10 Y0 I5 J5\nG3 X0 Y0 I-5 J-5\n";
+    // A plate whose top edge is a bump (G3, a half circle of 5 mm about (25, 20) mm) then a dip
+    // (G2, a quarter circle of 5√2 mm about (15, 25) mm), meeting at 45° at (20, 20) mm: the
+    // fillet outside the bump's circle and inside the dip's.
+    let scallops = "G0 X0 Y0\nG1 X30\nG1 Y20\nG3 X20 Y20 I-5 J0\nG2 X10 Y20 I-5 J5\nG1 X0\nG1 Y0\n";
+    for (text, corners, circles) in [
+        (
+            lens,
+            vec![mm(10.0, 0.0), mm(0.0, 0.0)],
+            vec![
+                (mm(5.0, 5.0), 50f64.sqrt() * 1e-3),
+                (mm(5.0, -5.0), 50f64.sqrt() * 1e-3),
+            ],
+        ),
+        (
+            scallops,
+            vec![mm(20.0, 20.0)],
+            vec![
+                (mm(25.0, 20.0), 5e-3),
+                (mm(15.0, 25.0), 50f64.sqrt() * 1e-3),
+            ],
+        ),
+    ] {
+        let program = PartProgram::parse(&format!("G64 P0.1\n{text}")).unwrap();
+        blended_within(&program, text, &corners, tolerance);
+        // Each arc–arc fillet's ends lie on two of the program's circles.
+        let on_circle = |x: Vector3<f64>| {
+            circles
+                .iter()
+                .map(|(c, r)| ((x - c).norm() - r).abs())
+                .fold(f64::INFINITY, f64::min)
+        };
+        let mut at = program.start;
+        let mut arc_arc = 0;
+        for m in &program.moves {
+            let to = match m.segment {
+                pvfc_control::model::tool_path::Segment::Line { to }
+                | pvfc_control::model::tool_path::Segment::Arc { to, .. } => to,
+            };
+            if m.blended && on_circle(at) < 1e-15 && on_circle(to) < 1e-15 {
+                arc_arc += 1;
+            }
+            at = to;
+        }
+        assert_eq!(arc_arc, corners.len(), "{text}: arc–arc fillets");
     }
 }

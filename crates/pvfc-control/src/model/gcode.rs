@@ -17,16 +17,16 @@
 //!   default) or absolute (G90.1). A feed F is in units per minute (G94) and holds until
 //!   changed.
 //! - Helical arcs (an arc that also moves along its plane's normal) are refused.
-//! - Corners: `G64 P<tolerance>` blends, from its block on, each corner where a straight move
-//!   meets a straight move or an arc by the circular arc (tangent to both) that leaves the
+//! - Corners: `G64 P<tolerance>` blends, from its block on, each corner where two moves
+//!   (straight or arcs) meet at an angle by the circular arc (tangent to both) that leaves the
 //!   corner by at most the tolerance, taking at most half of either move (so that blends never
 //!   overlap); G61 (and G61.1) keeps the corners sharp again (the default). A corner is blended
 //!   when both its moves were read in G64; with two tolerances, by the smaller. The blend is a
 //!   cutting move of its own ([`ProgramMove::blended`]) at the lower of its two moves' feeds.
 //!   Between two lines the blend is the largest arc within the tolerance; between a line and
-//!   an arc (in the arc's plane), the fillet of the largest radius within it. Corners where two
-//!   arcs meet, or where a line leaves an arc's plane, are kept as they are, as are reversals
-//!   and turns below 1e-4 rad.
+//!   an arc or between two arcs (in the arcs' plane), the fillet of the largest radius within
+//!   it. Corners where a move leaves an arc's plane are kept as they are, as are reversals and
+//!   turns below 1e-4 rad.
 //! - Accepted and without effect on the path: comments, line numbers (N), tool changes (T),
 //!   spindle speeds (S), M0–M9 and M30, G40, G49, G54, G80, G94. Any other word is an error,
 //!   and so is a P anywhere but after G64.
@@ -339,11 +339,45 @@ fn line_to_arc(
     let out = (center - c).normalize();
     let joins = c + out * radius;
     // The arc's angle from the corner to where the fillet joins it, within half its sweep.
-    let (p0, p1) = ((here - c).normalize(), out);
-    let taken = p0.cross(&p1).dot(&axis).atan2(p0.dot(&p1));
-    if !(taken >= -1e-12 && taken <= 0.5 * sweep) {
+    let taken = arc_angle(c, &axis, here, joins);
+    if !within_half(taken, sweep) {
         return None;
     }
+    fillet(
+        here,
+        (leaves, joins),
+        (center, rho, n),
+        tolerance,
+        (-s, taken),
+    )
+}
+
+/// The angle about `axis` from `from` to `to`, both on a circle about `c`.
+fn arc_angle(
+    c: Vector3<f64>,
+    axis: &Unit<Vector3<f64>>,
+    from: Vector3<f64>,
+    to: Vector3<f64>,
+) -> f64 {
+    let (p0, p1) = ((from - c).normalize(), (to - c).normalize());
+    p0.cross(&p1).dot(axis).atan2(p0.dot(&p1))
+}
+
+/// Whether an arc's angle `taken` to a fillet's end is within half of its `sweep`.
+fn within_half(taken: f64, sweep: f64) -> bool {
+    taken >= -1e-12 && taken <= 0.5 * sweep
+}
+
+/// The blend of corner `here` by the fillet (centre, radius `rho`, axis `n`) from `leaves` to
+/// `joins`, taking `taken` of the two moves; `None` if it leaves the corner by more than
+/// `tolerance`.
+fn fillet(
+    here: Vector3<f64>,
+    (leaves, joins): (Vector3<f64>, Vector3<f64>),
+    (center, rho, n): (Vector3<f64>, f64, Unit<Vector3<f64>>),
+    tolerance: f64,
+    (taken_in, taken_out): (f64, f64),
+) -> Option<Blend> {
     if (here - center).norm() - rho > tolerance {
         return None;
     }
@@ -355,15 +389,15 @@ fn line_to_arc(
             center,
             axis: n,
         },
-        taken_in: -s,
-        taken_out: taken.max(0.0),
+        taken_in: taken_in.max(0.0),
+        taken_out: taken_out.max(0.0),
     })
 }
 
 /// The blend at corner `here` from move `into` to move `out` (see the [module](self)): the
 /// arc tangent to both that leaves the corner by at most `tolerance`, taking at most half of
-/// either move; `None` for a turn below [`STRAIGHT`], a reversal, two arcs, or an arc whose
-/// plane is not the corner's.
+/// either move; `None` for a turn below [`STRAIGHT`], a reversal, or an arc whose plane is not
+/// the corner's.
 fn blend(here: Vector3<f64>, into: Near, out: Near, tolerance: f64) -> Option<Blend> {
     let (a, b) = (into.tangent(here), out.tangent(here));
     let turn = a.dot(&b).clamp(-1.0, 1.0).acos();
@@ -420,8 +454,81 @@ fn blend(here: Vector3<f64>, into: Near, out: Near, tolerance: f64) -> Option<Bl
                 taken_out: b.taken_in,
             })
         }
-        (Near::Arc { .. }, Near::Arc { .. }) => None,
+        (
+            Near::Arc {
+                center: c1,
+                radius: r1,
+                axis: a1,
+                sweep: s1,
+            },
+            Near::Arc {
+                center: c2,
+                radius: r2,
+                axis: a2,
+                sweep: s2,
+            },
+        ) => largest(radius, |rho| {
+            arc_to_arc(here, (c1, r1, a1, s1), (c2, r2, a2, s2), n, rho, tolerance)
+        }),
     }
+}
+
+/// The blend at corner `here` from the arc `into` to the arc `out` (each its circle's centre,
+/// radius, axis and sweep), turning about `n`, of radius `rho`: the fillet's centre is
+/// `R₁ ∓ rho` from the first circle's centre and `R₂ ∓ rho` from the second's (inside a circle
+/// where its arc turns the corner's way, outside where it turns against it), the one of the
+/// two such points nearest the corner. `None` where no such fillet touches both arcs within
+/// half of each, or where it leaves the corner by more than `tolerance`.
+fn arc_to_arc(
+    here: Vector3<f64>,
+    into: (Vector3<f64>, f64, Unit<Vector3<f64>>, f64),
+    out: (Vector3<f64>, f64, Unit<Vector3<f64>>, f64),
+    n: Unit<Vector3<f64>>,
+    rho: f64,
+    tolerance: f64,
+) -> Option<Blend> {
+    let ((c1, r1, a1, s1), (c2, r2, a2, s2)) = (into, out);
+    let reach1 = r1 - a1.dot(&n).signum() * rho;
+    let reach2 = r2 - a2.dot(&n).signum() * rho;
+    if reach1 <= 0.0 || reach2 <= 0.0 {
+        return None;
+    }
+    // The two circles of the fillet's possible centres meet where the chord between them
+    // crosses the line of centres, `along` from c₁, at `±h` across it (in the corner's plane).
+    let d = c2 - c1;
+    let distance = d.norm();
+    if distance <= 1e-12 * (r1 + r2) {
+        return None;
+    }
+    let e = d / distance;
+    let along = (reach1 * reach1 - reach2 * reach2 + distance * distance) / (2.0 * distance);
+    let h2 = reach1 * reach1 - along * along;
+    if h2 < 0.0 {
+        return None;
+    }
+    let (base, across) = (c1 + e * along, n.cross(&e) * h2.sqrt());
+    let (f1, f2) = (base + across, base - across);
+    let center = if (f1 - here).norm() <= (f2 - here).norm() {
+        f1
+    } else {
+        f2
+    };
+    let leaves = c1 + (center - c1).normalize() * r1;
+    let joins = c2 + (center - c2).normalize() * r2;
+    // Each arc's angle between the corner and the fillet's end, within half its sweep: the
+    // first's from where the fillet leaves it to the corner, the second's from the corner on.
+    let taken_in = arc_angle(c1, &a1, leaves, here);
+    let taken_out = arc_angle(c2, &a2, here, joins);
+    if !(within_half(taken_in, s1) && within_half(taken_out, s2)) {
+        return None;
+    }
+    fillet(
+        here,
+        (leaves, joins),
+        (center, rho, n),
+        tolerance,
+        (taken_in, taken_out),
+    )
 }
 
 /// The largest fillet ([`line_to_arc`]) at `here` from the straight move `line` into the arc
