@@ -34,8 +34,12 @@ echo "--- the trace against the host twin"
 # The twin as `cargo test` builds it (the README's test command): `cargo test --test
 # firmware_twin` alone would resolve the dev-dependencies' features for one package only and
 # compile the whole dependency tree a second time (three minutes on two cores).
-twin=$(cargo test --locked --no-run --message-format=json | python3 scripts/cargo_artifact.py firmware_twin exe)
+cargo test --locked --no-run --message-format=json >"$out/test-build.json"
+twin=$(python3 scripts/cargo_artifact.py firmware_twin exe <"$out/test-build.json")
 test -x "$twin" || { echo "cargo test did not build tests/firmware_twin.rs" >&2; exit 1; }
+# The `pvfc` command as `cargo test` builds it (for pvfc-cli's tests).
+pvfc=$(python3 scripts/cargo_artifact.py pvfc bin <"$out/test-build.json")
+test -x "$pvfc" || { echo "cargo test did not build the pvfc command" >&2; exit 1; }
 PVFC_FIRMWARE_TRACE="$out/trace.txt" "$twin" --ignored --nocapture firmware_trace_matches_the_host_twin \
   2>&1 | grep -E "firmware vs|host f32 vs|test result|panicked|assert" | tee "$out/twin.txt"
 grep -q "test result: ok. 1 passed" "$out/twin.txt"
@@ -94,3 +98,20 @@ echo "--- hardware in the loop: the RTIC drive (--bin hil) on QEMU's USART1, the
 PVFC_HIL_FIRMWARE="$fw/target/thumbv7em-none-eabihf/release/hil" timeout 300 "$twin" --ignored --nocapture \
   hil_run_matches_the_host_twin 2>&1 | grep -E "^hil|host twin|test result|panicked|assert" | tee "$out/hil.txt"
 grep -q "test result: ok. 1 passed" "$out/hil.txt"
+# The same drive against pvfc-sim's plant with `pvfc hil` (scenarios/hil_scara.toml describes
+# the firmware's drive): the MCAP log, the line's figures, and the host twin (the scenario's
+# own drive, in f64) beside it.
+timeout 300 "$pvfc" hil scenarios/hil_scara.toml --qemu "$fw/target/thumbv7em-none-eabihf/release/hil" \
+  --corrupt-at 5000 --twin --out "$out/hil" | tee "$out/pvfc_hil.txt"
+grep -q "10001 periods" "$out/pvfc_hil.txt"
+grep -q "corrupted on purpose 1, unread by the drive 1," "$out/pvfc_hil.txt"
+test -s "$out/hil/logs/hil_scara-hil.mcap"
+python3 - "$out/pvfc_hil.txt" <<'PY'
+import re, sys
+text = open(sys.argv[1]).read()
+dq = float(re.search(r"largest \|Δq\| ([0-9.e+-]+) rad", text).group(1))
+# The firmware's f32 drive against the host's f64 one: within the f32 twin's own distance
+# from the f64 one (tests/firmware_twin.rs measures 1.3e-3 rad on the firmware's plant).
+assert dq < 2e-3, f"pvfc hil: the firmware is {dq} rad from the host twin"
+print(f"pvfc hil: the firmware within {dq:.2e} rad of the host twin")
+PY

@@ -11,7 +11,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_INCREMENTAL=0
 
-crates=(pvfc-core pvfc-workspace-hack pvfc-control pvfc-sim pvfc-c pvfc-cli)
+crates=(pvfc-core pvfc-workspace-hack pvfc-link pvfc-control pvfc-sim pvfc-c pvfc-cli)
 packages=()
 for c in "${crates[@]}"; do packages+=(-p "$c"); done
 version=$(cargo metadata --format-version 1 --no-deps \
@@ -25,7 +25,9 @@ cargo publish --locked --dry-run --allow-dirty --no-verify "${packages[@]}"
 # The same packages as files (target/package/NAME-VERSION.crate), unpacked to be built.
 cargo package --locked --allow-dirty --no-verify "${packages[@]}"
 for c in "${crates[@]}"; do
-  tar -xzf "target/package/$c-$version.crate" -C target/package
+  # Touched: cargo judges a path dependency fresh by its files' times, and a packaged file
+  # keeps its time in the archive, older than an earlier build of the same version.
+  tar -xzf "target/package/$c-$version.crate" -C target/package --touch
 done
 
 # The core's docs as docs.rs builds them ([package.metadata.docs.rs]: every feature).
@@ -33,7 +35,7 @@ RUSTDOCFLAGS="-D warnings" cargo doc --locked --no-deps -p pvfc-core --all-featu
 
 pkg="$PWD/target/package"
 patches=()
-for c in pvfc-core pvfc-workspace-hack pvfc-control pvfc-sim; do
+for c in pvfc-core pvfc-workspace-hack pvfc-link pvfc-control pvfc-sim; do
   patches+=(--config "patch.crates-io.$c.path=\"$pkg/$c-$version\"")
 done
 root=$(mktemp -d)

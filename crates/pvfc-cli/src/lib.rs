@@ -16,6 +16,8 @@
 pub mod body_plot;
 pub mod canvas;
 pub mod chain_plot;
+#[cfg(unix)]
+pub mod hil;
 pub mod plot;
 mod plot_digital;
 pub mod report;

@@ -50,6 +50,35 @@ enum Command {
         #[arg(long, default_value_t = 0.0)]
         log_rate: f64,
     },
+    /// Run a scenario's plant against a drive across a serial line (hardware in the loop),
+    /// in lockstep: each control period the encoders' counts go to the drive and its torque
+    /// comes back. The drive's controller replaces the scenario's; the scenario's
+    /// `[[operator]]` commands go in the frames. Writes `logs/NAME-hil.mcap` (and with
+    /// `--twin`, the scenario's own drive on the same plant as `logs/NAME.mcap`, compared).
+    #[cfg(unix)]
+    Hil {
+        /// The scenario (TOML): the plant, the encoders' counts per turn, the operator.
+        scenario: PathBuf,
+        /// A Unix socket the drive listens on (a QEMU guest's `-serial unix:PATH,server=on`).
+        #[arg(long, conflicts_with = "qemu", required_unless_present = "qemu")]
+        socket: Option<PathBuf>,
+        /// A firmware (ELF) to run here in `qemu-system-arm -machine netduinoplus2`, its
+        /// USART1 the line.
+        #[arg(long)]
+        qemu: Option<PathBuf>,
+        /// Output directory.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+        /// How long an answer is awaited before the frame is sent again (ms).
+        #[arg(long, default_value_t = 300)]
+        timeout_ms: u64,
+        /// Flip one bit of this period's first frame: the drive must refuse it.
+        #[arg(long)]
+        corrupt_at: Option<u32>,
+        /// Also run the scenario's own passive drive on the same plant, and compare.
+        #[arg(long)]
+        twin: bool,
+    },
     /// Run a study (sweep or Monte Carlo) in parallel: its table `NAME.csv` (one row per run:
     /// its parameters and metrics, or its error), the same table as an Arrow IPC file
     /// `NAME.arrow` (pandas' `read_feather`, Polars' `read_ipc`) and a figure per metric. An
@@ -96,6 +125,78 @@ fn bar(bars: &MultiProgress, name: &str) -> Progress {
             pb.finish();
         }
     })
+}
+
+#[cfg(unix)]
+fn hil(
+    path: &Path,
+    out: &Path,
+    socket: Option<PathBuf>,
+    qemu: Option<PathBuf>,
+    timeout: std::time::Duration,
+    corrupt_at: Option<u32>,
+    twin: bool,
+) -> Result<(), SimError> {
+    use pvfc_cli::hil::{largest_difference, run, DriveAt};
+    let s = Scenario::from_file(path)?;
+    mkdir(out)?;
+    let at = match (socket, qemu) {
+        (Some(p), _) => DriveAt::Socket(p),
+        (None, Some(elf)) => DriveAt::Qemu {
+            elf,
+            dir: out.join("qemu"),
+        },
+        (None, None) => {
+            return Err(SimError::Setting(
+                "pvfc hil: give --socket or --qemu".into(),
+            ))
+        }
+    };
+    let system = System::build(&s)?;
+    let options = pvfc_sim::run::link::LinkOptions {
+        corrupt_at,
+        ..Default::default()
+    };
+    let hil = run(&s, &system, &at, timeout, options)?;
+    let r = &hil.report;
+    let (median, largest) = r.round_trip();
+    println!(
+        "{}: {} periods in {:.1} s; frames sent {}, sent again {}, corrupted on purpose {}, unread by the drive {}, late answers {}; round trip median {:.0} µs, largest {:.0} µs",
+        s.name,
+        r.periods,
+        hil.seconds,
+        r.sent,
+        r.resent,
+        r.corrupted,
+        r.unread,
+        r.late,
+        median * 1e6,
+        largest * 1e6
+    );
+    let mut runs = pvfc_cli::runs::Runs::default();
+    let mut hil_trace = hil.trace;
+    hil_trace.name = format!("{}-hil", s.name);
+    runs.runs
+        .insert(hil_trace.name.clone(), (s.clone(), hil_trace.clone()));
+    if twin {
+        let t = pvfc_sim::run::simulate_system(&s, &system, &mut |_| {})?;
+        let (dq, du) = largest_difference(&hil_trace, &t);
+        println!(
+            "{}: against the host twin (the scenario's drive on the same plant): largest |Δq| {dq:.2e} rad, |Δtorque| {du:.2e} N·m",
+            s.name
+        );
+        runs.runs.insert(t.name.clone(), (s.clone(), t));
+    }
+    for f in write_logs(&runs, out, None)? {
+        println!("wrote {}", f.display());
+    }
+    match r.fault {
+        Some((period, code)) => Err(SimError::Link {
+            period,
+            message: format!("the drive latched fault {code}"),
+        }),
+        None => Ok(()),
+    }
 }
 
 fn mkdir(p: &Path) -> Result<(), SimError> {
@@ -152,6 +253,24 @@ fn main() -> ExitCode {
             controller.as_deref(),
         ),
         Command::Presets { out } => write_presets(&out),
+        #[cfg(unix)]
+        Command::Hil {
+            scenario,
+            socket,
+            qemu,
+            out,
+            timeout_ms,
+            corrupt_at,
+            twin,
+        } => hil(
+            &scenario,
+            &out,
+            socket,
+            qemu,
+            std::time::Duration::from_millis(timeout_ms),
+            corrupt_at,
+            twin,
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

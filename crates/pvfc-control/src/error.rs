@@ -61,6 +61,15 @@ pub enum SimError {
     /// A simulation setting is invalid.
     #[error("invalid setting: {0}")]
     Setting(String),
+    /// The serial line to a drive in the loop failed (hardware in the loop): the line closed,
+    /// a period went unanswered, or the drive answered with something else.
+    #[error("hardware in the loop, period {period}: {message}")]
+    Link {
+        /// The control period (the frames' sequence number).
+        period: u32,
+        /// What happened.
+        message: String,
+    },
     /// A point of a Cartesian tool path cannot be turned into a joint posture.
     #[error("Cartesian path: waypoint {index} at ({:.4}, {:.4}, {:.4}) m: {problem}", point[0], point[1], point[2])]
     Waypoint {

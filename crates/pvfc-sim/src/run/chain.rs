@@ -8,6 +8,7 @@ use crate::contact::spatial::SpatialContact;
 use crate::error::{Result, SimError};
 use crate::model::arm::{arm_controller, ArmControllerN};
 use crate::model::pace::PathSpeed;
+use crate::run::link::LinkDrive;
 use crate::run::loops::{self, Surroundings};
 use crate::run::path_clock::{tracker_clock, PathClock};
 use crate::run::stepper::PassiveDrive;
@@ -26,11 +27,22 @@ pub fn simulate_chain_with(
     system: &ArmSystem,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
+    simulate_chain_on(s, system, None, progress)
+}
+
+/// [`simulate_chain_with`], the controller the drive across `link` if given (hardware in the
+/// loop: the sampled mode, revolute joints).
+pub(crate) fn simulate_chain_on(
+    s: &Scenario,
+    system: &ArmSystem,
+    mut link: Option<&mut LinkDrive<'_>>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
     let robot = &system.robot;
     with_dof!(robot.dof(), N => {
         let chain = SerialChain::<f64, N>::try_from(robot.model())?;
         let plant = SerialChain::<f64, N>::try_from(system.plant.model())?;
-        run::<N>(s, (chain, plant), system, progress)
+        run::<N>(s, (chain, plant), system, link.take(), progress)
     }, otherwise Err(SimError::Setting(format!(
         "robot {}: {} joints; pvfc supports 1 to 8", robot.description().name, robot.dof()
     ))))
@@ -42,6 +54,7 @@ fn run<const N: usize>(
     s: &Scenario,
     (chain, plant): (SerialChain<f64, N>, SerialChain<f64, N>),
     system: &ArmSystem,
+    link: Option<&mut LinkDrive<'_>>,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
     let base: ArmControllerN<N> = arm_controller(chain, &system.settings)?;
@@ -50,12 +63,22 @@ fn run<const N: usize>(
     let (q, v) = initial_state(s, &chain)?;
     let mut env = Spatial::of(s, system, &plant)?;
     let columns = env.columns();
+    if let Some(drive) = link {
+        if s.simulation.mode != Mode::Sampled
+            || chain.kinds().iter().any(|k| *k != JointKind::Circular)
+        {
+            return Err(SimError::Setting(
+                "hardware in the loop: the drive runs in the sampled mode and reads encoders on revolute joints".into(),
+            ));
+        }
+        return loops::sampled(s, &plant, drive, (q, v), &mut env, columns, progress);
+    }
     match s.simulation.mode {
         Mode::Sampled => match &s.controller.passive {
             None => loops::sampled(s, &plant, ctl, (q, v), &mut env, columns, progress),
             Some(spec) => {
                 let circular = chain.kinds().map(|k| k == JointKind::Circular);
-                let drive = PassiveDrive::new(ctl, spec, circular)?;
+                let drive = PassiveDrive::new(ctl, spec, circular, s)?;
                 loops::sampled(s, &plant, drive, (q, v), &mut env, columns, progress)
             }
         },

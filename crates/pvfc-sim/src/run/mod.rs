@@ -7,6 +7,7 @@
 pub mod body;
 pub mod chain;
 pub mod integrate;
+pub mod link;
 pub(crate) mod loops;
 pub(crate) mod path_clock;
 pub mod planar;
@@ -36,6 +37,26 @@ pub fn simulate_system(
         System::Scara(arm) => planar::simulate_with(s, *arm, progress),
         System::SerialChain(sys) => chain::simulate_chain_with(s, sys, progress),
         System::RigidBody(ctl) => body::simulate_body_with(s, ctl, progress),
+    }
+}
+
+/// Runs the scenario's plant (its model error, friction and contact) against a drive across
+/// a serial line, in lockstep ([`link`]: hardware in the loop); the drive's controller
+/// replaces the scenario's. An arm's only (a SCARA or a URDF arm with revolute joints), in the
+/// sampled mode. What happened on the line is in `drive`'s report.
+pub fn simulate_system_over(
+    s: &Scenario,
+    system: &System,
+    drive: &mut link::LinkDrive<'_>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
+    match system {
+        System::Scara(arm) => planar::simulate_on(s, *arm, Some(drive), progress),
+        System::SerialChain(sys) => chain::simulate_chain_on(s, sys, Some(drive), progress),
+        System::RigidBody(_) => Err(crate::SimError::Setting(
+            "hardware in the loop: the drive reads encoders on an arm's joints; a rigid body has none"
+                .into(),
+        )),
     }
 }
 

@@ -4,6 +4,7 @@
 
 use crate::contact::{ContactForces, Environment, PlanarArm};
 use crate::error::Result;
+use crate::run::link::LinkDrive;
 use crate::run::loops::{self, Surroundings};
 use crate::run::path_clock::tracker_clock;
 use crate::run::stepper::Stepper;
@@ -22,9 +23,23 @@ pub fn simulate_with(
     arm: Scara<f64>,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
+    simulate_on(s, arm, None, progress)
+}
+
+/// [`simulate_with`], the controller the drive across `link` if given (hardware in the loop:
+/// the sampled mode only).
+pub(crate) fn simulate_on(
+    s: &Scenario,
+    arm: Scara<f64>,
+    link: Option<&mut LinkDrive<'_>>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trace> {
     match (s.simulation.mode, environment_with(s, &arm)?) {
-        (Mode::Sampled, None) => sampled(s, arm, &mut Free, false, progress),
-        (Mode::Sampled, Some(mut env)) => sampled(s, arm, &mut *env, true, progress),
+        (Mode::Sampled, None) => sampled(s, arm, &mut Free, false, link, progress),
+        (Mode::Sampled, Some(mut env)) => sampled(s, arm, &mut *env, true, link, progress),
+        (Mode::Continuous, _) if link.is_some() => Err(crate::error::SimError::Setting(
+            "hardware in the loop: the drive runs in the sampled mode".into(),
+        )),
         (Mode::Continuous, None) => simulate_continuous(s, arm, &mut Free, false, progress),
         (Mode::Continuous, Some(mut env)) => simulate_continuous(s, arm, &mut *env, true, progress),
     }
@@ -41,7 +56,7 @@ pub fn simulate_in(
     let arm = Scara::new(s.scara()?)?;
     match s.simulation.mode {
         Mode::Continuous => simulate_continuous(s, arm, env, true, progress),
-        Mode::Sampled => sampled(s, arm, env, true, progress),
+        Mode::Sampled => sampled(s, arm, env, true, None, progress),
     }
 }
 
@@ -96,15 +111,19 @@ fn sampled<E: Environment + ?Sized>(
     arm: Scara<f64>,
     env: &mut E,
     with_contact: bool,
+    link: Option<&mut LinkDrive<'_>>,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
     // The controller has the model `arm`; the simulated arm has the scenario's model error.
     let ctl = s.controller_with(arm)?;
     let plant = s.plant_scara(arm)?;
+    if let Some(drive) = link {
+        return simulate_sampled(s, plant, env, true, drive, progress);
+    }
     match &s.controller.passive {
         None => simulate_sampled(s, plant, env, with_contact, ctl, progress),
         Some(spec) => {
-            let drive = crate::run::stepper::PassiveDrive::new(ctl, spec, [true; 2])?;
+            let drive = crate::run::stepper::PassiveDrive::new(ctl, spec, [true; 2], s)?;
             simulate_sampled(s, plant, env, true, drive, progress)
         }
     }

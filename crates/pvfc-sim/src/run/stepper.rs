@@ -6,7 +6,8 @@
 
 use crate::error::Result;
 use crate::plant::faults::FaultState;
-use crate::scenario::PassiveSpec;
+use crate::scenario::operator::Operator;
+use crate::scenario::{PassiveSpec, Scenario};
 use crate::trace::Row;
 use nalgebra::SVector;
 use pvfc_core::passive::PassiveController;
@@ -34,6 +35,32 @@ pub(crate) struct Sample<const N: usize> {
     pub fault: u8,
 }
 
+impl<const N: usize> Sample<N> {
+    /// A drive's sample while it is stopped (or not heard from): the safe torque (zero), the
+    /// internal states `state` and storage `storage` as they are, `U`, `λ` and `β` not
+    /// computed (NaN).
+    pub(crate) fn stopped(state: InternalState<f64>, storage: f64) -> Self {
+        let nan = f64::NAN;
+        Sample {
+            torque: SVector::zeros(),
+            state,
+            diagnostics: Diagnostics {
+                potential: nan,
+                lambda1: nan,
+                lambda2: nan,
+                beta: nan,
+                kinetic_energy: nan,
+                flywheel_field_speed: nan,
+                momentum_along_field: nan,
+            },
+            storage,
+            add_ons_ended: 0.0,
+            add_ons_next: 0.0,
+            fault: 0,
+        }
+    }
+}
+
 /// A controller of a sampled-data loop, at the true state of the plant `(q, q̇)`.
 pub(crate) trait Stepper<G, const N: usize> {
     /// One control step at time `t`, `dt` after the last; `faults` are what the sensors and
@@ -47,6 +74,23 @@ pub(crate) trait Stepper<G, const N: usize> {
     ) -> Result<Sample<N>>;
     /// The nominal-speed add-on, to schedule `r` on line.
     fn nominal_speed_mut(&mut self) -> Option<&mut NominalSpeed<f64>>;
+}
+
+/// A controller borrowed (a drive whose report the caller reads after the run).
+impl<G, S: Stepper<G, N> + ?Sized, const N: usize> Stepper<G, N> for &mut S {
+    fn sample(
+        &mut self,
+        q: &G,
+        v: &SVector<f64, N>,
+        time: (f64, f64),
+        faults: &mut FaultState<'_, N>,
+    ) -> Result<Sample<N>> {
+        (**self).sample(q, v, time, faults)
+    }
+
+    fn nominal_speed_mut(&mut self) -> Option<&mut NominalSpeed<f64>> {
+        (**self).nominal_speed_mut()
+    }
 }
 
 impl<G, Sys, F, const N: usize> Stepper<G, N> for Controller<f64, G, Sys, F, N>
@@ -86,12 +130,16 @@ where
     }
 }
 
-/// The passive digital controller on a drive as `[controller.passive]` describes it.
+/// The passive digital controller on a drive as `[controller.passive]` describes it, under
+/// the operator's commands of `[[operator]]`.
 pub(crate) struct PassiveDrive<G, Sys, F, const N: usize> {
     controller: PassiveController<f64, G, Sys, F, N>,
     spec: PassiveSpec,
     /// Which coordinates an encoder of `encoder_counts` per turn measures (revolute joints).
     circular: [bool; N],
+    /// The operator's commands (`[[operator]]`), if any, and the control period's number.
+    operator: Option<Operator>,
+    period: u64,
 }
 
 impl<G, Sys, F, const N: usize> PassiveDrive<G, Sys, F, N>
@@ -102,16 +150,22 @@ where
 {
     /// The passive controller around `controller` with the spec's limits, encoder charge,
     /// velocity filter and reserve; `circular` marks the revolute joints.
+    /// Under the scenario `s`'s operator's commands, if it has any (stopped until one starts
+    /// it).
     pub(crate) fn new(
         controller: Controller<f64, G, Sys, F, N>,
         spec: &PassiveSpec,
         circular: [bool; N],
+        s: &Scenario,
     ) -> Result<Self> {
         let c = spec.controller(controller, circular)?;
+        let (dt, _, _) = crate::run::loops::timing(s)?;
         Ok(PassiveDrive {
             controller: c,
             spec: spec.clone(),
             circular,
+            operator: Operator::new(&s.operator, dt)?,
+            period: 0,
         })
     }
 }
@@ -129,6 +183,22 @@ where
         (t, dt): (f64, f64),
         faults: &mut FaultState<'_, N>,
     ) -> Result<Sample<N>> {
+        let k = self.period;
+        self.period += 1;
+        if let Some(operator) = &mut self.operator {
+            if operator.due(k).is_some() {
+                if let Some(nominal) = self.controller.controller_mut().nominal_speed_mut() {
+                    nominal.set_speed(operator.speed())?;
+                }
+            }
+            if !operator.running() {
+                // Stopped: the safe torque, the controller not stepped.
+                return Ok(Sample::stopped(
+                    *self.controller.controller().state(),
+                    self.controller.storage(),
+                ));
+            }
+        }
         // The encoders round the revolute joints' angles, and the sensor faults act on what
         // they read (composing keeps `q`'s joint kinds).
         let measured = if self.spec.encoder_counts.is_some() || faults.any() {

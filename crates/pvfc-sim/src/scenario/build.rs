@@ -162,6 +162,20 @@ impl Scenario {
                 "faults: a run with faults needs [controller.passive] (the sampled controller that survives them)",
             );
         }
+        if !self.operator.is_empty() {
+            if self.controller.passive.is_none() {
+                return bad(
+                    "operator: an operator's commands go to a drive: they need [controller.passive]",
+                );
+            }
+            if self.controller.nominal_speed.is_none() {
+                return bad(
+                    "operator: start and speed set the nominal speed r of eq. (36): they need [controller.nominal_speed]",
+                );
+            }
+            let (dt, _, _) = crate::run::loops::timing(self)?;
+            super::operator::Operator::new(&self.operator, dt)?;
+        }
         match &self.plant.robot {
             RobotSpec::RigidBody(_) => return self.check_body(),
             // A URDF arm is validated by building its system: the same code path as a run's,

@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 pub mod build;
 pub mod least_lap;
 pub mod legacy;
+pub mod operator;
 pub mod plant;
 pub use pvfc_control::model::contour::{AttitudeContourSpec, ContourSpec};
 pub use pvfc_control::obstacles;
@@ -558,6 +559,10 @@ pub struct Scenario {
     /// [`crate::plant::faults`]). They need `[controller.passive]`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub faults: Vec<FaultEvent>,
+    /// An operator's commands to the drive by time (`[[operator]]`: start, speed, stop;
+    /// [`operator`]). They need `[controller.passive]`; a drive with commands starts stopped.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub operator: Vec<operator::OperatorCommand>,
     /// Directory that relative paths in the scenario are resolved against (not in the file).
     #[serde(skip)]
     pub base_dir: PathBuf,

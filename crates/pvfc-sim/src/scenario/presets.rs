@@ -56,6 +56,7 @@ pub fn pelican_example() -> Scenario {
         contact_3d: None,
         obstacles: None,
         faults: Vec::new(),
+        operator: Vec::new(),
         base_dir: Default::default(),
         deprecations: Vec::new(),
     }
@@ -107,6 +108,7 @@ fn forced(id: PresetId, description: &str, r_pacing: f64, compensation: bool, r:
         contact_3d: None,
         obstacles: None,
         faults: Vec::new(),
+        operator: Vec::new(),
         base_dir: Default::default(),
         deprecations: Vec::new(),
     }
