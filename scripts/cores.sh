@@ -58,5 +58,6 @@ echo "--- RISC-V (riscv32imac-unknown-none-elf, QEMU's virt)"
 elf=$fw/target/riscv32imac-unknown-none-elf/release/pvfc-firmware-riscv
 text=$(size -A "$elf" | awk '$1 == ".text" || $1 == ".rodata" || $1 == ".init.rust" { n += $2 } END { print n }')
 run_and_compare riscv qemu-system-riscv32 -machine virt -bios none -icount shift=0 -kernel "$elf"
-echo "virt riscv32imac-unknown-none-elf: code and read-only data $text B; $(grep "instructions per step" "$out/trace-riscv.txt")" >> "$out/cores.txt"
+grep "^stack:" "$out/trace-riscv.txt"
+echo "virt riscv32imac-unknown-none-elf: code and read-only data $text B; $(grep "^stack:" "$out/trace-riscv.txt"); $(grep "instructions per step" "$out/trace-riscv.txt")" >> "$out/cores.txt"
 cat "$out/cores.txt"

@@ -23,8 +23,55 @@ use step::pvfc_control_step;
 /// Steps whose instructions are counted.
 const COUNTED: usize = 1_000;
 
+/// The stack below `main`'s frame painted with this before the run; the deepest word no
+/// longer holding it marks how far the stack grew.
+const PAINT: u32 = 0x5A5A_A5A5;
+/// How much of the stack below `main`'s frame is painted (bytes).
+const PAINTED: usize = 64 * 1024;
+
+extern "C" {
+    /// The top of the stack (riscv-rt's linker script): `sp` at reset.
+    static _stack_start: u8;
+}
+
+/// The stack pointer.
+#[inline(always)]
+fn stack_pointer() -> usize {
+    let sp: usize;
+    // SAFETY: reads a register into a local; touches no memory.
+    unsafe { core::arch::asm!("mv {}, sp", out(reg) sp) };
+    sp
+}
+
+/// Paints the `PAINTED` bytes below the stack pointer `sp` (less a margin for this function's
+/// own use, which needs none: its locals are in registers, and RISC-V has no red zone).
+/// Returns the lowest painted address.
+fn paint_stack(sp: usize) -> usize {
+    let bottom = (sp - PAINTED) & !3;
+    let mut a = bottom;
+    while a < (sp - 64) & !3 {
+        // SAFETY: the words between `bottom` and `sp` are the free stack below main's frame:
+        // nothing lives there until a call made after this one.
+        unsafe { core::ptr::write_volatile(a as *mut u32, PAINT) };
+        a += 4;
+    }
+    bottom
+}
+
+/// The deepest address the stack reached since [`paint_stack`] painted from `bottom` up.
+fn deepest(bottom: usize, sp: usize) -> usize {
+    let mut a = bottom;
+    // SAFETY: reads the words painted above, within the stack.
+    while a < sp && unsafe { core::ptr::read_volatile(a as *const u32) } == PAINT {
+        a += 4;
+    }
+    a
+}
+
 #[riscv_rt::entry]
 fn main() -> ! {
+    let sp = stack_pointer();
+    let painted = paint_stack(sp);
     let mut controller = match hil::controller::<f32>() {
         Ok(c) => c,
         Err(e) => {
@@ -67,6 +114,16 @@ fn main() -> ! {
         plant.advance(&out.torque);
     }
     println!("pvfc: done, {} steps, no fault", STEPS);
+    let deepest = deepest(painted, sp);
+    // The address of a linker symbol; never read.
+    let top = core::ptr::addr_of!(_stack_start) as usize;
+    println!(
+        "stack: {} B at most ({} B from the top to main's frame, whose counts of instructions take {} B; {} B below it)",
+        top - deepest,
+        top - sp,
+        core::mem::size_of::<[u32; COUNTED]>(),
+        sp - deepest
+    );
     counts.sort_unstable();
     println!(
         "instructions per step (minstret, {} steps): median {}, min {}, max {}",
