@@ -62,6 +62,8 @@ def main() -> int:
     ap.add_argument("--machine", default="netduinoplus2", help="QEMU's machine (-machine)")
     ap.add_argument("--symbol", default="pvfc_control_step", help="the function whose calls are counted")
     ap.add_argument("--by-function", action="store_true", help="also tally the instructions per function")
+    ap.add_argument("--by-source", action="store_true",
+                    help="also tally them per source function, inlined ones included (addr2line -i), and per line")
     args = ap.parse_args()
     nm = subprocess.run(["arm-none-eabi-nm", args.elf], capture_output=True, text=True, check=True).stdout
     entry = next(int(l.split()[0], 16) for l in nm.splitlines() if l.endswith(" " + args.symbol))
@@ -85,6 +87,7 @@ def main() -> int:
     counts, cycles = [], []
     inside, n, c = False, 0, 0
     per_function: dict = {}
+    per_pc: dict = {}
     pc_re = re.compile(rb"\[[0-9a-f]+/([0-9a-f]+)/")
     with open(fifo, "rb") as log:
         for line in log:
@@ -105,6 +108,8 @@ def main() -> int:
                     break
                 continue
             n += 1
+            if args.by_source:
+                per_pc[pc] = per_pc.get(pc, 0) + 1
             if args.by_function:
                 name = line.rsplit(b"]", 1)[-1].strip().decode(errors="replace") or "?"
                 per_function[name] = per_function.get(name, 0) + 1
@@ -122,8 +127,42 @@ def main() -> int:
     if args.by_function:
         for name, k in sorted(per_function.items(), key=lambda kv: -kv[1])[:15]:
             print(f"  {k / len(counts):8.1f} per step in {name}")
+    if args.by_source:
+        by_source(args.elf, per_pc, len(counts))
     print(f"at 168 MHz: median {statistics.median(cycles) / 168:.1f} µs, worst {max(cycles) / 168:.1f} µs per step")
     return 0
+
+
+def by_source(elf: str, per_pc: dict, steps: int) -> None:
+    """Prints where a step's instructions come from: the innermost source function of each
+    address (inlined ones included) and its line, from the ELF's debug information."""
+    pcs = sorted(per_pc)
+    out = subprocess.run(["arm-none-eabi-addr2line", "-e", elf, "-f", "-i", "-C", "-a"] + [f"{p:x}" for p in pcs],
+                         capture_output=True, text=True, check=True).stdout.splitlines()
+    place: dict = {}
+    at = None
+    for line in out:
+        if line.startswith("0x"):
+            at = int(line, 16)
+            place[at] = None
+        elif at is not None and place[at] is None:
+            place[at] = [line, None]
+        elif at is not None and place[at][1] is None:
+            place[at][1] = line
+    functions: dict = {}
+    lines: dict = {}
+    for p, k in per_pc.items():
+        f, loc = place.get(p) or ["?", "?"]
+        f = re.sub(r"<.*>", "<…>", f or "?")
+        loc = re.sub(r".*/(crates|src)/", r"\1/", loc or "?").split(" ")[0]
+        functions[f] = functions.get(f, 0) + k
+        lines[loc] = lines.get(loc, 0) + k
+    print("per source function (innermost inlined):")
+    for f, k in sorted(functions.items(), key=lambda kv: -kv[1])[:25]:
+        print(f"  {k / steps:8.1f} {f}")
+    print("per source line:")
+    for l, k in sorted(lines.items(), key=lambda kv: -kv[1])[:30]:
+        print(f"  {k / steps:8.1f} {l}")
 
 
 if __name__ == "__main__":

@@ -50,9 +50,9 @@ impl<T: Real, const D: usize> AugmentedVector<T, D> {
     /// `true` when every entry is finite.
     #[inline]
     pub fn is_finite(&self) -> bool {
-        self.robot.iter().all(|x| x.is_finite())
-            && self.tau.is_finite()
-            && self.flywheel.is_finite()
+        let zero = T::zero();
+        crate::scalar::finite_probe(self.robot.iter()) + self.tau * zero + self.flywheel * zero
+            == zero
     }
 
     /// The entries as one column `(robot, τ, flywheel)`; `A` must equal `D + 2`
@@ -143,10 +143,12 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize> AugmentedState<T, G, D> {
     /// `true` when every entry is finite.
     #[inline]
     pub fn is_finite(&self) -> bool {
+        let zero = T::zero();
         self.q.is_finite()
-            && self.v.iter().all(|x| x.is_finite())
-            && self.tau.is_finite()
-            && self.tau_dot.is_finite()
-            && self.flywheel_speed.is_finite()
+            && crate::scalar::finite_probe(self.v.iter())
+                + self.tau * zero
+                + self.tau_dot * zero
+                + self.flywheel_speed * zero
+                == zero
     }
 }

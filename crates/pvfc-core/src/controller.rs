@@ -246,6 +246,7 @@ where
 
     /// Advances the nominal speed's integral ([`NominalSpeed::with_integral`]) over a period
     /// `dt` from the speed along the field `Pᵀq̇_a/(2Ē)` of the step's `diagnostics`.
+    #[inline]
     pub(crate) fn integrate_nominal_speed(&mut self, diagnostics: &Diagnostics<T>, dt: T) {
         let e_bar = self.law.flywheel().energy();
         if let Some(n) = self.nominal.as_mut() {
@@ -387,14 +388,18 @@ where
             "Controller::step: the internal states overflowed (is dt far too large?)",
         );
         if let Some(period) = self.law.field().period() {
+            if tau >= T::zero() && tau < period {
+                // Within the period: the usual step.
+                return Ok((tau, laps));
+            }
             if tau >= period && tau < period + period {
-                // The usual case: one period crossed forwards (no division, no floor).
+                // One period crossed forwards, once a lap (no division, no floor).
                 tau -= period;
                 laps = laps.saturating_add(1);
             } else if tau < T::zero() && tau >= -period {
                 tau += period;
                 laps = laps.saturating_sub(1);
-            } else if !(tau >= T::zero() && tau < period) {
+            } else {
                 // Several periods at once (a huge dt): one floor division, in T (no f64 on an
                 // f32 target).
                 let k = (tau / period).floor();
@@ -449,7 +454,7 @@ where
             ErrorKind::NonFinite,
             "Controller::step: the internal states overflowed (is dt far too large?)",
         );
-        if !(tau.is_finite() && tau_dot.is_finite() && flywheel_speed.is_finite()) {
+        if !crate::scalar::all_finite([&tau, &tau_dot, &flywheel_speed]) {
             return Err(overflow);
         }
         let (tau, laps) = self.wrap_tau(tau, before.laps)?;

@@ -514,8 +514,12 @@ where
                 }
             }
         }
+        let Some((storage, rate, frozen, candidate, held)) = undo else {
+            // Nothing settled: the output goes straight to the caller (no copy of it).
+            return self.step_settled(q, v, applied, dt, caught_up);
+        };
         let out = self.step_settled(q, v, applied, dt, caught_up);
-        if let (Err(_), Some((storage, rate, frozen, candidate, held))) = (&out, undo) {
+        if out.is_err() {
             (
                 self.storage,
                 self.rate,
@@ -548,7 +552,7 @@ where
             ));
         }
         // (NaN or ∞ in `q` or `v` reaches the law's own check, before anything is committed.)
-        if !applied.is_none_or(|u| u.iter().all(|x| x.is_finite())) {
+        if !applied.is_none_or(|u| crate::scalar::all_finite(u.iter())) {
             return Err(Error::new(
                 ErrorKind::NonFinite,
                 "PassiveController::step: NaN or infinite applied torque",
@@ -657,12 +661,13 @@ where
             flywheel_speed,
             laps,
         };
-        let all_finite = command.iter().all(|x| x.is_finite())
-            && tau.is_finite()
-            && tau_dot.is_finite()
-            && flywheel_speed.is_finite()
-            && storage.is_finite();
-        if !all_finite {
+        let zero = T::zero();
+        let probe = crate::scalar::finite_probe(command.iter())
+            + tau * zero
+            + tau_dot * zero
+            + flywheel_speed * zero
+            + storage * zero;
+        if probe != zero {
             return Err(Error::new(
                 ErrorKind::NonFinite,
                 "PassiveController::step: the torque or the internal states overflowed",

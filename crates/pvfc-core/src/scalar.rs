@@ -178,48 +178,70 @@ impl Real for f32 {
 
     #[inline]
     fn sin_cos_fast(self) -> (f32, f32) {
-        let mut x = self;
-        if !x.is_finite() {
-            return (f32::NAN, f32::NAN);
+        // One comparison, false for NaN and ±∞ too, keeps the usual case on the inline path.
+        if self.abs() <= 1.0e3 {
+            sin_cos_kernel_f32(self)
+        } else {
+            sin_cos_far_f32(self)
         }
-        if x.abs() > 1.0e3 {
-            // Reduced by whole turns in f32 (2π in three parts of 8, 12 and 24 bits,
-            // Cody–Waite), so that an f32 target never links libm's f64-based sinf/cosf. The
-            // first two products are exact while |k| < 2¹² (|x| < 2.5·10⁴); beyond, accuracy
-            // degrades slowly with |x| (measured ≤ 1e-5 up to 10⁵; by 2²⁴ x has no fractional
-            // digits left, and no f32 evaluation means much).
-            const TURN_1: f32 = 6.281_25;
-            const TURN_2: f32 = 1.935_005_187_988_281_2e-3;
-            const TURN_3: f32 = 3.019_916_050_561_733e-7;
-            let k = (x * core::f32::consts::FRAC_1_PI * 0.5).round();
-            x = ((x - k * TURN_1) - k * TURN_2) - k * TURN_3;
-        }
-        const SHIFT: f32 = 12_582_912.0;
-        const FRAC_2_PI: f32 = core::f32::consts::FRAC_2_PI;
-        // π/2 in three parts with few significant bits (Cephes' DP1..DP3, doubled).
-        const P1: f32 = 1.570_312_5;
-        const P2: f32 = 4.837_512_969_970_703_125e-4;
-        const P3: f32 = 7.549_789_954_891_882_16e-8;
-        let t = x * FRAC_2_PI + SHIFT;
-        let q = t.to_bits();
-        let n = t - SHIFT;
-        let r = ((x - n * P1) - n * P2) - n * P3;
-        // Cephes' sinf and cosf polynomials on [−π/4, π/4]. For |r| < 2⁻¹² they round to
-        // (r, 1) exactly (r³/6 is below half an ulp of r, r²/2 below half an ulp of 1), so z
-        // is taken as 0 there: else r², r³ and z² underflow into subnormal numbers for tiny r
-        // (a contour near τ = 0, as self-pacing holds it at a large error), each a microcode
-        // assist of ~100 cycles on Intel cores.
-        let z = if r.abs() < 2.441_406_3e-4 { 0.0 } else { r * r };
-        let s =
-            ((-1.951_529_589_1e-4 * z + 8.332_160_873_6e-3) * z - 1.666_665_461_1e-1) * z * r + r;
-        let c = ((2.443_315_711_809_948e-5 * z - 1.388_731_625_493_765e-3) * z
-            + 4.166_664_568_298_827e-2)
-            * z
-            * z
-            - 0.5 * z
-            + 1.0;
-        quadrant(q, s, c)
     }
+}
+
+/// [`Real::sin_cos_fast`] for `|x| > 10³`, NaN and ±∞: reduced by whole turns first, kept out
+/// of line so that the inline fast path stays short.
+#[cold]
+#[inline(never)]
+#[allow(clippy::excessive_precision)]
+fn sin_cos_far_f32(mut x: f32) -> (f32, f32) {
+    if !x.is_finite() {
+        return (f32::NAN, f32::NAN);
+    }
+    // Reduced by whole turns in f32 (2π in three parts of 8, 12 and 24 bits, Cody–Waite), so
+    // that an f32 target never links libm's f64-based sinf/cosf. The first two products are
+    // exact while |k| < 2¹² (|x| < 2.5·10⁴); beyond, accuracy degrades slowly with |x|
+    // (measured ≤ 1e-5 up to 10⁵; by 2²⁴ x has no fractional digits left, and no f32
+    // evaluation means much).
+    const TURN_1: f32 = 6.281_25;
+    const TURN_2: f32 = 1.935_005_187_988_281_2e-3;
+    const TURN_3: f32 = 3.019_916_050_561_733e-7;
+    let k = (x * core::f32::consts::FRAC_1_PI * 0.5).round();
+    x = ((x - k * TURN_1) - k * TURN_2) - k * TURN_3;
+    sin_cos_kernel_f32(x)
+}
+
+/// `(sin x, cos x)` of a finite `x` reduced by quarter turns (`|x|` up to ~10³ keeps the
+/// reduction's products exact): Cephes' `sinf` and `cosf` kernels.
+#[inline(always)]
+#[allow(clippy::excessive_precision)]
+fn sin_cos_kernel_f32(x: f32) -> (f32, f32) {
+    const SHIFT: f32 = 12_582_912.0;
+    const FRAC_2_PI: f32 = core::f32::consts::FRAC_2_PI;
+    // π/2 in three parts with few significant bits (Cephes' DP1..DP3, doubled).
+    const P1: f32 = 1.570_312_5;
+    const P2: f32 = 4.837_512_969_970_703_125e-4;
+    const P3: f32 = 7.549_789_954_891_882_16e-8;
+    let t = x * FRAC_2_PI + SHIFT;
+    let q = t.to_bits();
+    let n = t - SHIFT;
+    let r = ((x - n * P1) - n * P2) - n * P3;
+    // Cephes' sinf and cosf polynomials on [−π/4, π/4]. For |r| < 2⁻¹² they round to
+    // (r, 1) exactly (r³/6 is below half an ulp of r, r²/2 below half an ulp of 1), so on x86
+    // z is taken as 0 there: else r², r³ and z² underflow into subnormal numbers for tiny r
+    // (a contour near τ = 0, as self-pacing holds it at a large error), each a microcode
+    // assist of ~100 cycles on Intel cores. Elsewhere (an Arm FPU takes subnormals at full
+    // speed) the comparison and its branch are left out: the same values.
+    #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+    let z = if r.abs() < 2.441_406_3e-4 { 0.0 } else { r * r };
+    #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+    let z = r * r;
+    let s = ((-1.951_529_589_1e-4 * z + 8.332_160_873_6e-3) * z - 1.666_665_461_1e-1) * z * r + r;
+    let c = ((2.443_315_711_809_948e-5 * z - 1.388_731_625_493_765e-3) * z
+        + 4.166_664_568_298_827e-2)
+        * z
+        * z
+        - 0.5 * z
+        + 1.0;
+    quadrant(q, s, c)
 }
 
 /// Cephes' `expf` for `|x| ≤ 87` (the fast path of [`Real::exp_fast`]).
@@ -310,7 +332,25 @@ pub fn cast<T: Real>(x: f64) -> T {
 }
 
 /// `true` when every entry of the slice-like iterator is finite (neither NaN nor infinite).
+///
+/// Without a branch per entry: `x·0` is `±0` for a finite `x` and NaN for ±∞ or NaN, and a
+/// sum of zeros stays zero while one NaN makes it NaN, so the sum of the products is zero
+/// exactly when every entry is finite (no overflow: nothing but zeros is ever added). One
+/// multiply–add per entry and one comparison, against an absolute value, a comparison and a
+/// branch per entry (on the Cortex-M4F, 70 of the SCARA step's instructions were its finite
+/// checks).
 #[inline]
 pub fn all_finite<'a, T: Real + 'a>(xs: impl IntoIterator<Item = &'a T>) -> bool {
-    xs.into_iter().all(|x| x.is_finite())
+    finite_probe(xs) == T::zero()
+}
+
+/// `Σ xᵢ·0`: zero when every entry is finite, NaN otherwise (see [`all_finite`]); probes of
+/// several parts add up to the probe of the whole.
+#[inline]
+pub fn finite_probe<'a, T: Real + 'a>(xs: impl IntoIterator<Item = &'a T>) -> T {
+    let mut zero = T::zero();
+    for x in xs {
+        zero += *x * T::zero();
+    }
+    zero
 }

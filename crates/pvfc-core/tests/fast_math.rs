@@ -174,3 +174,32 @@ fn exp_fast_is_within_two_ulp() {
         assert_eq!(x.exp_fast(), f64::exp(x));
     }
 }
+
+/// One entry: finite (ordinary, the largest, subnormal, ±0) or not (±∞, NaN).
+fn entry() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        6 => -1.0e6..1.0e6f64,
+        1 => Just(f64::MAX),
+        1 => Just(-f64::MAX),
+        1 => Just(5e-324),
+        1 => Just(-0.0),
+        1 => Just(f64::INFINITY),
+        1 => Just(f64::NEG_INFINITY),
+        1 => Just(f64::NAN),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(20_000))]
+
+    /// `all_finite` (a sum of `xᵢ·0`, no branch per entry) says what a check of each entry
+    /// says, in f64 and f32 (where f64's extremes become ±∞ or 0), however many entries.
+    #[test]
+    fn all_finite_is_each_entry_finite(xs in proptest::collection::vec(entry(), 0..9)) {
+        let each = xs.iter().all(|x| x.is_finite());
+        prop_assert_eq!(pvfc_core::scalar::all_finite(xs.iter()), each, "{:?}", xs);
+        let ys: Vec<f32> = xs.iter().map(|&x| x as f32).collect();
+        let each = ys.iter().all(|y| y.is_finite());
+        prop_assert_eq!(pvfc_core::scalar::all_finite(ys.iter()), each, "{:?}", ys);
+    }
+}

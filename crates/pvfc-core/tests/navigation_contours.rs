@@ -175,6 +175,57 @@ proptest! {
         prop_assert!(r.is_ok(), "{}", r.unwrap_err());
     }
 
+    /// A curve's coordinates and their derivatives are the closed form, with its period
+    /// declared or not, in f64 and f32, at frequencies that are whole multiples of the period's
+    /// and at any phase (quarter turns included).
+    #[test]
+    fn lissajous_harmonics_are_the_closed_form(
+        k in proptest::array::uniform3(1u8..7),
+        quarters in proptest::array::uniform3(-4i32..8),
+        free in proptest::array::uniform3(-PI..PI),
+        turn in proptest::array::uniform3(proptest::bool::ANY),
+        a in proptest::array::uniform3(0.1..2.0f64),
+        period in 0.5..10.0f64,
+        u in 0.0..1.0f64,
+    ) {
+        let phase: [f64; 3] = std::array::from_fn(|i| if turn[i] { quarters[i] as f64 * PI / 2.0 } else { free[i] });
+        let per: [f64; 3] = std::array::from_fn(|i| period / k[i] as f64);
+        let offset = [0.1, -0.2, 0.3];
+        let tau = u * period;
+        let closed = |i: usize| {
+            let w = 2.0 * PI / per[i];
+            let (s, c) = (w * tau + phase[i]).sin_cos();
+            (offset[i] + a[i] * s, a[i] * w * c, -a[i] * w * w * s)
+        };
+        let curve = Lissajous::<f64, 3>::new(vec(a), vec(per), vec(phase), vec(offset)).unwrap();
+        for l in [curve, curve.with_period(period).unwrap()] {
+            let [x, dx, ddx] = l.coordinates(tau);
+            for i in 0..3 {
+                let (ex, edx, eddx) = closed(i);
+                let w = 2.0 * PI / per[i];
+                prop_assert!((x[i] - ex).abs() <= 1e-13 * (1.0 + a[i]), "x[{i}] {} vs {ex}", x[i]);
+                prop_assert!((dx[i] - edx).abs() <= 1e-13 * (1.0 + a[i] * w), "dx[{i}] {} vs {edx}", dx[i]);
+                prop_assert!((ddx[i] - eddx).abs() <= 1e-13 * (1.0 + a[i] * w * w), "ddx[{i}] {} vs {eddx}", ddx[i]);
+            }
+        }
+        let l32 = Lissajous::<f32, 3>::new(
+            SVector::from_fn(|i, _| a[i] as f32),
+            SVector::from_fn(|i, _| per[i] as f32),
+            SVector::from_fn(|i, _| phase[i] as f32),
+            SVector::from_fn(|i, _| offset[i] as f32),
+        )
+        .unwrap()
+        .with_period(period as f32)
+        .unwrap();
+        let [x, _, _] = l32.coordinates(tau as f32);
+        for i in 0..3 {
+            let (ex, _, _) = closed(i);
+            // f32: the phase, the frequency and τ each rounded (~6e-8 relative), times up to
+            // six turns of the argument.
+            prop_assert!((x[i] as f64 - ex).abs() <= 2e-5 * (1.0 + a[i]), "f32 x[{i}] {} vs {ex}", x[i]);
+        }
+    }
+
     #[test]
     fn bspline_derivatives_on_torus_and_so3(k in -10i32..10, u in 0.01..0.99f64, tau in -20.0..20.0f64) {
         // Finite differences need smoothness: the third derivative of a cubic spline jumps at

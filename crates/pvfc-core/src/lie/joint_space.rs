@@ -139,7 +139,7 @@ impl<T: Real, const N: usize> LieGroup<T, N> for JointSpace<T, N> {
     }
     #[inline]
     fn is_finite(&self) -> bool {
-        self.coords.iter().all(|x| x.is_finite())
+        crate::scalar::all_finite(self.coords.iter())
     }
     #[inline]
     fn retract(&self, v: &Tangent<T, N>, dt: T) -> Self {

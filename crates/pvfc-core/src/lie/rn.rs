@@ -63,6 +63,6 @@ impl<T: Real, const N: usize> LieGroup<T, N> for Rn<T, N> {
     }
     #[inline]
     fn is_finite(&self) -> bool {
-        self.coords.iter().all(|x| x.is_finite())
+        crate::scalar::all_finite(self.coords.iter())
     }
 }

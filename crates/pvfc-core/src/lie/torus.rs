@@ -104,7 +104,7 @@ impl<T: Real, const N: usize> LieGroup<T, N> for Torus<T, N> {
     }
     #[inline]
     fn is_finite(&self) -> bool {
-        self.angles.iter().all(|x| x.is_finite())
+        crate::scalar::all_finite(self.angles.iter())
     }
     #[inline]
     fn retract(&self, v: &Tangent<T, N>, dt: T) -> Self {
