@@ -60,7 +60,9 @@ pub struct CartesianSpec {
     pub part: Option<PoseSpec>,
     /// How many joint waypoints the path is sampled into (equal arc length; 4 to
     /// [`MAX_SAMPLES`]); 0: as many as it takes for the joint contour to stay within
-    /// `tolerance` of the path.
+    /// `tolerance` of the path, and where [`MAX_SAMPLES`] of equal arc length are not enough,
+    /// that many placed by the joints' motion (each interval an equal share of the path's length
+    /// and of the joints' travel, half each).
     pub samples: usize,
     /// The largest distance (m) allowed between the path and the joint contour's tool
     /// position (its forward kinematics) when `samples` is 0; default 10 µm.
@@ -371,13 +373,22 @@ impl CartesianSpec {
         let mut n = self.first_count()?;
         with_dof!(robot.dof(), N => {
             let chain = SerialChain::<f64, N>::try_from(robot.model())?;
+            // The samples' arc lengths: evenly spaced, or, once MAX_SAMPLES evenly spaced are
+            // not enough, placed by the joints' motion (at most PLACEMENTS times).
+            let mut along: Vec<f64> = even(&path, n);
+            let mut placements = 0;
             loop {
-                let points = path.sample(n);
+                let points: Vec<Vector3<f64>> = along.iter().map(|&s| path.point(s)).collect();
                 let joints = self.solve::<N>(robot, &chain, &path, &points)?;
                 let geometry = self.geometry::<N>(&chain, &path, &joints)?;
                 if self.samples != 0 || geometry.max <= tolerance {
                     let waypoints = joints.iter().map(|q| q.as_slice().to_vec()).collect();
                     return Ok(JointPath { waypoints, geometry });
+                }
+                if n == MAX_SAMPLES && placements < PLACEMENTS {
+                    along = by_joint_motion(&along, path.length(), &joints);
+                    placements += 1;
+                    continue;
                 }
                 if n == MAX_SAMPLES {
                     return Err(bad(format!(
@@ -390,6 +401,7 @@ impl CartesianSpec {
                 // straight side meeting a rounded corner): aim there with 10 % to spare.
                 let aim = (n as f64 * (geometry.max / tolerance).sqrt() * 1.1).ceil() as usize;
                 n = aim.max(n + n / 4).min(MAX_SAMPLES);
+                along = even(&path, n);
             }
         }, otherwise Err(bad("the robot has more joints than pvfc supports")))
     }
@@ -571,6 +583,54 @@ impl CartesianSpec {
         }
         Ok(out)
     }
+}
+
+/// How many times the adaptive sampling places its samples by the joints' motion before it
+/// gives up (each placement measured on the joints of the one before).
+const PLACEMENTS: usize = 4;
+
+/// `n` arc lengths evenly spaced along `path`, from its start.
+fn even(path: &ToolPath, n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|k| path.length() * k as f64 / n as f64)
+        .collect()
+}
+
+/// The samples' arc lengths placed so that each interval of the closed path between two
+/// samples has the same share of the path's length and of the joints' travel, half each: where
+/// the joints move much for little of the path (the wrist turning the tool's axis round a tight
+/// blend), the samples close up. `along` are the arc lengths the joints `q` were solved at
+/// (increasing from 0, less than `length`); as many are returned, the first at 0.
+fn by_joint_motion<const N: usize>(along: &[f64], length: f64, q: &[SVector<f64, N>]) -> Vec<f64> {
+    let n = along.len();
+    let next = |j: usize| if j + 1 < n { along[j + 1] } else { length };
+    let travel: Vec<f64> = (0..n).map(|j| (q[(j + 1) % n] - q[j]).norm()).collect();
+    let total: f64 = travel.iter().sum();
+    let weight = |j: usize| {
+        let share = (next(j) - along[j]) / length;
+        if total > 0.0 {
+            0.5 * share + 0.5 * travel[j] / total
+        } else {
+            share
+        }
+    };
+    let mut out = Vec::with_capacity(n);
+    let (mut j, mut before) = (0, 0.0);
+    for k in 0..n {
+        let aim = k as f64 / n as f64;
+        while j + 1 < n && before + weight(j) < aim {
+            before += weight(j);
+            j += 1;
+        }
+        let w = weight(j);
+        let f = if w > 0.0 {
+            ((aim - before) / w).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        out.push(along[j] + f * (next(j) - along[j]));
+    }
+    out
 }
 
 /// The samples the adaptive sampling starts from.
