@@ -192,3 +192,20 @@ fn the_scenarios_operator_is_the_firmwares_script() {
         .collect();
     assert_eq!(sent, drive::SCRIPT);
 }
+
+#[test]
+fn faults_of_the_hosts_drive_are_refused_across_the_line() {
+    let path = std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/hil_scara.toml"
+    ));
+    let text = std::fs::read_to_string(path).unwrap()
+        + "\n[[faults]]\nkind = \"encoder_freeze\"\nat = 4.0\nduration = 0.02\njoint = 0\n";
+    let s = Scenario::parse(&text, path, path.parent().unwrap().to_path_buf()).unwrap();
+    let (mut host, _device) = UnixStream::pair().unwrap();
+    let e = LinkDrive::new(&s, &mut host, LinkOptions::default())
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("[[faults]]"), "{e}");
+}

@@ -68,7 +68,8 @@ pub struct LinkReport {
     pub late: u32,
     /// The first fault the drive reported: the period and its code.
     pub fault: Option<(u32, u8)>,
-    /// Each period's time from its first frame sent to its answer (s).
+    /// Each period's time from its first frame sent to its answer (s), from the first answer
+    /// on.
     pub round_trips: Vec<f64>,
 }
 
@@ -115,6 +116,14 @@ impl<'a> LinkDrive<'a> {
                         .into(),
                 )
             })?;
+        if !s.faults.is_empty() {
+            // The simulated faults act on the host's own drive (its readings, its clock, its
+            // torque); across the line the drive is the firmware's, which they cannot reach.
+            return Err(SimError::Setting(
+                "hardware in the loop: [[faults]] act on the host's drive, not on one across the line: remove them"
+                    .into(),
+            ));
+        }
         let (dt, _, _) = crate::run::loops::timing(s)?;
         Ok(LinkDrive {
             line,
@@ -201,9 +210,12 @@ impl<'a> LinkDrive<'a> {
                     )))
                 }
                 Some(a) => {
-                    self.report
-                        .round_trips
-                        .push(started.elapsed().as_secs_f64());
+                    // (The first period's wait is the drive's boot, not the line's.)
+                    if !booting {
+                        self.report
+                            .round_trips
+                            .push(started.elapsed().as_secs_f64());
+                    }
                     return Ok(a);
                 }
                 None => {}
