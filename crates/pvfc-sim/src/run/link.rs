@@ -124,7 +124,7 @@ impl<'a> LinkDrive<'a> {
                     .into(),
             ));
         }
-        let (dt, _, _) = crate::run::loops::timing(s)?;
+        let dt = 1.0 / s.controller.rate;
         Ok(LinkDrive {
             line,
             options,

@@ -159,12 +159,11 @@ where
         s: &Scenario,
     ) -> Result<Self> {
         let c = spec.controller(controller, circular)?;
-        let (dt, _, _) = crate::run::loops::timing(s)?;
         Ok(PassiveDrive {
             controller: c,
             spec: spec.clone(),
             circular,
-            operator: Operator::new(&s.operator, dt)?,
+            operator: Operator::new(&s.operator, 1.0 / s.controller.rate)?,
             period: 0,
         })
     }

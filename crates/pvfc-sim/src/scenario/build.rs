@@ -173,8 +173,7 @@ impl Scenario {
                     "operator: start and speed set the nominal speed r of eq. (36): they need [controller.nominal_speed]",
                 );
             }
-            let (dt, _, _) = crate::run::loops::timing(self)?;
-            super::operator::Operator::new(&self.operator, dt)?;
+            super::operator::Operator::new(&self.operator, 1.0 / self.controller.rate)?;
         }
         match &self.plant.robot {
             RobotSpec::RigidBody(_) => return self.check_body(),
