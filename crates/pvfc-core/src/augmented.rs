@@ -50,9 +50,7 @@ impl<T: Real, const D: usize> AugmentedVector<T, D> {
     /// `true` when every entry is finite.
     #[inline]
     pub fn is_finite(&self) -> bool {
-        let zero = T::zero();
-        crate::scalar::finite_probe(self.robot.iter()) + self.tau * zero + self.flywheel * zero
-            == zero
+        crate::scalar::all_finite_in(self.robot.iter(), [&self.tau, &self.flywheel])
     }
 
     /// The entries as one column `(robot, τ, flywheel)`; `A` must equal `D + 2`
@@ -143,12 +141,10 @@ impl<T: Real, G: LieGroup<T, D>, const D: usize> AugmentedState<T, G, D> {
     /// `true` when every entry is finite.
     #[inline]
     pub fn is_finite(&self) -> bool {
-        let zero = T::zero();
         self.q.is_finite()
-            && crate::scalar::finite_probe(self.v.iter())
-                + self.tau * zero
-                + self.tau_dot * zero
-                + self.flywheel_speed * zero
-                == zero
+            && crate::scalar::all_finite_in(
+                self.v.iter(),
+                [&self.tau, &self.tau_dot, &self.flywheel_speed],
+            )
     }
 }

@@ -661,13 +661,10 @@ where
             flywheel_speed,
             laps,
         };
-        let zero = T::zero();
-        let probe = crate::scalar::finite_probe(command.iter())
-            + tau * zero
-            + tau_dot * zero
-            + flywheel_speed * zero
-            + storage * zero;
-        if probe != zero {
+        if !crate::scalar::all_finite_in(
+            command.iter(),
+            [&tau, &tau_dot, &flywheel_speed, &storage],
+        ) {
             return Err(Error::new(
                 ErrorKind::NonFinite,
                 "PassiveController::step: the torque or the internal states overflowed",

@@ -333,24 +333,53 @@ pub fn cast<T: Real>(x: f64) -> T {
 
 /// `true` when every entry of the slice-like iterator is finite (neither NaN nor infinite).
 ///
-/// Without a branch per entry: `x·0` is `±0` for a finite `x` and NaN for ±∞ or NaN, and a
-/// sum of zeros stays zero while one NaN makes it NaN, so the sum of the products is zero
-/// exactly when every entry is finite (no overflow: nothing but zeros is ever added). One
-/// multiply–add per entry and one comparison, against an absolute value, a comparison and a
-/// branch per entry (on the Cortex-M4F, 70 of the SCARA step's instructions were its finite
-/// checks).
+/// With a floating-point unit, without a branch per entry: `x·0` is `±0` for a finite `x`
+/// and NaN for ±∞ or NaN, and a sum of zeros stays zero while one NaN makes it NaN, so the
+/// sum of the products is zero exactly when every entry is finite (no overflow: nothing but
+/// zeros is ever added). One multiply–add per entry and one comparison, against an absolute
+/// value, a comparison and a branch per entry (on the Cortex-M4F, 70 of the SCARA step's
+/// instructions were its finite checks). Where floating point is in software (Arm's soft-float
+/// ABI, RISC-V without `F`), each entry's own test, a few integer instructions on its bits.
 #[inline]
 pub fn all_finite<'a, T: Real + 'a>(xs: impl IntoIterator<Item = &'a T>) -> bool {
-    finite_probe(xs) == T::zero()
+    all_finite_in(xs, core::iter::empty())
 }
 
-/// `Σ xᵢ·0`: zero when every entry is finite, NaN otherwise (see [`all_finite`]); probes of
-/// several parts add up to the probe of the whole.
+/// [`all_finite`] of two parts at once (one comparison for both with a floating-point unit).
+#[cfg(not(any(
+    all(target_arch = "arm", not(target_abi = "eabihf")),
+    all(
+        any(target_arch = "riscv32", target_arch = "riscv64"),
+        not(target_feature = "f")
+    )
+)))]
 #[inline]
-pub fn finite_probe<'a, T: Real + 'a>(xs: impl IntoIterator<Item = &'a T>) -> T {
+pub fn all_finite_in<'a, 'b, T: Real + 'a + 'b>(
+    a: impl IntoIterator<Item = &'a T>,
+    b: impl IntoIterator<Item = &'b T>,
+) -> bool {
     let mut zero = T::zero();
-    for x in xs {
+    for x in a {
         zero += *x * T::zero();
     }
-    zero
+    for x in b {
+        zero += *x * T::zero();
+    }
+    zero == T::zero()
+}
+
+/// [`all_finite`] of two parts at once, floating point in software: each entry's own test.
+#[cfg(any(
+    all(target_arch = "arm", not(target_abi = "eabihf")),
+    all(
+        any(target_arch = "riscv32", target_arch = "riscv64"),
+        not(target_feature = "f")
+    )
+))]
+#[inline]
+pub fn all_finite_in<'a, 'b, T: Real + 'a + 'b>(
+    a: impl IntoIterator<Item = &'a T>,
+    b: impl IntoIterator<Item = &'b T>,
+) -> bool {
+    a.into_iter().all(|x| x.is_finite()) && b.into_iter().all(|x| x.is_finite())
 }

@@ -201,5 +201,12 @@ proptest! {
         let ys: Vec<f32> = xs.iter().map(|&x| x as f32).collect();
         let each = ys.iter().all(|y| y.is_finite());
         prop_assert_eq!(pvfc_core::scalar::all_finite(ys.iter()), each, "{:?}", ys);
+        // In two parts: every entry of both.
+        let (a, b) = xs.split_at(xs.len() / 2);
+        prop_assert_eq!(
+            pvfc_core::scalar::all_finite_in(a.iter(), b.iter()),
+            xs.iter().all(|x| x.is_finite()),
+            "{:?} | {:?}", a, b
+        );
     }
 }
