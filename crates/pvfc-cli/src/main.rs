@@ -176,8 +176,6 @@ fn hil(
     let mut runs = pvfc_cli::runs::Runs::default();
     let mut hil_trace = hil.trace;
     hil_trace.name = format!("{}-hil", s.name);
-    runs.runs
-        .insert(hil_trace.name.clone(), (s.clone(), hil_trace.clone()));
     if twin {
         let t = pvfc_sim::run::simulate_system(&s, &system, &mut |_| {})?;
         let (dq, du) = largest_difference(&hil_trace, &t);
@@ -187,6 +185,8 @@ fn hil(
         );
         runs.runs.insert(t.name.clone(), (s.clone(), t));
     }
+    runs.runs
+        .insert(hil_trace.name.clone(), (s.clone(), hil_trace));
     for f in write_logs(&runs, out, None)? {
         println!("wrote {}", f.display());
     }

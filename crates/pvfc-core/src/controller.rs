@@ -246,7 +246,6 @@ where
 
     /// Advances the nominal speed's integral ([`NominalSpeed::with_integral`]) over a period
     /// `dt` from the speed along the field `Pᵀq̇_a/(2Ē)` of the step's `diagnostics`.
-    #[inline]
     pub(crate) fn integrate_nominal_speed(&mut self, diagnostics: &Diagnostics<T>, dt: T) {
         let e_bar = self.law.flywheel().energy();
         if let Some(n) = self.nominal.as_mut() {

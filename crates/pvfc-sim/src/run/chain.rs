@@ -57,12 +57,10 @@ fn run<const N: usize>(
     link: Option<&mut LinkDrive<'_>>,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
-    let base: ArmControllerN<N> = arm_controller(chain, &system.settings)?;
-    let initial = s.initial_internal(base.law().flywheel());
-    let ctl = base.with_state(initial);
     let (q, v) = initial_state(s, &chain)?;
     let mut env = Spatial::of(s, system, &plant)?;
     let columns = env.columns();
+    // Across a line the drive's controller replaces the scenario's (none is built here).
     if let Some(drive) = link {
         if s.simulation.mode != Mode::Sampled
             || chain.kinds().iter().any(|k| *k != JointKind::Circular)
@@ -73,6 +71,9 @@ fn run<const N: usize>(
         }
         return loops::sampled(s, &plant, drive, (q, v), &mut env, columns, progress);
     }
+    let base: ArmControllerN<N> = arm_controller(chain, &system.settings)?;
+    let initial = s.initial_internal(base.law().flywheel());
+    let ctl = base.with_state(initial);
     match s.simulation.mode {
         Mode::Sampled => match &s.controller.passive {
             None => loops::sampled(s, &plant, ctl, (q, v), &mut env, columns, progress),

@@ -15,7 +15,7 @@ use crate::plant::faults::FaultState;
 use crate::run::loops::Coordinates;
 use crate::run::stepper::{Sample, Stepper};
 use crate::scenario::operator::Operator;
-use crate::scenario::Scenario;
+use crate::scenario::{PassiveSpec, Scenario};
 use nalgebra::SVector;
 use pvfc_core::coupling::NominalSpeed;
 use pvfc_core::prelude::*;
@@ -93,8 +93,9 @@ pub struct LinkDrive<'a> {
     options: LinkOptions,
     decoder: Decoder<Actuate>,
     operator: Option<Operator>,
-    /// Counts per radian of each joint (revolute joints only).
-    per_rad: f64,
+    /// The drive's encoders (`[controller.passive]`, with its counts per turn): the counts
+    /// it reads are those the host's own drive rounds its positions to.
+    encoder: PassiveSpec,
     period: u32,
     /// The drive's count of unread frames at its first answer (lost while it booted).
     boot_unread: Option<u32>,
@@ -105,11 +106,11 @@ impl<'a> LinkDrive<'a> {
     /// The drive of scenario `s` (its `[controller.passive]` gives the encoders' counts per
     /// turn, its `[[operator]]` the commands) across `line`.
     pub fn new(s: &Scenario, line: &'a mut dyn Line, options: LinkOptions) -> Result<Self> {
-        let counts = s
+        let encoder = s
             .controller
             .passive
-            .as_ref()
-            .and_then(|p| p.encoder_counts)
+            .clone()
+            .filter(|p| p.encoder_counts.is_some())
             .ok_or_else(|| {
                 SimError::Setting(
                     "hardware in the loop: the drive reads encoders: set controller.passive.encoder_counts"
@@ -124,13 +125,12 @@ impl<'a> LinkDrive<'a> {
                     .into(),
             ));
         }
-        let dt = 1.0 / s.controller.rate;
         Ok(LinkDrive {
             line,
             options,
             decoder: Decoder::new(),
-            operator: Operator::new(&s.operator, dt)?,
-            per_rad: counts / std::f64::consts::TAU,
+            operator: Operator::of(s)?,
+            encoder,
             period: 0,
             boot_unread: None,
             report: LinkReport::default(),
@@ -260,7 +260,7 @@ impl<G: Coordinates<N>, const N: usize> Stepper<G, N> for LinkDrive<'_> {
         let x = q.coordinates();
         let mut each = [0i32; N];
         for (c, xi) in each.iter_mut().zip(x.iter()) {
-            let count = (xi * self.per_rad).round();
+            let count = self.encoder.count(*xi).unwrap_or(f64::NAN);
             if !(count.is_finite() && count.abs() <= f64::from(i32::MAX)) {
                 return Err(self.error(format!("a joint at {xi} rad: no encoder count")));
             }

@@ -115,11 +115,12 @@ fn sampled<E: Environment + ?Sized>(
     progress: &mut dyn FnMut(f64),
 ) -> Result<Trace> {
     // The controller has the model `arm`; the simulated arm has the scenario's model error.
-    let ctl = s.controller_with(arm)?;
     let plant = s.plant_scara(arm)?;
+    // Across a line the drive's controller replaces the scenario's (none is built here).
     if let Some(drive) = link {
         return simulate_sampled(s, plant, env, true, drive, progress);
     }
+    let ctl = s.controller_with(arm)?;
     match &s.controller.passive {
         None => simulate_sampled(s, plant, env, with_contact, ctl, progress),
         Some(spec) => {

@@ -163,7 +163,7 @@ where
             controller: c,
             spec: spec.clone(),
             circular,
-            operator: Operator::new(&s.operator, 1.0 / s.controller.rate)?,
+            operator: Operator::of(s)?,
             period: 0,
         })
     }

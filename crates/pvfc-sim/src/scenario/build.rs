@@ -173,7 +173,7 @@ impl Scenario {
                     "operator: start and speed set the nominal speed r of eq. (36): they need [controller.nominal_speed]",
                 );
             }
-            super::operator::Operator::new(&self.operator, 1.0 / self.controller.rate)?;
+            super::operator::Operator::of(self)?;
         }
         match &self.plant.robot {
             RobotSpec::RigidBody(_) => return self.check_body(),

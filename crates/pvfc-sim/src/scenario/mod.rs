@@ -363,13 +363,17 @@ impl PassiveSpec {
 
     /// A measured position: `q` rounded to the encoder's resolution.
     pub fn measure(&self, q: f64) -> f64 {
-        match self.encoder_counts {
-            Some(c) => {
-                let step = std::f64::consts::TAU / c;
-                (q / step).round() * step
-            }
-            None => q,
+        match (self.encoder_counts, self.count(q)) {
+            (Some(c), Some(n)) => n * (std::f64::consts::TAU / c),
+            _ => q,
         }
+    }
+
+    /// The encoder's count of the angle `q` (rad): `q` in whole steps of `2π/counts`; `None`
+    /// without an encoder.
+    pub fn count(&self, q: f64) -> Option<f64> {
+        self.encoder_counts
+            .map(|c| (q / (std::f64::consts::TAU / c)).round())
     }
 }
 

@@ -64,6 +64,11 @@ pub struct Operator {
 }
 
 impl Operator {
+    /// The schedule of scenario `s`'s `[[operator]]` on its control period.
+    pub fn of(s: &crate::scenario::Scenario) -> Result<Option<Operator>> {
+        Self::new(&s.operator, 1.0 / s.controller.rate)
+    }
+
     /// The schedule of `commands` on a loop of period `dt` (s); `None` without commands (the
     /// drive runs from the start).
     pub fn new(commands: &[OperatorCommand], dt: f64) -> Result<Option<Operator>> {
