@@ -270,6 +270,12 @@ where
         self.law.learn_pace(tau, share, dt, rule)
     }
 
+    /// Sets the ceilings of the field's learned pace (a [`crate::pace::MissLearner`]'s caps;
+    /// [`PvfcLaw::set_pace_caps`]); `true` when the field took them.
+    pub fn set_pace_caps(&mut self, caps: &[T]) -> bool {
+        self.law.set_pace_caps(caps)
+    }
+
     /// The full augmented torque at a full augmented state (coupling + add-ons), and the
     /// coupling output: a pure function.
     pub fn evaluate(

@@ -246,6 +246,11 @@ where
         self.field.learn_pace(tau, share, dt, rule)
     }
 
+    /// Sets the ceilings of the field's learned pace ([`VelocityField::set_pace_caps`]).
+    pub fn set_pace_caps(&mut self, caps: &[T]) -> bool {
+        self.field.set_pace_caps(caps)
+    }
+
     /// The flywheel.
     pub fn flywheel(&self) -> &Flywheel<T> {
         &self.flywheel

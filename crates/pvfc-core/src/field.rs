@@ -350,6 +350,13 @@ pub trait VelocityField<T: Real, G: LieGroup<T, D>, const D: usize> {
         let _ = (tau, share, dt, rule);
         false
     }
+
+    /// Sets the ceilings of the field's learned pace (a [`crate::pace::MissLearner`]'s caps);
+    /// `true` when it did. The default has none.
+    fn set_pace_caps(&mut self, caps: &[T]) -> bool {
+        let _ = caps;
+        false
+    }
 }
 
 impl<T, G, X, N, S, const D: usize, O> VelocityField<T, G, D>
@@ -378,5 +385,9 @@ where
 
     fn learn_pace(&mut self, tau: T, share: T, dt: T, rule: &crate::pace::PaceLearning<T>) -> bool {
         self.pacing.learn_pace(tau, share, dt, rule)
+    }
+
+    fn set_pace_caps(&mut self, caps: &[T]) -> bool {
+        self.pacing.set_pace_caps(caps)
     }
 }

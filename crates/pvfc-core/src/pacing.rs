@@ -51,6 +51,13 @@ pub trait SelfPacing<T: Real> {
         let _ = (tau, share, dt, rule);
         false
     }
+
+    /// Sets the ceilings of a learned pace's scales (a [`crate::pace::MissLearner`]'s caps);
+    /// `true` when it did. The default has none.
+    fn set_pace_caps(&mut self, caps: &[T]) -> bool {
+        let _ = caps;
+        false
+    }
 }
 
 /// Eq. (21): `λ₁ = exp(−R U)`, `λ₂ = 2 − exp(−R U)`. `R = 0` turns self-pacing off

@@ -640,4 +640,8 @@ where
     fn learn_pace(&mut self, tau: T, share: T, dt: T, rule: &crate::pace::PaceLearning<T>) -> bool {
         self.pacing.learn_pace(tau, share, dt, rule)
     }
+
+    fn set_pace_caps(&mut self, caps: &[T]) -> bool {
+        self.pacing.set_pace_caps(caps)
+    }
 }

@@ -10,7 +10,8 @@ use common::setups::test_pace;
 use nalgebra::Vector2;
 use proptest::prelude::*;
 use pvfc_core::pace::{
-    drive_limited_rates, drive_limited_rates_with_miss, DriveLimits, PaceProfile, PaceTable,
+    drive_limited_rates, drive_limited_rates_on_rows, drive_limited_rates_with_miss, DriveLimits,
+    MissLearner, MotionRow, PaceProfile, PaceTable,
 };
 use pvfc_core::prelude::*;
 use pvfc_core::ErrorKind;
@@ -315,6 +316,151 @@ fn lissajous_limits(fric: [f64; 2]) -> DriveLimits<f64, 2> {
         .unwrap()
         .with_friction_compensation(Vector2::from(fric))
         .unwrap()
+}
+
+/// `more ∘ sign(ξ_d(τ_j))` at `n` points of the paper's Lissajous contour over `period`.
+fn coulomb_miss(n: usize, period: f64, more: [f64; 2]) -> Vec<Vector2<f64>> {
+    let contour = Lissajous::<f64, 2>::paper();
+    let step = period / n as f64;
+    (0..n)
+        .map(|j| {
+            let v = Contour::<f64, Torus<f64, 2>, 2>::sample(&contour, j as f64 * step).velocity;
+            Vector2::from_fn(|i, _| {
+                if v[i] > 0.0 {
+                    more[i]
+                } else if v[i] < 0.0 {
+                    -more[i]
+                } else {
+                    0.0
+                }
+            })
+        })
+        .collect()
+}
+
+/// The plan on rows computed once is the plan on the model: bit for bit without a miss, to
+/// rounding with one (the miss is added in another order).
+#[test]
+fn a_plan_on_rows_is_the_plan_on_the_model() {
+    let scara = Scara::<f64>::pelican();
+    let contour = Lissajous::<f64, 2>::paper();
+    let limits = lissajous_limits([2.0, 3.0]);
+    let (n, period) = (512, 6.0);
+    let step = period / n as f64;
+    let rows: Vec<MotionRow<f64, 2>> = (0..n)
+        .map(|j| MotionRow::at(&scara, &contour, &limits, j as f64 * step))
+        .collect();
+    let miss = coulomb_miss(n, period, [0.5, 0.75]);
+    let (mut on_model, mut on_rows) = (vec![4.0; n], vec![4.0; n]);
+    drive_limited_rates(&scara, &contour, &limits, period, &mut on_model).unwrap();
+    drive_limited_rates_on_rows(&rows, None, period, &mut on_rows).unwrap();
+    assert_eq!(on_model, on_rows);
+    let (mut on_model, mut on_rows) = (vec![4.0; n], vec![4.0; n]);
+    drive_limited_rates_with_miss(&scara, &contour, &limits, period, &mut on_model, &miss).unwrap();
+    drive_limited_rates_on_rows(&rows, Some(&miss), period, &mut on_rows).unwrap();
+    for (j, (a, b)) in on_model.iter().zip(&on_rows).enumerate() {
+        assert!((a - b).abs() <= 1e-12 * a.abs(), "τ_{j}: {a} against {b}");
+    }
+    assert_eq!(
+        drive_limited_rates_on_rows(&rows[..n - 1], None, period, &mut on_rows)
+            .map_err(|e| e.kind()),
+        Err(ErrorKind::DimensionMismatch)
+    );
+}
+
+/// Laps of the Lissajous contour at `τ̇ = rate` (τ̈ = 0), the command at each step the model's
+/// motion torque at `τ` plus `miss` at the knot nearest `τ`; counts the wraps at which the
+/// caps changed.
+fn run_laps<const K: usize, const N: usize>(
+    learner: &mut MissLearner<f64, 2, K, N>,
+    laps: usize,
+    rate: f64,
+    period: f64,
+    miss: &[Vector2<f64>],
+) -> usize {
+    let dt = 1e-3;
+    let steps = (laps as f64 * period / (rate * dt)).round() as usize;
+    let mut changes = 0;
+    for i in 0..steps {
+        let tau = (i as f64 * rate * dt) % period;
+        let k = ((tau / period * K as f64).round() as usize) % K;
+        let command = learner.model_torque(tau, rate, 0.0) + miss[k];
+        let before = *learner.caps();
+        if learner.record(tau, rate, 0.0, &command, dt) {
+            assert_ne!(&before, learner.caps());
+            changes += 1;
+        }
+    }
+    changes
+}
+
+/// What the drives give beyond the model's torque is learned knot by knot from the second
+/// lap on, and the pace's caps are the plan with that miss over the plan without it,
+/// computed here on the model at the same points.
+#[test]
+fn the_miss_learner_measures_the_missed_torque_and_caps_the_pace_by_it() {
+    const K: usize = 64;
+    const N: usize = 256;
+    let scara = Scara::<f64>::pelican();
+    let contour = Lissajous::<f64, 2>::paper();
+    let limits = lissajous_limits([2.0, 3.0]);
+    let period = 6.0;
+    let truth = coulomb_miss(K, period, [0.25, 0.4]);
+    let new = |asked: [f64; N], weight: f64, period: f64| {
+        MissLearner::<f64, 2, K, N>::new(&scara, &contour, &limits, period, asked, weight)
+    };
+    let mut learner = new([4.0; N], 1.0, period).unwrap();
+    // The start and the first whole lap: nothing learned, whatever the drives gave.
+    let huge = vec![Vector2::new(100.0, -100.0); K];
+    assert_eq!(run_laps(&mut learner, 1, 1.0, period, &huge), 0);
+    assert_eq!(learner.caps(), &[1.0; K]);
+    // Laps with the true miss: learned at each wrap after the start's lap.
+    assert!(run_laps(&mut learner, 3, 1.0, period, &truth) >= 1);
+    for (k, (m, t)) in learner.miss().iter().zip(&truth).enumerate() {
+        assert!((m - t).norm() <= 1e-9, "knot {k}: {m} against {t}");
+    }
+    // The same plan on the model: the miss interpolated between the knots.
+    let per = N / K;
+    let spread: Vec<Vector2<f64>> = (0..N)
+        .map(|j| {
+            let (k, f) = (j / per, (j % per) as f64 / per as f64);
+            truth[k] + (truth[(k + 1) % K] - truth[k]) * f
+        })
+        .collect();
+    let (mut with, mut without) = ([4.0; N], [4.0; N]);
+    drive_limited_rates_with_miss(&scara, &contour, &limits, period, &mut with, &spread).unwrap();
+    drive_limited_rates(&scara, &contour, &limits, period, &mut without).unwrap();
+    let caps = learner.caps();
+    for (k, cap) in caps.iter().enumerate() {
+        let expected = (0..per)
+            .map(|i| (k * per + N - per / 2 + i) % N)
+            .map(|j| with[j] / without[j])
+            .fold(1.0f64, f64::min);
+        assert!(
+            (cap - expected).abs() <= 1e-9,
+            "knot {k}: cap {cap} against {expected}"
+        );
+    }
+    assert!(
+        caps.iter().any(|&c| c < 0.97) && caps.iter().all(|&c| c > 0.1),
+        "{caps:?}"
+    );
+    // A plant that needs no more than the model: every cap back at 1.
+    let none = vec![Vector2::zeros(); K];
+    run_laps(&mut learner, 2, 1.0, period, &none);
+    assert!(
+        learner.caps().iter().all(|&c| c == 1.0),
+        "{:?}",
+        learner.caps()
+    );
+    // Bad settings and readings.
+    assert!(new([4.0; N], 0.0, period).is_err());
+    assert!(new([4.0; N], 1.0, -1.0).is_err());
+    let mut asked = [4.0; N];
+    asked[3] = f64::NAN;
+    assert!(new(asked, 1.0, period).is_err());
+    assert!(!learner.record(f64::NAN, 1.0, 0.0, &Vector2::zeros(), 1e-3));
+    assert!(!learner.record(0.1, 1.0, 0.0, &Vector2::new(f64::INFINITY, 0.0), 1e-3));
 }
 
 /// A missed torque the size of more Coulomb friction is more friction compensation: the

@@ -99,6 +99,7 @@ impl PassiveController {
                     rise,
                     slope,
                     floor,
+                    miss: None,
                 }
             }),
         };

@@ -81,6 +81,13 @@ fn a_learned_pace_is_checked_before_anything_runs() {
         .fall = 1.0;
     let e = s.validate().unwrap_err().to_string();
     assert!(e.contains("controller.passive.pace_learning.fall"), "{e}");
+    for bad in [0.0, 1.5, f64::NAN] {
+        let mut s = heavy();
+        let l = s.controller.passive.as_mut().unwrap();
+        l.pace_learning.as_mut().unwrap().miss = Some(bad);
+        let e = s.validate().unwrap_err().to_string();
+        assert!(e.contains("controller.passive.pace_learning.miss"), "{e}");
+    }
     let mut s = heavy();
     s.controller.passive.as_mut().unwrap().torque_limit.clear();
     let e = s.validate().unwrap_err().to_string();

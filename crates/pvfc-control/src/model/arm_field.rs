@@ -82,6 +82,13 @@ impl<const N: usize> VelocityField<f64, JointSpace<f64, N>, N> for ArmField<N> {
         }
     }
 
+    fn set_pace_caps(&mut self, caps: &[f64]) -> bool {
+        match self {
+            ArmField::Joint(f) => f.set_pace_caps(caps),
+            ArmField::Task { field, .. } => field.set_pace_caps(caps),
+        }
+    }
+
     #[inline(always)]
     fn sample(
         &self,

@@ -8,7 +8,8 @@ use crate::model::feeds::FeedProfile;
 use pvfc_core::contour::{Contour, VectorGroup};
 use pvfc_core::mechanics::MechanicalSystem;
 use pvfc_core::pace::{
-    drive_limited_rates, DriveLimits, LearnedPace, PaceProfile, PaceTable, Paced, Throttled,
+    drive_limited_rates, DriveLimits, LearnedPace, MissLearner, PaceProfile, PaceTable, Paced,
+    Throttled,
 };
 use pvfc_core::pacing::ExponentialPacing;
 
@@ -23,6 +24,13 @@ pub type PaceProfileTable = Option<PaceTable<f64, PACE_KNOTS>>;
 
 /// The knots of a learned pace ([`LearnedPace`]): a scale per 1/64 of the period.
 pub const LEARNED_KNOTS: usize = 64;
+
+/// The rows of a [`FieldMissLearner`]'s plan: 4 per knot of the learned pace.
+pub const MISS_ROWS: usize = 4 * LEARNED_KNOTS;
+
+/// The learner of the torque the model misses beside a controller whose pace is learned
+/// ([`MissLearner`]): its caps are the ceilings of the [`LearnedPace`]'s scales.
+pub type FieldMissLearner<const N: usize> = MissLearner<f64, N, LEARNED_KNOTS, MISS_ROWS>;
 
 /// The self-pacing of the simulator's fields: eq. (21) with an optional pace profile, which
 /// a [`pvfc_core::pace::PaceThrottle`] may scale on line and a passive controller may learn
@@ -224,6 +232,34 @@ impl PaceSettings {
         Ok(PaceTable::below(&rates, self.level, PACE_KNOTS, period)?)
     }
 
+    /// The learner of the torque `system`'s model misses along `contour` (period `period`),
+    /// on the rows of this pace's plan (the same limits, compensations and rates asked for),
+    /// taking `weight` of each lap ([`MissLearner`]), on the heap (its rows are large); `None`
+    /// without torque limits.
+    pub fn miss_learner<G, Sys, X, const N: usize>(
+        &self,
+        system: &Sys,
+        contour: &X,
+        period: f64,
+        (friction, gravity): (Option<&[f64]>, bool),
+        weight: f64,
+    ) -> Result<Option<Box<FieldMissLearner<N>>>>
+    where
+        G: VectorGroup<f64, N>,
+        Sys: MechanicalSystem<f64, G, N>,
+        X: Contour<f64, G, N>,
+    {
+        let Some(limits) = self.limits::<N>(friction, gravity)? else {
+            return Ok(None);
+        };
+        let fine = self.asked(system, contour, period)?;
+        let every = PACE_GRID / MISS_ROWS;
+        let asked = std::array::from_fn(|j| fine[j * every]);
+        let learner = MissLearner::new(system, contour, &limits, period, asked, weight)
+            .map_err(|e| SimError::Setting(format!("pace_learning.miss = {weight}: {e}")))?;
+        Ok(Some(Box::new(learner)))
+    }
+
     /// The rates asked for along `contour` (period `period`), without the drives' bound, as
     /// a profile `σ = τ̇(τ) / level`: what a timed tracker that follows a part program's
     /// feeds runs at (`τ̇ = level · σ(τ)`).
@@ -419,6 +455,11 @@ pub struct PaceLearningSpec {
     pub slope: f64,
     /// The least scale of the planned pace, in (0, 1].
     pub floor: f64,
+    /// The share of each lap's measurement of the torque the model misses taken into it, in
+    /// (0, 1] ([`FieldMissLearner`]: the pace planned again against it once a lap caps each
+    /// stretch's scale); `None`: no such learning.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub miss: Option<f64>,
 }
 
 impl PaceLearningSpec {
@@ -442,6 +483,9 @@ impl PaceLearningSpec {
         }
         if !unit(self.floor) {
             return bad("floor", self.floor, "in (0, 1]");
+        }
+        if let Some(m) = self.miss.filter(|m| !unit(*m)) {
+            return bad("miss", m, "in (0, 1]");
         }
         Ok(pvfc_core::pace::PaceLearning::new(
             self.target,

@@ -135,9 +135,13 @@ fn non_negative<T: Real, const D: usize>(
     Ok(())
 }
 
-/// The torque of the motion at one point of the contour: `T = a u + b x + d √x + c` and the
-/// limits.
-struct Row<T: Real, const D: usize> {
+/// The torque of the motion at one point of the contour, `T = a u + b x + d √x + c` with
+/// `u = τ̈`, `x = τ̇²`, and the limits `h L` it must stay within (module documentation): a
+/// row of the plan, computed once from the model and the contour so that a plan can be made
+/// again ([`drive_limited_rates_on_rows`]) or a step's torque compared with it
+/// ([`MotionRow::torque`]) without evaluating the model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MotionRow<T: Real, const D: usize> {
     a: Tangent<T, D>,
     b: Tangent<T, D>,
     c: Tangent<T, D>,
@@ -145,8 +149,19 @@ struct Row<T: Real, const D: usize> {
     limit: Tangent<T, D>,
 }
 
-impl<T: Real, const D: usize> Row<T, D> {
-    fn at<G, Sys, X>(
+impl<T: Real, const D: usize> MotionRow<T, D> {
+    /// The row at `τ` of `contour`, from `system`'s model and `limits` (gravity and friction
+    /// compensation in `c`, the limits times the headroom).
+    pub fn at<G, Sys, X>(system: &Sys, contour: &X, limits: &DriveLimits<T, D>, tau: T) -> Self
+    where
+        G: LieGroup<T, D>,
+        Sys: MechanicalSystem<T, G, D>,
+        X: Contour<T, G, D>,
+    {
+        Self::with_miss(system, contour, limits, tau, None)
+    }
+
+    fn with_miss<G, Sys, X>(
         system: &Sys,
         contour: &X,
         limits: &DriveLimits<T, D>,
@@ -175,12 +190,26 @@ impl<T: Real, const D: usize> Row<T, D> {
                 offset[i] -= limits.friction[i];
             }
         }
-        Row {
+        MotionRow {
             a: m * s.velocity,
             b: m * s.acceleration + c * s.velocity,
             c: offset,
             d: limits.viscous.component_mul(&s.velocity),
             limit: limits.torque * limits.headroom,
+        }
+    }
+
+    /// The torque the model says the motion needs at `τ̈ = tau_ddot`, `τ̇ = tau_dot ≥ 0`:
+    /// `a τ̈ + b τ̇² + d τ̇ + c`.
+    pub fn torque(&self, tau_ddot: T, tau_dot: T) -> Tangent<T, D> {
+        self.a * tau_ddot + self.b * (tau_dot * tau_dot) + self.d * tau_dot + self.c
+    }
+
+    /// The row with `miss` added to what the drives deliver at any pace.
+    fn plus(&self, miss: &Tangent<T, D>) -> Self {
+        MotionRow {
+            c: self.c + miss,
+            ..*self
         }
     }
 
@@ -292,8 +321,33 @@ where
     plan(system, contour, limits, period, rates, Some(miss))
 }
 
-/// The passes of [`drive_limited_rates`], with the missed torques if any; every input checked
-/// here.
+/// [`drive_limited_rates_with_miss`] on rows computed once ([`MotionRow::at`] at
+/// `τ_j = j·period/n`, `n = rows.len() = rates.len()`): the same three passes, no model
+/// evaluated. With `miss` `None` the rates are those [`drive_limited_rates`] gives on the
+/// same points, bit for bit.
+///
+/// Errors: those of [`drive_limited_rates_with_miss`]; `DimensionMismatch` for `rows` not of
+/// `rates.len()` points.
+pub fn drive_limited_rates_on_rows<T: Real, const D: usize>(
+    rows: &[MotionRow<T, D>],
+    miss: Option<&[Tangent<T, D>]>,
+    period: T,
+    rates: &mut [T],
+) -> Result<()> {
+    if rows.len() != rates.len() {
+        return Err(Error::new(
+            ErrorKind::DimensionMismatch,
+            "drive_limited_rates_on_rows: one row per point",
+        ));
+    }
+    check(period, rates, miss)?;
+    passes(period, rates, |j| match miss {
+        Some(m) => rows[j].plus(&m[j]),
+        None => rows[j],
+    })
+}
+
+/// The passes of [`drive_limited_rates`], with the missed torques if any.
 fn plan<T, G, Sys, X, const D: usize>(
     system: &Sys,
     contour: &X,
@@ -308,6 +362,21 @@ where
     Sys: MechanicalSystem<T, G, D>,
     X: Contour<T, G, D>,
 {
+    check(period, rates, miss)?;
+    let step = period / cast::<T>(rates.len() as f64);
+    passes(period, rates, |j| {
+        let tau = step * cast::<T>(j as f64);
+        MotionRow::with_miss(system, contour, limits, tau, miss.map(|m| &m[j]))
+    })
+}
+
+/// Checks a plan's inputs: at least 3 rates, each finite and > 0, a finite period > 0, and a
+/// finite missed torque per point if any.
+fn check<T: Real, const D: usize>(
+    period: T,
+    rates: &[T],
+    miss: Option<&[Tangent<T, D>]>,
+) -> Result<()> {
     let n = rates.len();
     if n < 3 {
         return Err(Error::new(
@@ -340,12 +409,19 @@ where
             "drive_limited_rates_with_miss: missed torques",
         )?;
     }
+    Ok(())
+}
+
+/// The three passes (module documentation) on the rows `row(j)` of the points
+/// `τ_j = j·period/n`, `n = rates.len()`, inputs checked.
+fn passes<T: Real, const D: usize>(
+    period: T,
+    rates: &mut [T],
+    row: impl Fn(usize) -> MotionRow<T, D>,
+) -> Result<()> {
+    let n = rates.len();
     let step = period / cast::<T>(n as f64);
     let two_step = step + step;
-    let row = |j: usize| {
-        let tau = step * cast::<T>(j as f64);
-        Row::at(system, contour, limits, tau, miss.map(|m| &m[j]))
-    };
     let at_rest = || {
         Error::new(
             ErrorKind::InvalidParameter,

@@ -24,6 +24,10 @@
 //! `τ` has crossed a whole stretch with the command within the limits or more slowly than the
 //! stretch before (the robot has caught up with the field), or has gone a whole period.
 //!
+//! A knot's scale never rises above its **cap** (1 until [`PaceProfile::set_caps`] sets the
+//! caps, as a [`super::MissLearner`] does from the torque the model misses); a scale above a
+//! new cap comes down to it when `τ` next leaves its stretch.
+//!
 //! The pace is `σ(τ) · s(τ)`, `s` piecewise linear between the knots. Passivity does not
 //! depend on it: the coupling is workless for any field (eq. 27).
 
@@ -87,6 +91,8 @@ pub struct LearnedPace<T: Real, P, const K: usize> {
     /// The contour's period `P`, if it learns.
     period: Option<T>,
     scales: [T; K],
+    /// The ceilings of the scales, in (0, 1].
+    caps: [T; K],
     /// Per knot, over this lap's visit: the peak share, `∫ max(0, u − 1) dt` and `∫ dt`.
     peaks: [T; K],
     excess: [T; K],
@@ -182,6 +188,7 @@ impl<T: Real, P, const K: usize> LearnedPace<T, P, K> {
             profile,
             period: None,
             scales: [T::one(); K],
+            caps: [T::one(); K],
             peaks: [T::zero(); K],
             excess: [T::zero(); K],
             time: [T::zero(); K],
@@ -214,6 +221,11 @@ impl<T: Real, P, const K: usize> LearnedPace<T, P, K> {
     /// The scales at the knots `τ_k = k·P/K`.
     pub fn scales(&self) -> &[T; K] {
         &self.scales
+    }
+
+    /// The ceilings of the scales at the knots.
+    pub fn caps(&self) -> &[T; K] {
+        &self.caps
     }
 
     /// The profile before scaling.
@@ -265,7 +277,10 @@ impl<T: Real, P, const K: usize> LearnedPace<T, P, K> {
         };
         let left = self.scales[(k + K - 1) % K] + rule.slope;
         let right = self.scales[(k + 1) % K] + rule.slope;
-        let s = (self.scales[k] * factor).min(T::one()).min(left).min(right);
+        let s = (self.scales[k] * factor)
+            .min(self.caps[k])
+            .min(left)
+            .min(right);
         self.scales[k] = s.max(rule.floor);
         let protected = |j: usize| j == a || j == (a + 1) % K;
         for step in [1, K - 1] {
@@ -299,6 +314,19 @@ impl<T: Real, P: PaceProfile<T>, const K: usize> PaceProfile<T> for LearnedPace<
 
     fn set_scale(&mut self, scale: T) -> bool {
         self.profile.set_scale(scale)
+    }
+
+    /// Sets the ceilings of the `K` scales (each finite, in (0, 1]); `false` (nothing changed)
+    /// for another count or a bad entry.
+    fn set_caps(&mut self, caps: &[T]) -> bool {
+        let ok = caps.len() == K
+            && caps
+                .iter()
+                .all(|c| c.is_finite() && *c > T::zero() && *c <= T::one());
+        if ok {
+            self.caps.copy_from_slice(caps);
+        }
+        ok
     }
 
     /// Records the step's share of a limit at `τ`; when `τ` enters a new stretch, the knot
@@ -468,6 +496,41 @@ mod tests {
             "the start was learned: {s:?}"
         );
         assert!(s[10] < 1.0, "the later excess was not learned: {s:?}");
+    }
+
+    #[test]
+    fn caps_bound_the_scales_and_take_effect_as_tau_leaves_each_knot() {
+        let mut p = LearnedPace::<f64, _, K>::periodic(UniformPace, 1.0).unwrap();
+        laps(&mut p, 2, |_| 0.5);
+        assert!(p.scales().iter().all(|&s| s == 1.0));
+        let mut caps = [1.0; K];
+        for c in &mut caps[4..8] {
+            *c = 0.5;
+        }
+        // Wrong counts and bad entries are refused and change nothing.
+        assert!(!p.set_caps(&caps[..K - 1]));
+        assert!(!p.set_caps(&[f64::NAN; K]));
+        assert!(!p.set_caps(&[1.5; K]));
+        assert_eq!(p.caps(), &[1.0; K]);
+        assert!(p.set_caps(&caps));
+        // With margin everywhere the scales would rise to 1; the caps hold them (the laps
+        // check at every step that the pace does not jump when they take effect).
+        laps(&mut p, 3, |_| 0.5);
+        let s = *p.scales();
+        for k in 4..8 {
+            assert_eq!(s[k], 0.5, "knot {k}: {s:?}");
+        }
+        // The neighbours come down within the slope, the far side is untouched.
+        assert!(slope_holds(&s, 0.1, &[]), "{s:?}");
+        assert_eq!(s[14], 1.0);
+        // Caps back at 1: the scales rise again, by at most `rise` a lap.
+        assert!(p.set_caps(&[1.0; K]));
+        laps(&mut p, 1, |_| 0.5);
+        assert!(
+            p.scales()[5] > 0.5 && p.scales()[5] <= 0.55 + 1e-12,
+            "{:?}",
+            p.scales()
+        );
     }
 
     #[test]

@@ -31,11 +31,16 @@
 
 pub mod drive_limits;
 pub mod learned;
+pub mod miss;
 pub mod table;
 pub mod throttle;
 
-pub use drive_limits::{drive_limited_rates, drive_limited_rates_with_miss, DriveLimits};
+pub use drive_limits::{
+    drive_limited_rates, drive_limited_rates_on_rows, drive_limited_rates_with_miss, DriveLimits,
+    MotionRow,
+};
 pub use learned::{LearnedPace, PaceLearning};
+pub use miss::MissLearner;
 pub use table::PaceTable;
 pub use throttle::{PaceThrottle, Throttled};
 
@@ -58,6 +63,13 @@ pub trait PaceProfile<T: Real> {
     /// (a [`LearnedPace`]); `true` when it did. The default does not learn.
     fn learn(&mut self, tau: T, share: T, dt: T, rule: &crate::pace::PaceLearning<T>) -> bool {
         let _ = (tau, share, dt, rule);
+        false
+    }
+
+    /// Sets the ceilings of a learned pace's scales at its knots (a [`MissLearner`]'s caps),
+    /// if it has as many knots; `true` when it did. The default has none and refuses.
+    fn set_caps(&mut self, caps: &[T]) -> bool {
+        let _ = caps;
         false
     }
 }
@@ -90,6 +102,10 @@ impl<T: Real, P: PaceProfile<T>> PaceProfile<T> for Option<P> {
 
     fn learn(&mut self, tau: T, share: T, dt: T, rule: &crate::pace::PaceLearning<T>) -> bool {
         self.as_mut().is_some_and(|p| p.learn(tau, share, dt, rule))
+    }
+
+    fn set_caps(&mut self, caps: &[T]) -> bool {
+        self.as_mut().is_some_and(|p| p.set_caps(caps))
     }
 }
 
@@ -156,5 +172,9 @@ impl<T: Real, S: SelfPacing<T>, P: PaceProfile<T>> SelfPacing<T> for Paced<S, P>
 
     fn learn_pace(&mut self, tau: T, share: T, dt: T, rule: &crate::pace::PaceLearning<T>) -> bool {
         self.profile.learn(tau, share, dt, rule)
+    }
+
+    fn set_pace_caps(&mut self, caps: &[T]) -> bool {
+        self.profile.set_caps(caps)
     }
 }

@@ -198,6 +198,10 @@ impl<T: Real, P: PaceProfile<T>> PaceProfile<T> for Throttled<T, P> {
         self.profile.learn(tau, share, dt, rule)
     }
 
+    fn set_caps(&mut self, caps: &[T]) -> bool {
+        self.profile.set_caps(caps)
+    }
+
     /// Sets `s` when it is finite and in `(0, 1]`; `false` (and `s` unchanged) otherwise.
     fn set_scale(&mut self, scale: T) -> bool {
         if scale.is_finite() && scale > T::zero() && scale <= T::one() {

@@ -5,6 +5,7 @@
 //! from each other only by their plant and surroundings, not by the controller.
 
 use crate::error::Result;
+use crate::model::pace::FieldMissLearner;
 use crate::plant::faults::FaultState;
 use crate::scenario::operator::Operator;
 use crate::scenario::{PassiveSpec, Scenario};
@@ -140,6 +141,9 @@ pub(crate) struct PassiveDrive<G, Sys, F, const N: usize> {
     /// The operator's commands (`[[operator]]`), if any, and the control period's number.
     operator: Option<Operator>,
     period: u64,
+    /// The learner of the torque the model misses, whose caps bound the learned pace
+    /// (`pace_learning.miss`), if any.
+    miss: Option<Box<FieldMissLearner<N>>>,
 }
 
 impl<G, Sys, F, const N: usize> PassiveDrive<G, Sys, F, N>
@@ -165,7 +169,15 @@ where
             circular,
             operator: Operator::of(s)?,
             period: 0,
+            miss: None,
         })
+    }
+
+    /// With `miss` learning the torque the model misses beside the controller, after each
+    /// step, and capping the learned pace by it once a lap.
+    pub(crate) fn with_miss_learner(mut self, miss: Option<Box<FieldMissLearner<N>>>) -> Self {
+        self.miss = miss;
+        self
     }
 }
 
@@ -221,6 +233,14 @@ where
         let out = self
             .controller
             .step(&measured, velocity, applied.as_ref(), dt)?;
+        if let (Some(miss), None) = (&mut self.miss, out.fault) {
+            let c = self.controller.controller_mut();
+            let tau_ddot = (c.state().tau_dot - out.state.tau_dot) / dt;
+            let (tau, rate) = (out.state.tau, out.state.tau_dot);
+            if miss.record(tau, rate, tau_ddot, &out.torque, dt) {
+                c.set_pace_caps(miss.caps());
+            }
+        }
         Ok(Sample {
             torque: out.torque,
             state: out.state,

@@ -652,6 +652,28 @@ impl Scenario {
         self.with_add_ons(arm, field)
     }
 
+    /// The learner of the torque the model `arm` misses along the contour
+    /// (`controller.passive.pace_learning.miss`), on the plan of the scenario's pace; `None`
+    /// when the scenario asks for none.
+    pub fn scara_miss_learner(
+        &self,
+        arm: &Scara<f64>,
+    ) -> Result<Option<Box<crate::model::pace::FieldMissLearner<2>>>> {
+        let passive = self.controller.passive.as_ref();
+        let Some(weight) = passive.and_then(|p| p.pace_learning.as_ref()?.miss) else {
+            return Ok(None);
+        };
+        let contour = self.contour()?;
+        let period = Contour::<f64, Torus<f64, 2>, 2>::period(&contour);
+        let (Some(pace), Some(period)) = (self.drive_pace()?, period) else {
+            return Err(SimError::Setting(
+                "controller.passive.pace_learning.miss plans against a pace: give controller.pace and a closed contour".into(),
+            ));
+        };
+        let friction = self.controller.friction_compensation.as_deref();
+        pace.miss_learner::<_, _, _, 2>(arm, &contour, period, (friction, false), weight)
+    }
+
     /// The passive digital controller of `[controller.passive]` around
     /// [`controller`](Self::controller), if the scenario has one.
     pub fn passive_controller(&self) -> Result<Option<PaperPassiveController>> {
