@@ -13,9 +13,10 @@ studies into OUT as TOML files (`pvfc sweep` runs them; a user can run them agai
 1. tuning (`tune_pvfc_NAME`, `tune_timed_NAME`, `tune_speed_scaling_NAME`): each controller
    on the tuning set of four model errors (the even links' masses and inertias × 0.85 or
    1.15, the odd links' × 0.85 or 1.15): PVFC's learned pace's target (the peak share of a
-   limit below which a stretch speeds up), the timed tracker's PD gains (one `kp` and one
+   limit below which a stretch speeds up) and whether it learns the torque the model misses
+   (`pace_learning.miss`: 0 or 0.5), the timed tracker's PD gains (one `kp` and one
    `kd` for every joint, over a grid) and the speed-scaling tracker's threshold and time
-   constant. A setting that fails on any tuning condition is out. PVFC keeps the target with
+   constant. A setting that fails on any tuning condition is out. PVFC keeps the pair with
    the least largest distance among those whose laps stay within 1.2× the least on every
    condition (else the least largest lap); the timed tracker keeps the gains with the least
    mean distance to the contour; the speed-scaling tracker is kept twice, at the two ends of
@@ -76,15 +77,19 @@ SETTINGS: Dict[str, dict] = {
     "scara_circle": {**SCARA, "base": "scara_circle_saturated.toml"},
     "scara_lissajous": {**SCARA, "base": "scara_lissajous_saturated.toml"},
     "ur5_rectangle": {**UR5, "base": "ur5_rectangle_saturated.toml"},
-    # Open (issue 51): the largest distance counts every lap after the first, and the learned
-    # pace's transients (a stretch first learned by passing a limit) put it at 7× the
-    # unsaturated one.
+    # Open (issue 51): one held-out plant with high friction creeps into a limit (3.9× the
+    # unsaturated largest distance); `pace_learning.miss` removes it there (0.97×), but the
+    # tuning set, without friction extremes, does not pick it.
     "ur5_circle": {**UR5, "base": "ur5_circle_saturated.toml", "open": ["largest distance within 2×"]},
     "panda_circle": {**PANDA, "base": "panda_circle_saturated.toml"},
 }
 THRESHOLDS = [0.3, 0.5, 0.7, 0.9, 0.95]
 # PVFC's learned pace: the peak share of a limit below which a stretch speeds up.
-TARGETS = [0.95, 0.97, 0.98, 0.99, 1.0]
+# (0.95 and 0.98, in the grid until stop 64, were never picked.)
+TARGETS = [0.97, 0.99, 1.0]
+# Whether PVFC learns the torque the model misses (the share of a lap's measurement taken in;
+# 0: off).
+MISSES = [0.0, 0.5]
 # PVFC's pick on the tuning set: the least largest distance among the targets whose laps stay
 # within this many times the least on every tuning condition, a margin below the verdict's
 # 1.25 for the plants the tuning does not see (at 1.25 the Lissajous curve's pick laps at
@@ -269,7 +274,9 @@ def run_setting(pvfc: str, out: Path, label: str, setting: dict, demands: List[f
         f"tune_pvfc_{label}",
         setting,
         "pvfc",
-        axis("controller.passive.pace_learning.target", [], TARGETS) + conditions(dof),
+        axis("controller.passive.pace_learning.target", [], TARGETS)
+        + axis("controller.passive.pace_learning.miss", [], MISSES)
+        + conditions(dof),
     )
     timed = by_setting(sweep(pvfc, tune_t, out), ("baseline.kp[0]", "baseline.kd[0]"), d)
     scaled = by_setting(
@@ -277,7 +284,11 @@ def run_setting(pvfc: str, out: Path, label: str, setting: dict, demands: List[f
         ("baseline.speed_scaling.threshold", "baseline.speed_scaling.time_constant"),
         d,
     )
-    learned = by_setting(sweep(pvfc, tune_p, out), ("controller.passive.pace_learning.target",), d)
+    learned = by_setting(
+        sweep(pvfc, tune_p, out),
+        ("controller.passive.pace_learning.target", "controller.passive.pace_learning.miss"),
+        d,
+    )
     usable_t = {k: v for k, v in timed.items() if v["ok"]}
     usable_s = {k: v for k, v in scaled.items() if v["ok"]}
     usable_p = {k: v for k, v in learned.items() if v["ok"]}
@@ -286,9 +297,9 @@ def run_setting(pvfc: str, out: Path, label: str, setting: dict, demands: List[f
         return [(f"{label}: a tuning setting of each controller ran on every condition", False)]
     within = {k: v for k, v in usable_p.items() if v["lap_max"] <= PVFC_LAP_BOUND}
     if within:
-        (target,) = min(within, key=lambda k: (within[k]["max"], within[k]["lap"]))
+        target, miss = min(within, key=lambda k: (within[k]["max"], within[k]["lap"]))
     else:
-        (target,) = min(usable_p, key=lambda k: usable_p[k]["lap_max"])
+        target, miss = min(usable_p, key=lambda k: usable_p[k]["lap_max"])
     kp, kd = min(usable_t, key=lambda k: usable_t[k]["error"])
     accurate = min(usable_s, key=lambda k: usable_s[k]["error"])
     fast = min(usable_s, key=lambda k: (usable_s[k]["lap"], usable_s[k]["error"]))
@@ -296,9 +307,9 @@ def run_setting(pvfc: str, out: Path, label: str, setting: dict, demands: List[f
     print(
         f"\n{label} ({setting['base']}): tuning set of {len(learned)} PVFC, {len(timed)} timed and {len(scaled)} speed-scaling settings, 4 conditions each"
     )
-    v = usable_p[(target,)]
+    v = usable_p[(target, miss)]
     print(
-        f"  PVFC: pace_learning.target = {target:g} (tuning largest {v['max'] * 1e3:.4f} {setting['unit']}, mean {v['error'] * 1e3:.4f}, laps {v['lap']:.3f} / {v['lap_max']:.3f}× the least{'' if within else f'; none within {PVFC_LAP_BOUND}×'})"
+        f"  PVFC: pace_learning.target = {target:g}, miss = {miss:g} (tuning largest {v['max'] * 1e3:.4f} {setting['unit']}, mean {v['error'] * 1e3:.4f}, laps {v['lap']:.3f} / {v['lap_max']:.3f}× the least{'' if within else f'; none within {PVFC_LAP_BOUND}×'})"
     )
     print(f"  timed: kp = {kp:g}, kd = {kd:g} (tuning mean {usable_t[(kp, kd)]['error'] * 1e3:.4f} {unit})")
     for what, k in (("accuracy", accurate), ("pace", fast)):
@@ -317,7 +328,7 @@ def run_setting(pvfc: str, out: Path, label: str, setting: dict, demands: List[f
         for i, c in enumerate(setting["coulomb"])
     )
     head = "samples = 32\nseed = 51\nlatin_hypercube = true\n"
-    learning = {"controller.passive.pace_learning.target": target}
+    learning = {"controller.passive.pace_learning.target": target, "controller.passive.pace_learning.miss": miss}
     runs = {
         "PVFC": ("pvfc", learning),
         "timed (tuned gains)": ("timed", gains),

@@ -203,7 +203,7 @@ pub unsafe extern "C" fn pvfc_passive_new(
                 rise: o.pace_learning_rise,
                 slope: o.pace_learning_slope,
                 floor: o.pace_learning_floor,
-                miss: None,
+                miss: 0.0,
             }),
         };
         let p = c.passive(&options)?;

@@ -99,7 +99,7 @@ impl PassiveController {
                     rise,
                     slope,
                     floor,
-                    miss: None,
+                    miss: 0.0,
                 }
             }),
         };

@@ -81,13 +81,20 @@ fn a_learned_pace_is_checked_before_anything_runs() {
         .fall = 1.0;
     let e = s.validate().unwrap_err().to_string();
     assert!(e.contains("controller.passive.pace_learning.fall"), "{e}");
-    for bad in [0.0, 1.5, f64::NAN] {
+    for bad in [-0.1, 1.5, f64::NAN] {
         let mut s = heavy();
         let l = s.controller.passive.as_mut().unwrap();
-        l.pace_learning.as_mut().unwrap().miss = Some(bad);
+        l.pace_learning.as_mut().unwrap().miss = bad;
         let e = s.validate().unwrap_err().to_string();
         assert!(e.contains("controller.passive.pace_learning.miss"), "{e}");
     }
+    // Learned beside a run's controller; one built alone refuses it by name.
+    let mut s = heavy();
+    let l = s.controller.passive.as_mut().unwrap();
+    l.pace_learning.as_mut().unwrap().miss = 0.5;
+    s.validate().expect("valid for a run");
+    let e = s.passive_controller().map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains("pace_learning.miss"), "{e}");
     let mut s = heavy();
     s.controller.passive.as_mut().unwrap().torque_limit.clear();
     let e = s.validate().unwrap_err().to_string();
@@ -102,4 +109,27 @@ fn a_learned_pace_is_checked_before_anything_runs() {
         e.contains("pace_learning") && e.contains("[controller.pace]"),
         "{e}"
     );
+}
+
+/// `pace_learning.miss` is learned beside a run's controller: an arm's passive controller
+/// built alone from the scenario (Python's and C's path) refuses it by name, and without it
+/// the same options build.
+#[test]
+fn an_arm_controller_built_alone_refuses_the_missed_torque_by_name() {
+    use pvfc_sim::scenario::ArmSystem;
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/studies/bases");
+    let mut s = Scenario::from_file(&dir.join("ur5_circle_saturated.toml")).expect("the base");
+    let spec = s.controller.passive.as_mut().unwrap();
+    spec.pace_learning.as_mut().unwrap().miss = 0.5;
+    s.validate().expect("valid for a run");
+    let system = ArmSystem::build(&s).expect("the system");
+    let spec = s.controller.passive.clone().unwrap();
+    let mut options = spec.options(&[true; 6]).expect("the options");
+    let e = system.controller.passive(&options).map(|_| ()).unwrap_err();
+    assert!(e.to_string().contains("pace_learning.miss"), "{e}");
+    options.pace_learning.as_mut().unwrap().miss = 0.0;
+    system
+        .controller
+        .passive(&options)
+        .expect("built without it");
 }

@@ -584,6 +584,9 @@ impl PassiveOptions {
         }
         if let Some(l) = &self.pace_learning {
             let rule = l.rule("pace_learning")?;
+            if l.miss > 0.0 {
+                return Err(SimError::Setting(ALONE_MISS.into()));
+            }
             if self.torque_limit.is_none() {
                 return Err(SimError::Setting(
                     "pace_learning reads the drives' limits: give torque_limit".into(),
@@ -594,6 +597,9 @@ impl PassiveOptions {
         Ok(p)
     }
 }
+
+/// Why a controller built alone refuses `pace_learning.miss`.
+pub const ALONE_MISS: &str = "pace_learning.miss: the torque the model misses is learned beside a simulated run's controller (pvfc run, pvfc sweep); a controller built alone does not learn it yet";
 
 /// The passive digital controller of an `N`-joint arm.
 pub type PassiveArmN<const N: usize> =

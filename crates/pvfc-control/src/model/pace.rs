@@ -456,10 +456,11 @@ pub struct PaceLearningSpec {
     /// The least scale of the planned pace, in (0, 1].
     pub floor: f64,
     /// The share of each lap's measurement of the torque the model misses taken into it, in
-    /// (0, 1] ([`FieldMissLearner`]: the pace planned again against it once a lap caps each
-    /// stretch's scale); `None`: no such learning.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub miss: Option<f64>,
+    /// [0, 1] ([`FieldMissLearner`]: the pace planned again against it once a lap caps each
+    /// stretch's scale); 0 (the default): no such learning. Learned beside a simulated run's
+    /// controller (`pvfc run`, `pvfc sweep`); a controller built alone (Python, C) refuses it.
+    #[serde(default)]
+    pub miss: f64,
 }
 
 impl PaceLearningSpec {
@@ -484,8 +485,8 @@ impl PaceLearningSpec {
         if !unit(self.floor) {
             return bad("floor", self.floor, "in (0, 1]");
         }
-        if let Some(m) = self.miss.filter(|m| !unit(*m)) {
-            return bad("miss", m, "in (0, 1]");
+        if !(self.miss.is_finite() && (0.0..=1.0).contains(&self.miss)) {
+            return bad("miss", self.miss, "in [0, 1] (0: off)");
         }
         Ok(pvfc_core::pace::PaceLearning::new(
             self.target,

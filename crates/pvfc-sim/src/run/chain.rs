@@ -96,7 +96,7 @@ fn miss_learner<const N: usize>(
     chain: &SerialChain<f64, N>,
     settings: &ArmSettings,
 ) -> Result<Option<Box<FieldMissLearner<N>>>> {
-    let Some(weight) = spec.pace_learning.as_ref().and_then(|l| l.miss) else {
+    let Some(weight) = spec.pace_learning.map(|l| l.miss).filter(|w| *w > 0.0) else {
         return Ok(None);
     };
     let (Some(pace), Some(period)) = (&settings.pace, settings.contour.period()) else {

@@ -660,7 +660,8 @@ impl Scenario {
         arm: &Scara<f64>,
     ) -> Result<Option<Box<crate::model::pace::FieldMissLearner<2>>>> {
         let passive = self.controller.passive.as_ref();
-        let Some(weight) = passive.and_then(|p| p.pace_learning.as_ref()?.miss) else {
+        let learning = passive.and_then(|p| p.pace_learning);
+        let Some(weight) = learning.map(|l| l.miss).filter(|w| *w > 0.0) else {
             return Ok(None);
         };
         let contour = self.contour()?;
@@ -680,6 +681,9 @@ impl Scenario {
         let Some(p) = &self.controller.passive else {
             return Ok(None);
         };
+        if p.pace_learning.is_some_and(|l| l.miss > 0.0) {
+            return Err(SimError::Setting(crate::model::arm::ALONE_MISS.into()));
+        }
         Ok(Some(p.controller(self.controller()?, [true; 2])?))
     }
 }
