@@ -181,6 +181,28 @@ impl<T: Real> Start<T> {
     }
 }
 
+/// `τ` in units of `K` evenly spaced knots of the period: `(a, f)` with `x = a + f`, `a < K`,
+/// `f ∈ [0, 1)`.
+pub(crate) fn knot<T: Real, const K: usize>(period: T, tau: T) -> (usize, T) {
+    let n = cast::<T>(K as f64);
+    let x = tau / period * n;
+    let x = x - (x / n).floor() * n;
+    let a = x.floor();
+    let f = x - a;
+    let a = a.to_i64_checked().unwrap_or(0).rem_euclid(K as i64) as usize;
+    (a, f)
+}
+
+/// The knot nearest `τ` of `K` evenly spaced over the period.
+pub(crate) fn nearest_knot<T: Real, const K: usize>(period: T, tau: T) -> usize {
+    let (a, f) = knot::<T, K>(period, tau);
+    if f < cast::<T>(0.5) {
+        a
+    } else {
+        (a + 1) % K
+    }
+}
+
 impl<T: Real, P, const K: usize> LearnedPace<T, P, K> {
     /// `profile` with every scale at 1, not learning.
     pub fn new(profile: P) -> Self {
@@ -238,15 +260,9 @@ impl<T: Real, P, const K: usize> LearnedPace<T, P, K> {
         &mut self.profile
     }
 
-    /// `τ` in knot units within the period: `(a, f)` with `x = a + f`, `a < K`, `f ∈ [0, 1)`.
+    /// `τ` in knot units within the period ([`knot`]).
     fn knot(period: T, tau: T) -> (usize, T) {
-        let n = cast::<T>(K as f64);
-        let x = tau / period * n;
-        let x = x - (x / n).floor() * n;
-        let a = x.floor();
-        let f = x - a;
-        let a = a.to_i64_checked().unwrap_or(0).rem_euclid(K as i64) as usize;
-        (a, f)
+        knot::<T, K>(period, tau)
     }
 
     /// Moves knot `k`'s scale by what its stretch saw, then bounds its neighbours by the

@@ -34,6 +34,7 @@
 //! shape the field's pace (eq. 27: the coupling is workless for any field).
 
 use super::drive_limits::{drive_limited_rates_on_rows, DriveLimits, MotionRow};
+use super::learned::nearest_knot;
 use crate::contour::Contour;
 use crate::error::{Error, ErrorKind, Result};
 use crate::lie::{LieGroup, Tangent};
@@ -145,16 +146,7 @@ impl<T: Real, const D: usize, const K: usize, const N: usize> MissLearner<T, D, 
 
     /// The torque the model says the motion needs at `τ` (the row nearest it), at `τ̇`, `τ̈`.
     pub fn model_torque(&self, tau: T, tau_dot: T, tau_ddot: T) -> Tangent<T, D> {
-        self.rows[self.nearest::<N>(tau)].torque(tau_ddot, tau_dot)
-    }
-
-    /// The point nearest `τ` of `M` evenly spaced over the period.
-    fn nearest<const M: usize>(&self, tau: T) -> usize {
-        let n = cast::<T>(M as f64);
-        let x = tau / self.period * n;
-        let x = x - (x / n).floor() * n;
-        let k = (x + cast::<T>(0.5)).floor();
-        k.to_i64_checked().unwrap_or(0).rem_euclid(M as i64) as usize
+        self.rows[nearest_knot::<T, N>(self.period, tau)].torque(tau_ddot, tau_dot)
     }
 
     /// Records a step of `dt` at `τ`, `τ̇ = tau_dot`, `τ̈ = tau_ddot`, whose command was
@@ -169,16 +161,11 @@ impl<T: Real, const D: usize, const K: usize, const N: usize> MissLearner<T, D, 
         command: &Tangent<T, D>,
         dt: T,
     ) -> bool {
-        let finite = tau.is_finite()
-            && tau_dot.is_finite()
-            && tau_ddot.is_finite()
-            && dt.is_finite()
-            && dt >= T::zero()
-            && command.iter().all(|u| u.is_finite());
-        if !finite {
+        let finite = crate::scalar::all_finite_in(command.iter(), [&tau, &tau_dot, &tau_ddot, &dt]);
+        if !(finite && dt >= T::zero()) {
             return false;
         }
-        let k = self.nearest::<K>(tau);
+        let k = nearest_knot::<T, K>(self.period, tau);
         let wrapped = self.last.is_some_and(|l| k + K / 2 < l);
         self.last = Some(k);
         let mut changed = false;

@@ -96,13 +96,11 @@ fn miss_learner<const N: usize>(
     chain: &SerialChain<f64, N>,
     settings: &ArmSettings,
 ) -> Result<Option<Box<FieldMissLearner<N>>>> {
-    let Some(weight) = spec.pace_learning.map(|l| l.miss).filter(|w| *w > 0.0) else {
+    let Some(weight) = spec.miss_weight() else {
         return Ok(None);
     };
     let (Some(pace), Some(period)) = (&settings.pace, settings.contour.period()) else {
-        return Err(SimError::Setting(
-            "controller.passive.pace_learning.miss plans against a pace: give controller.pace and a closed contour".into(),
-        ));
+        return Err(PassiveSpec::miss_without_pace());
     };
     let contour = ctl.law().field().joint_contour();
     let compensation = (

@@ -659,17 +659,18 @@ impl Scenario {
         &self,
         arm: &Scara<f64>,
     ) -> Result<Option<Box<crate::model::pace::FieldMissLearner<2>>>> {
-        let passive = self.controller.passive.as_ref();
-        let learning = passive.and_then(|p| p.pace_learning);
-        let Some(weight) = learning.map(|l| l.miss).filter(|w| *w > 0.0) else {
+        let Some(weight) = self
+            .controller
+            .passive
+            .as_ref()
+            .and_then(|p| p.miss_weight())
+        else {
             return Ok(None);
         };
         let contour = self.contour()?;
         let period = Contour::<f64, Torus<f64, 2>, 2>::period(&contour);
         let (Some(pace), Some(period)) = (self.drive_pace()?, period) else {
-            return Err(SimError::Setting(
-                "controller.passive.pace_learning.miss plans against a pace: give controller.pace and a closed contour".into(),
-            ));
+            return Err(super::PassiveSpec::miss_without_pace());
         };
         let friction = self.controller.friction_compensation.as_deref();
         pace.miss_learner::<_, _, _, 2>(arm, &contour, period, (friction, false), weight)
@@ -681,7 +682,7 @@ impl Scenario {
         let Some(p) = &self.controller.passive else {
             return Ok(None);
         };
-        if p.pace_learning.is_some_and(|l| l.miss > 0.0) {
+        if p.miss_weight().is_some() {
             return Err(SimError::Setting(crate::model::arm::ALONE_MISS.into()));
         }
         Ok(Some(p.controller(self.controller()?, [true; 2])?))

@@ -255,6 +255,19 @@ pub struct PassiveSpec {
 }
 
 impl PassiveSpec {
+    /// The share of a lap taken into the learned missed torque (`pace_learning.miss`), if it
+    /// is learned (> 0).
+    pub fn miss_weight(&self) -> Option<f64> {
+        self.pace_learning.map(|l| l.miss).filter(|w| *w > 0.0)
+    }
+
+    /// The error of a missed torque asked for without a pace to plan against.
+    pub(crate) fn miss_without_pace() -> SimError {
+        SimError::Setting(
+            "controller.passive.pace_learning.miss plans against a pace: give controller.pace and a closed contour".into(),
+        )
+    }
+
     /// These settings as the passive options of an arm whose joints `circular` marks: the
     /// encoder's resolution `2π/counts` on those joints, exact positions on the others.
     pub fn options(&self, circular: &[bool]) -> Result<PassiveOptions> {
