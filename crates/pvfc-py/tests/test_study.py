@@ -96,6 +96,20 @@ def test_bad_studies_name_what_is_wrong():
         pvfc.Study.from_toml(GRID, short(3.0)).run([6])
 
 
+def test_design_points_multiply_the_runs():
+    st = pvfc.Study.from_toml(
+        GRID.replace("values = [800, 2000, 3200]", "values = [800, 2000]")
+        + '[[point]]\n"plant.friction.coulomb[1]" = 2.8\n[[point]]\n"plant.friction.coulomb[1]" = 4.2\n',
+        short(3.0),
+    )
+    assert len(st) == 8
+    assert st.keys == ["controller.self_pacing", "controller.energy", "plant.friction.coulomb[1]"]
+    assert st.parameters(5) == [200.0, 800.0, 4.2]
+    assert st.scenario(5).to_dict()["plant"]["friction"]["coulomb"][1] == 4.2
+    with pytest.raises(pvfc.PvfcError, match="point 1"):
+        pvfc.Study.from_toml(GRID + '[[point]]\n"duration" = 2.0\n[[point]]\n"plant.friction.coulomb[1]" = 4.2\n', short(3.0))
+
+
 def test_a_failed_run_is_a_row():
     st = pvfc.Study.from_toml(
         'name = "g"\nmetrics = ["mean_u"]\n[[axis]]\nkey = "controller.gamma"\nvalues = [0.025, 1e8]\n',

@@ -22,6 +22,7 @@ fn spec(axes: Vec<Axis>) -> StudySpec {
         name: "s".into(),
         base: "fig8_R100.toml".into(),
         axes,
+        points: Vec::new(),
         samples: None,
         seed: 0,
         latin_hypercube: false,
@@ -443,6 +444,135 @@ fn an_axis_sets_its_tied_keys_to_the_same_value() {
     let mut bad = a_values("controller.energy", vec![1.0]);
     bad.also = vec!["controller.no_such_key".into()];
     assert!(error(&spec(vec![bad]), &base).contains("no_such_key"));
+}
+
+fn point(entries: &[(&str, f64)]) -> std::collections::BTreeMap<String, f64> {
+    entries.iter().map(|(k, v)| (k.to_string(), *v)).collect()
+}
+
+/// Design points multiply the runs, the points fastest: each run of the axes at every point,
+/// each point's keys set and in the run's parameters after the axes'; a study of points alone
+/// runs each once; points that set different keys, a key an axis sets too, a non-finite value
+/// or an unknown key are errors naming the point and the key.
+#[test]
+fn design_points_multiply_the_runs_the_points_fastest() {
+    let base = presets::fig8(100);
+    let mut s = spec(vec![a_values("controller.self_pacing", vec![0.0, 50.0])]);
+    // A fractional design: the friction high where the masses differ.
+    s.points = vec![
+        point(&[
+            ("plant.friction.coulomb[0]", 2.0),
+            ("plant.friction.coulomb[1]", 2.8),
+        ]),
+        point(&[
+            ("plant.friction.coulomb[0]", 3.0),
+            ("plant.friction.coulomb[1]", 4.2),
+        ]),
+        point(&[
+            ("plant.friction.coulomb[0]", 2.5),
+            ("plant.friction.coulomb[1]", 3.5),
+        ]),
+    ];
+    assert_eq!(
+        s.keys(),
+        [
+            "controller.self_pacing",
+            "plant.friction.coulomb[0]",
+            "plant.friction.coulomb[1]"
+        ]
+    );
+    let runs = s.runs(&base).unwrap();
+    assert_eq!(runs.len(), 6);
+    let frictions = [[2.0, 2.8], [3.0, 4.2], [2.5, 3.5]];
+    for (i, r) in runs.iter().enumerate() {
+        let (pace, c) = ([0.0, 50.0][i / 3], frictions[i % 3]);
+        assert_eq!(r.scenario.controller.self_pacing, pace);
+        assert_eq!(r.scenario.plant.friction.coulomb, c.to_vec());
+        assert_eq!(
+            r.parameters,
+            vec![
+                ("controller.self_pacing".to_string(), pace),
+                ("plant.friction.coulomb[0]".to_string(), c[0]),
+                ("plant.friction.coulomb[1]".to_string(), c[1]),
+            ]
+        );
+    }
+    // Read from a study's TOML the same.
+    let text = r#"
+name = "s"
+[[axis]]
+key = "controller.self_pacing"
+values = [0.0, 50.0]
+[[point]]
+"plant.friction.coulomb[0]" = 2.0
+"plant.friction.coulomb[1]" = 2.8
+[[point]]
+"plant.friction.coulomb[0]" = 3.0
+"plant.friction.coulomb[1]" = 4.2
+[[point]]
+"plant.friction.coulomb[0]" = 2.5
+"plant.friction.coulomb[1]" = 3.5
+"#;
+    let read = StudySpec::from_toml(text, "s.toml".as_ref()).unwrap();
+    assert_eq!(read.points, s.points);
+    let again = StudySpec::from_toml(&read.to_toml().unwrap(), "s.toml".as_ref()).unwrap();
+    assert_eq!(again, read);
+    // Points alone: one run each.
+    let mut alone = spec(Vec::new());
+    alone.points = s.points.clone();
+    let runs = alone.runs(&base).unwrap();
+    assert_eq!(runs.len(), 3);
+    assert_eq!(runs[1].scenario.plant.friction.coulomb, vec![3.0, 4.2]);
+    // Random draws: every draw at every point.
+    let mut drawn = axis("controller.energy");
+    drawn.draw = Some(Draw::Uniform {
+        low: 500.0,
+        high: 1000.0,
+    });
+    let mut r = spec(vec![drawn]);
+    r.samples = Some(4);
+    r.points = s.points.clone();
+    let runs = r.runs(&base).unwrap();
+    assert_eq!(runs.len(), 12);
+    for k in 0..4 {
+        let e = runs[3 * k].scenario.controller.energy;
+        assert!((500.0..1000.0).contains(&e));
+        for j in 0..3 {
+            assert_eq!(runs[3 * k + j].scenario.controller.energy, e);
+            assert_eq!(
+                runs[3 * k + j].scenario.plant.friction.coulomb,
+                frictions[j].to_vec()
+            );
+        }
+    }
+    // Errors.
+    let mut differ = alone.clone();
+    differ.points[2] = point(&[
+        ("plant.friction.coulomb[0]", 1.0),
+        ("controller.energy", 900.0),
+    ]);
+    let m = error(&differ, &base);
+    assert!(
+        m.contains("point 2") && m.contains("controller.energy"),
+        "{m}"
+    );
+    let mut nan = alone.clone();
+    nan.points[1].insert("plant.friction.coulomb[1]".into(), f64::NAN);
+    let m = error(&nan, &base);
+    assert!(m.contains("point 1") && m.contains("not finite"), "{m}");
+    let mut both = s.clone();
+    both.axes[0].key = "plant.friction.coulomb[1]".into();
+    assert!(error(&both, &base).contains("both an axis's key and a point's"));
+    let mut unknown = alone.clone();
+    for p in &mut unknown.points {
+        p.insert("controller.no_such_key".into(), 1.0);
+    }
+    let m = error(&unknown, &base);
+    assert!(m.contains("point 0") && m.contains("no_such_key"), "{m}");
+    let mut empty = alone;
+    empty.points = vec![Default::default()];
+    assert!(error(&empty, &base).contains("sets no key"));
+    assert!(error(&spec(Vec::new()), &base).contains("no axis and no point"));
 }
 
 /// `controller = "timed"` / `"speed_scaling"` runs the base's tracker at its `tau_rate`: a

@@ -24,10 +24,22 @@ use std::path::{Path, PathBuf};
 ///
 /// With only `values` and `range` axes the runs are their grid (every combination, the last
 /// axis fastest). With only `draw` axes they are `samples` random draws from `seed`, or a
-/// Latin hypercube of `samples` points with `latin_hypercube = true`. `controller = "timed"`
-/// or `"speed_scaling"` runs the base scenario's baseline tracker instead of PVFC (its
-/// `[baseline]` must give `tau_rate`, and `speed_scaling` for the second), so that a tracker
-/// is tuned and measured by the same studies as PVFC.
+/// Latin hypercube of `samples` points with `latin_hypercube = true`. Design points
+/// (`[[point]]` tables, each the same keys with its own values: a fractional factorial, a
+/// list of named conditions) multiply the runs, the points fastest:
+///
+/// ```toml
+/// [[point]]
+/// "plant.mass_scale[0]" = 0.85
+/// "plant.friction.coulomb[0]" = 3.6
+/// [[point]]
+/// "plant.mass_scale[0]" = 1.15
+/// "plant.friction.coulomb[0]" = 2.4
+/// ```
+///
+/// `controller = "timed"` or `"speed_scaling"` runs the base scenario's baseline tracker
+/// instead of PVFC (its `[baseline]` must give `tau_rate`, and `speed_scaling` for the
+/// second), so that a tracker is tuned and measured by the same studies as PVFC.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StudySpec {
@@ -40,6 +52,10 @@ pub struct StudySpec {
     /// The axes.
     #[serde(default, rename = "axis")]
     pub axes: Vec<Axis>,
+    /// The design points: each sets the same keys, to values of its own; every run of the
+    /// axes is run at every point.
+    #[serde(default, rename = "point", skip_serializing_if = "Vec::is_empty")]
+    pub points: Vec<std::collections::BTreeMap<String, f64>>,
     /// The number of runs of a random study.
     #[serde(default)]
     pub samples: Option<usize>,
@@ -277,16 +293,74 @@ impl StudySpec {
         crate::study::metrics::select(&self.metrics)
     }
 
-    /// The keys of the axes, in the spec's order: the parameter columns of its table.
+    /// The keys of the axes, in the spec's order, then the design points' keys: the parameter
+    /// columns of its table.
     pub fn keys(&self) -> Vec<String> {
-        self.axes.iter().map(|a| a.key.clone()).collect()
+        let points = self.points.first().into_iter().flat_map(|p| p.keys());
+        self.axes
+            .iter()
+            .map(|a| &a.key)
+            .chain(points)
+            .cloned()
+            .collect()
+    }
+
+    /// Checks the design points: every point the same keys, none an axis's, every value
+    /// finite. Errors name the point and the key.
+    fn check_points(&self) -> Result<()> {
+        let Some(first) = self.points.first() else {
+            return Ok(());
+        };
+        if first.is_empty() {
+            return Err(setting(format!(
+                "study `{}`: point 0 sets no key",
+                self.name
+            )));
+        }
+        for (i, p) in self.points.iter().enumerate() {
+            if !p.keys().eq(first.keys()) {
+                let differ = p
+                    .keys()
+                    .chain(first.keys())
+                    .find(|k| p.contains_key(*k) != first.contains_key(*k))
+                    .cloned()
+                    .unwrap_or_default();
+                return Err(setting(format!(
+                    "study `{}`: point {i} and point 0 differ in `{differ}` (every point sets the same keys)",
+                    self.name
+                )));
+            }
+            if let Some((k, v)) = p.iter().find(|(_, v)| !v.is_finite()) {
+                return Err(setting(format!(
+                    "study `{}`: point {i}: `{k}` = {v} is not finite",
+                    self.name
+                )));
+            }
+        }
+        let mut axis_keys = self
+            .axes
+            .iter()
+            .flat_map(|a| std::iter::once(&a.key).chain(&a.also));
+        if let Some(k) = axis_keys.find(|k| first.contains_key(*k)) {
+            return Err(setting(format!(
+                "study `{}`: `{k}` is both an axis's key and a point's",
+                self.name
+            )));
+        }
+        Ok(())
     }
 
     /// The values of each axis: its list, its range, or its draws (`samples` of them, from
     /// `seed`, stratified when `latin_hypercube`). Errors name the axis.
     fn axis_values(&self) -> Result<Vec<Vec<f64>>> {
         if self.axes.is_empty() {
-            return Err(setting(format!("study `{}`: no axis", self.name)));
+            if self.points.is_empty() {
+                return Err(setting(format!(
+                    "study `{}`: no axis and no point",
+                    self.name
+                )));
+            }
+            return Ok(Vec::new());
         }
         let random = self.axes.iter().filter(|a| a.draw.is_some()).count();
         if random != 0 && random != self.axes.len() {
@@ -354,13 +428,16 @@ impl StudySpec {
     /// value is an error naming it before anything runs.
     pub fn runs(&self, base: &Scenario) -> Result<Vec<StudyRun>> {
         self.metrics()?;
+        self.check_points()?;
         let values = self.axis_values()?;
         let random = self.axes.iter().any(|a| a.draw.is_some());
-        let count = if random {
+        let per_point = if random {
             values[0].len()
         } else {
             values.iter().map(Vec::len).product()
         };
+        let points = self.points.len().max(1);
+        let count = per_point * points;
         let mut table = toml::Value::try_from(base)
             .map_err(|e| setting(format!("study `{}`: the base scenario: {e}", self.name)))?;
         for (key, value) in &self.set {
@@ -372,12 +449,13 @@ impl StudySpec {
         }
         let mut runs = Vec::with_capacity(count);
         for index in 0..count {
-            // The grid's coordinates of run `index`, the last axis fastest; a random study's
-            // run `index` takes draw `index` of every axis.
-            let mut rest = index;
+            // The grid's coordinates of run `index`, the last axis fastest and the points
+            // faster still; a random study's run takes one draw of every axis per point.
+            let (axes_index, point) = (index / points, index % points);
+            let mut rest = axes_index;
             let mut picks = vec![0; values.len()];
             if random {
-                picks.fill(index);
+                picks.fill(axes_index);
             } else {
                 for (k, v) in values.iter().enumerate().rev() {
                     picks[k] = rest % v.len();
@@ -391,6 +469,10 @@ impl StudySpec {
                     set_key(&mut t, key, v[p]).map_err(|e| setting(format!("axis {e}")))?;
                 }
                 parameters.push((a.key.clone(), v[p]));
+            }
+            for (key, v) in self.points.get(point).into_iter().flatten() {
+                set_key(&mut t, key, *v).map_err(|e| setting(format!("point {point}: {e}")))?;
+                parameters.push((key.clone(), *v));
             }
             let mut scenario: Scenario = t
                 .try_into()
