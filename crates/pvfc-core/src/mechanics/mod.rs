@@ -193,22 +193,24 @@ pub(crate) fn acceleration_failure<'a, T: Real + 'a>(
     }
 }
 
-/// Solves `M x = b` for a symmetric positive definite 2×2 `M` by Cholesky, with the
-/// operations of nalgebra's `Cholesky::new(M).solve(b)` in the same order (so the same result,
-/// bit for bit, up to the sign of a zero) without its general loops; `None` where that
-/// factorisation fails (a diagonal pivot that is not > 0, or NaN). Reads `M`'s lower triangle.
+/// Solves `M x = b` for a symmetric positive definite 2×2 `M` by Cramer's rule,
+/// `x = (m₁₁b₀ − m₁₀b₁, m₀₀b₁ − m₁₀b₀) / det M`: one division and no square root, where a
+/// Cholesky solve chains two roots and four divisions. `None` unless `m₀₀ > 0` and
+/// `det M > 0` (Sylvester's criterion: positive definite), or for NaN. Reads `M`'s lower
+/// triangle. Its error is the condition number times a few ε, as the Cholesky solve's
+/// (held to nalgebra's Cholesky within `κ(M) · 8ε` in `tests/forward_dynamics.rs`).
 #[inline]
-pub fn cholesky_solve2<T: Real>(m: &Matrix2<T>, b: &Vector2<T>) -> Option<Vector2<T>> {
-    let pivot = |v: T| (v > T::zero()).then(|| v.sqrt());
-    let l00 = pivot(m[(0, 0)])?;
-    let l10 = m[(1, 0)] / l00;
-    let l11 = pivot(m[(1, 1)] - l10 * l10)?;
-    // L y = b, then Lᵀ x = y.
-    let y0 = b[0] / l00;
-    let y1 = (b[1] - y0 * l10) / l11;
-    let x1 = y1 / l11;
-    let x0 = (y0 - l10 * x1) / l00;
-    Some(Vector2::new(x0, x1))
+pub fn solve_spd2<T: Real>(m: &Matrix2<T>, b: &Vector2<T>) -> Option<Vector2<T>> {
+    let (m00, m10, m11) = (m[(0, 0)], m[(1, 0)], m[(1, 1)]);
+    let det = m00 * m11 - m10 * m10;
+    if !(m00 > T::zero() && det > T::zero()) {
+        return None;
+    }
+    let inv = T::one() / det;
+    Some(Vector2::new(
+        (m11 * b[0] - m10 * b[1]) * inv,
+        (m00 * b[1] - m10 * b[0]) * inv,
+    ))
 }
 
 /// What the coupling law (eq. 7) needs of the model at one state, from

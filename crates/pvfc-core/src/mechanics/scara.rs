@@ -1,6 +1,6 @@
 //! The planar two-link arm (SCARA) in closed form.
 
-use super::{acceleration_failure, cholesky_solve2, positive, MechanicalSystem};
+use super::{acceleration_failure, positive, solve_spd2, MechanicalSystem};
 use crate::error::{Error, ErrorKind, Result};
 use crate::lie::{Tangent, Torus};
 use crate::scalar::cast;
@@ -192,8 +192,7 @@ impl<T: Real> MechanicalSystem<T, Torus<T, 2>, 2> for Scara<T> {
         )
     }
 
-    /// The forward dynamics by the closed-form 2×2 Cholesky solve ([`cholesky_solve2`]: the
-    /// same result as the general one, without its loops).
+    /// The forward dynamics by Cramer's rule ([`solve_spd2`]: one division, no square root).
     #[inline]
     fn acceleration(
         &self,
@@ -203,6 +202,6 @@ impl<T: Real> MechanicalSystem<T, Torus<T, 2>, 2> for Scara<T> {
     ) -> Result<Tangent<T, 2>> {
         let (m, c) = self.inertia_and_coriolis(q, v);
         let rhs = force - c * v;
-        cholesky_solve2(&m, &rhs).ok_or_else(|| acceleration_failure(m.iter(), rhs.iter()))
+        solve_spd2(&m, &rhs).ok_or_else(|| acceleration_failure(m.iter(), rhs.iter()))
     }
 }
