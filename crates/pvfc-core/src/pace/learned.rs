@@ -196,6 +196,11 @@ pub(crate) fn knot<T: Real, const K: usize>(period: T, tau: T) -> (usize, T) {
 /// The knot nearest `τ` of `K` evenly spaced over the period.
 pub(crate) fn nearest_knot<T: Real, const K: usize>(period: T, tau: T) -> usize {
     let (a, f) = knot::<T, K>(period, tau);
+    nearer::<T, K>(a, f)
+}
+
+/// Of knots `a` and `a + 1` (of `K`, round the period), the one nearer `a + f`.
+fn nearer<T: Real, const K: usize>(a: usize, f: T) -> usize {
     if f < cast::<T>(0.5) {
         a
     } else {
@@ -260,11 +265,6 @@ impl<T: Real, P, const K: usize> LearnedPace<T, P, K> {
         &mut self.profile
     }
 
-    /// `τ` in knot units within the period ([`knot`]).
-    fn knot(period: T, tau: T) -> (usize, T) {
-        knot::<T, K>(period, tau)
-    }
-
     /// Moves knot `k`'s scale by what its stretch saw, then bounds its neighbours by the
     /// slope, leaving alone the knots `a` and `a + 1` of the stretch `τ` is in.
     fn settle(&mut self, k: usize, a: usize, rule: &PaceLearning<T>) {
@@ -321,7 +321,7 @@ impl<T: Real, P: PaceProfile<T>, const K: usize> PaceProfile<T> for LearnedPace<
         let Some(period) = self.period else {
             return (sigma, dsigma);
         };
-        let (a, f) = Self::knot(period, tau);
+        let (a, f) = knot::<T, K>(period, tau);
         let (s0, s1) = (self.scales[a], self.scales[(a + 1) % K]);
         let s = s0 + (s1 - s0) * f;
         let ds = (s1 - s0) * cast::<T>(K as f64) / period;
@@ -355,7 +355,7 @@ impl<T: Real, P: PaceProfile<T>, const K: usize> PaceProfile<T> for LearnedPace<
         if !(tau.is_finite() && share.is_finite() && dt.is_finite() && dt >= T::zero()) {
             return false;
         }
-        let (a, f) = Self::knot(period, tau);
+        let (a, f) = knot::<T, K>(period, tau);
         // The start from rest does not repeat: nothing is learned from it.
         if !self.start.over(tau, share, dt, period, a) {
             return true;
@@ -366,7 +366,7 @@ impl<T: Real, P: PaceProfile<T>, const K: usize> PaceProfile<T> for LearnedPace<
             }
             self.current = a;
         }
-        let nearest = if f < cast::<T>(0.5) { a } else { (a + 1) % K };
+        let nearest = nearer::<T, K>(a, f);
         if share > self.peaks[nearest] {
             self.peaks[nearest] = share;
         }
