@@ -226,6 +226,11 @@ typedef struct pvfc_passive_options {
   double pace_learning_slope;
   // The least scale of the planned pace, in (0, 1].
   double pace_learning_floor;
+  // With the learned pace, the torque the model misses learned beside it: the share of
+  // each lap's measurement taken in, in (0, 1]; the pace is planned again against it once
+  // a lap and caps each stretch's scale (the controller's pace, `pvfc_settings.pace_speed`
+  // or `pace_torque_limit`, on a closed contour). 0: not learned.
+  double pace_learning_miss;
 } pvfc_passive_options;
 
 // The energy account of one passive step (J).

@@ -108,6 +108,9 @@ pub struct pvfc_diagnostics {
 pub struct pvfc_controller {
     pub(crate) ctl: ArmController,
     initial: ArmController,
+    /// The settings it was built from (its passive mode's learner of the torque the model
+    /// misses plans on their pace).
+    pub(crate) settings: ArmSettings,
 }
 
 impl SizedStruct for pvfc_settings {
@@ -206,6 +209,7 @@ pub unsafe extern "C" fn pvfc_controller_new(
                 pvfc_controller {
                     initial: ctl.clone(),
                     ctl,
+                    settings,
                 },
             )
         }

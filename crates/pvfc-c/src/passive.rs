@@ -58,6 +58,11 @@ pub struct pvfc_passive_options {
     pub pace_learning_slope: f64,
     /// The least scale of the planned pace, in (0, 1].
     pub pace_learning_floor: f64,
+    /// With the learned pace, the torque the model misses learned beside it: the share of
+    /// each lap's measurement taken in, in (0, 1]; the pace is planned again against it once
+    /// a lap and caps each stretch's scale (the controller's pace, `pvfc_settings.pace_speed`
+    /// or `pace_torque_limit`, on a closed contour). 0: not learned.
+    pub pace_learning_miss: f64,
 }
 
 /// Default passive options: no limits, exact positions, no filter, no reserve.
@@ -82,6 +87,7 @@ pub extern "C" fn pvfc_passive_options_default() -> pvfc_passive_options {
         pace_learning_rise: 0.1,
         pace_learning_slope: 0.03,
         pace_learning_floor: 0.2,
+        pace_learning_miss: 0.0,
     }
 }
 
@@ -165,7 +171,8 @@ pub unsafe extern "C" fn pvfc_passive_new(
 ) -> pvfc_status {
     guard(|| {
         // SAFETY: as documented.
-        let c = &unsafe { object(ctl, "ctl") }?.ctl;
+        let handle = unsafe { object(ctl, "ctl") }?;
+        let c = &handle.ctl;
         let n = c.dof();
         let o = &unsafe { sized(options, pvfc_passive_options_default(), "options") }?;
         let array = |p: *const f64, name: &'static str| -> Result<Option<Vec<f64>>, Failure> {
@@ -203,10 +210,10 @@ pub unsafe extern "C" fn pvfc_passive_new(
                 rise: o.pace_learning_rise,
                 slope: o.pace_learning_slope,
                 floor: o.pace_learning_floor,
-                miss: 0.0,
+                miss: o.pace_learning_miss,
             }),
         };
-        let p = c.passive(&options)?;
+        let p = c.passive(&options, &handle.settings)?;
         unsafe { give(out, pvfc_passive { p }) }
     })
 }

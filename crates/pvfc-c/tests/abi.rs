@@ -27,6 +27,11 @@ fn controller(robot: *const pvfc_robot) -> *mut pvfc_controller {
     let mut s = pvfc_settings_default();
     s.energy = 40.0;
     s.self_pacing = 50.0;
+    controller_with(robot, &s)
+}
+
+/// The controller of `robot` with settings `s` on the contour through [`WAYPOINTS`].
+fn controller_with(robot: *const pvfc_robot, s: &pvfc_settings) -> *mut pvfc_controller {
     let mut ctl = std::ptr::null_mut();
     // SAFETY: valid arrays and handles.
     let status = unsafe {
@@ -38,7 +43,7 @@ fn controller(robot: *const pvfc_robot) -> *mut pvfc_controller {
             1.5,
             std::ptr::null(),
             0,
-            &s,
+            s,
             &mut ctl,
         )
     };
@@ -360,6 +365,48 @@ fn agree_with(
             last_error()
         );
     }
+    let (r, settings) = rust_side(urdf, tip, waypoints, n, &s, pace);
+    let mut rust = pvfc_control::model::arm::ArmController::new(&r, &settings).unwrap();
+    let mut torque = vec![0.0; n];
+    for k in 0..30 {
+        let expected = rust.step(&q, &v, 1e-3).unwrap();
+        // SAFETY: arrays of n, a valid handle.
+        let st = unsafe {
+            pvfc_controller_step(
+                ctl,
+                q.as_ptr(),
+                v.as_ptr(),
+                n,
+                1e-3,
+                torque.as_mut_ptr(),
+                n,
+                std::ptr::null_mut(),
+            )
+        };
+        assert_eq!(st, pvfc_status::PVFC_OK);
+        assert_eq!(torque, expected.torque, "{urdf}, step {k}");
+        q[0] += 1e-3;
+    }
+    // SAFETY: handles made above, freed once.
+    unsafe {
+        pvfc_controller_destroy(ctl);
+        pvfc_robot_destroy(robot);
+    }
+}
+
+/// The Rust side of [`agree_with`]: the robot of `models/{urdf}` and the settings of `s`
+/// (as the C ABI reads them) on the contour through `waypoints` (`n` joints), with `pace`.
+fn rust_side(
+    urdf: &str,
+    tip: &str,
+    waypoints: &[f64],
+    n: usize,
+    s: &pvfc_settings,
+    pace: Option<pvfc_control::model::pace::PaceSettings>,
+) -> (
+    pvfc_control::model::robot::Robot,
+    pvfc_control::model::arm::ArmSettings,
+) {
     let r = pvfc_control::model::robot::Robot::from_urdf(
         &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../models")
@@ -389,29 +436,81 @@ fn agree_with(
         obstacles: None,
         pace,
     };
-    let mut rust = pvfc_control::model::arm::ArmController::new(&r, &settings).unwrap();
-    let mut torque = vec![0.0; n];
+    (r, settings)
+}
+
+/// The torque the model misses, learned beside the C ABI's passive controller
+/// (`pvfc_passive_options.pace_learning_miss`) on its controller's pace, is the Rust passive
+/// controller's with the same options: the same torques, step for step.
+#[test]
+fn the_c_passive_controller_learns_the_missed_torque_as_rusts() {
+    use pvfc_control::model::arm::{ArmController, PassiveOptions};
+    use pvfc_control::model::pace::{PaceLearningSpec, PaceSettings, PathSpeed};
+    let limits = [150.0, 150.0, 150.0, 28.0, 28.0, 28.0];
+    let mut s = pvfc_settings_default();
+    s.pace_speed = 0.6;
+    s.pace_torque_limit = limits.as_ptr();
+    s.pace_torque_limit_len = limits.len();
+    let pace = PaceSettings {
+        speed: Some(PathSpeed::Joint(0.6)),
+        torque_limit: limits.to_vec(),
+        headroom: 0.8,
+        level: 1.0,
+    };
+    let robot = open_robot("ur5/ur5_robot.urdf", "tool0");
+    let ctl = controller_with(robot, &s);
+    let mut p = std::ptr::null_mut();
+    let mut o = pvfc_passive_options_default();
+    o.torque_limit = limits.as_ptr();
+    o.n = 6;
+    o.pace_learning_target = 1.0;
+    o.pace_learning_miss = 0.5;
+    // SAFETY: valid options and out pointer.
+    unsafe {
+        let st = pvfc_passive_new(ctl, &o, &mut p);
+        assert_eq!(st, pvfc_status::PVFC_OK, "{}", last_error());
+    }
+    let (r, settings) = rust_side("ur5/ur5_robot.urdf", "tool0", &WAYPOINTS, 6, &s, Some(pace));
+    let options = PassiveOptions {
+        torque_limit: Some(limits.to_vec()),
+        pace_learning: Some(PaceLearningSpec {
+            target: 1.0,
+            fall: 0.3,
+            rise: 0.1,
+            slope: 0.03,
+            floor: 0.2,
+            miss: 0.5,
+        }),
+        ..PassiveOptions::default()
+    };
+    let ctl_rust = ArmController::new(&r, &settings).unwrap();
+    let mut rust = ctl_rust.passive(&options, &settings).unwrap();
+    assert!(rust.learns_miss());
+    let (mut q, v) = (WAYPOINTS[..6].to_vec(), vec![0.1; 6]);
+    let mut torque = vec![0.0; 6];
     for k in 0..30 {
-        let expected = rust.step(&q, &v, 1e-3).unwrap();
-        // SAFETY: arrays of n, a valid handle.
+        let expected = rust.step(&q, Some(&v), None, 1e-3).unwrap();
+        // SAFETY: arrays of 6, a valid handle.
         let st = unsafe {
-            pvfc_controller_step(
-                ctl,
+            pvfc_passive_step(
+                p,
                 q.as_ptr(),
                 v.as_ptr(),
-                n,
+                std::ptr::null(),
+                6,
                 1e-3,
                 torque.as_mut_ptr(),
-                n,
+                6,
                 std::ptr::null_mut(),
             )
         };
-        assert_eq!(st, pvfc_status::PVFC_OK);
-        assert_eq!(torque, expected.torque, "{urdf}, step {k}");
-        q[0] += 1e-3;
+        assert_eq!(st, pvfc_status::PVFC_OK, "{}", last_error());
+        assert_eq!(torque, expected.torque, "step {k}");
+        q[0] += 1e-4;
     }
     // SAFETY: handles made above, freed once.
     unsafe {
+        pvfc_passive_destroy(p);
         pvfc_controller_destroy(ctl);
         pvfc_robot_destroy(robot);
     }

@@ -15,10 +15,11 @@ use pvfc_sim::scenario::obstacles::ObstacleSpec;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::sync::Arc;
 
 fn build(robot: &Robot, settings: ArmSettings) -> PyResult<Controller> {
     let ctl = SimArm::new(&robot.robot, &settings).map_err(sim_err)?;
-    Ok(Controller::of(Law::Arm(Box::new(ctl))))
+    Ok(Controller::of(Law::Arm(Box::new(ctl), Arc::new(settings))))
 }
 
 /// The controller of `Controller.arm`: a closed joint-space contour through `waypoints`,

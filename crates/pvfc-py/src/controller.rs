@@ -9,11 +9,12 @@ use crate::runs::Scenario;
 use nalgebra::{Vector2, Vector3};
 use numpy::{PyArray1, PyArray2};
 use pvfc_core::prelude::*;
-use pvfc_sim::model::arm::ArmController as SimArm;
+use pvfc_sim::model::arm::{ArmController as SimArm, ArmSettings};
 use pvfc_sim::model::evaluation::Evaluation;
 use pvfc_sim::scenario::{AttitudeController, PaperController, System};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::sync::Arc;
 
 /// The law behind a `pvfc.Controller`, one per kind of robot: the dispatch on the robot
 /// happens here and nowhere else in the Python API.
@@ -21,8 +22,9 @@ use pyo3::types::PyDict;
 pub(crate) enum Law {
     /// The paper's SCARA (closed-form model, on the torus).
     Scara(Box<PaperController>),
-    /// A serial arm of 1 to 8 joints (a URDF or arrays).
-    Arm(Box<SimArm>),
+    /// A serial arm of 1 to 8 joints (a URDF or arrays), and the settings it was built from
+    /// (its passive mode's learner of the torque the model misses plans on their pace).
+    Arm(Box<SimArm>, Arc<ArmSettings>),
     /// A rigid body's attitude on SO(3).
     Attitude(Box<AttitudeController>),
 }
@@ -49,7 +51,7 @@ impl Controller {
     pub(crate) fn dof_of(&self) -> usize {
         match &self.law {
             Law::Scara(_) => 2,
-            Law::Arm(c) => c.dof(),
+            Law::Arm(c, _) => c.dof(),
             Law::Attitude(_) => 3,
         }
     }
@@ -76,7 +78,7 @@ impl Controller {
                 let (t, o) = c.evaluate(&s).map_err(core_err)?;
                 Evaluation::from_core::<_, 2, 4>(&t, &o).map_err(sim_err)
             }
-            Law::Arm(c) => {
+            Law::Arm(c, _) => {
                 let n = c.dof();
                 let (q, v) = (dyn_vector(q, qn, n)?, dyn_vector(qdot, vn, n)?);
                 c.evaluate(&q, &v, internal).map_err(sim_err)
@@ -114,7 +116,7 @@ impl Controller {
                     .as_slice()
                     .to_vec()
             }
-            Law::Arm(c) => {
+            Law::Arm(c, _) => {
                 let n = c.dof();
                 let (q, v) = (dyn_vector(q, qn, n)?, dyn_vector(qdot, vn, n)?);
                 c.step(&q, &v, dt).map_err(sim_err)?.torque
@@ -170,7 +172,7 @@ impl Controller {
         let s = &scenario.s;
         let law = match System::build(s).map_err(sim_err)? {
             System::Scara(arm) => Law::Scara(Box::new(s.controller_with(arm).map_err(sim_err)?)),
-            System::SerialChain(sys) => Law::Arm(Box::new(sys.controller)),
+            System::SerialChain(sys) => Law::Arm(Box::new(sys.controller), Arc::new(sys.settings)),
             System::RigidBody(ctl) => Law::Attitude(ctl),
         };
         Ok(Controller::of(law))
@@ -187,7 +189,7 @@ impl Controller {
     fn robot(&self) -> &'static str {
         match &self.law {
             Law::Scara(_) => "scara",
-            Law::Arm(_) => "arm",
+            Law::Arm(_, _) => "arm",
             Law::Attitude(_) => "rigid_body",
         }
     }
@@ -251,7 +253,7 @@ impl Controller {
                 let p: Torus<f64, 2> = c.law().field().contour().point(tau);
                 out1(py, p.angles().as_slice().to_vec()).into_any()
             }
-            Law::Arm(c) => out1(py, c.contour_point(tau)).into_any(),
+            Law::Arm(c, _) => out1(py, c.contour_point(tau)).into_any(),
             Law::Attitude(c) => {
                 let r = *c.law().field().contour().point(tau).matrix();
                 let m = nalgebra::DMatrix::from_column_slice(3, 3, r.as_slice());
@@ -266,7 +268,7 @@ impl Controller {
     fn state(&self) -> (f64, f64, f64, i64) {
         match &self.law {
             Law::Scara(c) => internal_state(c.state()),
-            Law::Arm(c) => c.state(),
+            Law::Arm(c, _) => c.state(),
             Law::Attitude(c) => internal_state(c.state()),
         }
     }

@@ -8,16 +8,14 @@ use crate::errors::{core_err, sim_err};
 use crate::runs::Scenario;
 use nalgebra::Vector2;
 use numpy::PyArray1;
-use pvfc_core::passive::{EnergyAccount, PassiveController as CorePassive};
+use pvfc_core::passive::EnergyAccount;
 use pvfc_core::prelude::*;
 use pvfc_core::supervision::Fault;
-use pvfc_sim::model::arm::{
-    ArmController as SimArm, PassiveArm, PassiveOptions, SupervisionOptions,
-};
+use pvfc_sim::model::arm::{PassiveArm, PassiveOptions, SupervisionOptions};
 use pvfc_sim::model::pace::{PaceLearningSpec, SpeedScaling};
 use pvfc_sim::scenario::PaperPassiveController;
 use pvfc_sim::scenario::System;
-use pyo3::exceptions::PyTypeError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -51,7 +49,11 @@ enum Inner {
 /// whose pace is planned along a closed contour) the pace is learned lap over lap: each 64th
 /// of the period slows where the command passed a limit (at most `fall` a lap), speeds up
 /// where its peak share of a limit stayed below `target` (at most `rise` a lap), within
-/// `slope` of its neighbours and `[floor, 1]` of the plan.
+/// `slope` of its neighbours and `[floor, 1]` of the plan. A sixth number `miss` in (0, 1]
+/// learns the torque the model misses beside it (the share of each lap's measurement taken
+/// in): the pace is planned again against it once a lap and caps each stretch's scale. It
+/// plans on the controller's pace: a `pvfc.Controller.arm` with a pace (`speed` or
+/// `torque_limit`) on a closed contour, or a scenario with `[controller.pace]`.
 #[pyclass(module = "pvfc")]
 pub(crate) struct PassiveController {
     ctl: Inner,
@@ -79,7 +81,7 @@ impl PassiveController {
         max_acceleration: Option<&Bound<'_, PyAny>>,
         period: Option<(f64, f64)>,
         pace_throttle: Option<(f64, f64, f64)>,
-        pace_learning: Option<(f64, f64, f64, f64, f64)>,
+        pace_learning: Option<Vec<f64>>,
     ) -> PyResult<Self> {
         let overrides = Overrides {
             torque_limit,
@@ -92,16 +94,7 @@ impl PassiveController {
                 time_constant,
                 floor,
             }),
-            pace_learning: pace_learning.map(|(target, fall, rise, slope, floor)| {
-                PaceLearningSpec {
-                    target,
-                    fall,
-                    rise,
-                    slope,
-                    floor,
-                    miss: 0.0,
-                }
-            }),
+            pace_learning: pace_learning.as_deref().map(learning).transpose()?,
         };
         let ctl = if let Ok(scenario) = controller.cast::<Scenario>() {
             let mut s = scenario.borrow().s.clone();
@@ -120,23 +113,31 @@ impl PassiveController {
                         .map(|k| *k == JointKind::Circular)
                         .collect();
                     let base = spec.options(&circular).map_err(sim_err)?;
-                    Inner::Arm(Box::new(arm(&system.controller, base, &overrides)?))
+                    let o = overrides.over(base, circular.len())?;
+                    let ctl = system.controller.passive(&o, &system.settings);
+                    Inner::Arm(Box::new(ctl.map_err(sim_err)?))
                 }
                 System::Scara(_) => {
-                    let base = s
-                        .passive_controller()
-                        .map_err(sim_err)?
-                        .ok_or_else(|| PyTypeError::new_err("no passive controller"))?;
-                    Inner::Scara(Box::new(scara(base, &overrides)?))
+                    let o = overrides.over(spec.options(&[true; 2]).map_err(sim_err)?, 2)?;
+                    Inner::Scara(Box::new(s.passive_controller_with(&o).map_err(sim_err)?))
                 }
             }
         } else if let Ok(c) = controller.cast::<Controller>() {
             let c = c.borrow();
             match &c.law {
                 Law::Scara(ctl) => {
-                    Inner::Scara(Box::new(scara(CorePassive::new(**ctl), &overrides)?))
+                    let o = overrides.over(PassiveOptions::default(), 2)?;
+                    if o.miss_weight().is_some() {
+                        return Err(PyValueError::new_err(
+                            "PassiveController: the SCARA's learner of the torque its model misses (pace_learning's miss) plans on its scenario's pace: build it from the pvfc.Scenario",
+                        ));
+                    }
+                    Inner::Scara(Box::new(o.controller(**ctl, None).map_err(sim_err)?))
                 }
-                Law::Arm(a) => Inner::Arm(Box::new(arm(a, PassiveOptions::default(), &overrides)?)),
+                Law::Arm(a, settings) => {
+                    let o = overrides.over(PassiveOptions::default(), a.dof())?;
+                    Inner::Arm(Box::new(a.passive(&o, settings).map_err(sim_err)?))
+                }
                 Law::Attitude(_) => return Err(no_body()),
             }
         } else {
@@ -241,7 +242,7 @@ impl PassiveController {
     #[getter]
     fn supervised(&self) -> bool {
         match &self.ctl {
-            Inner::Scara(c) => c.supervision().is_some(),
+            Inner::Scara(c) => c.controller().supervision().is_some(),
             Inner::Arm(c) => c.supervised(),
         }
     }
@@ -251,7 +252,7 @@ impl PassiveController {
     #[getter]
     fn pace_scale(&self) -> f64 {
         match &self.ctl {
-            Inner::Scara(c) => c.pace_throttle().map_or(1.0, |t| t.scale()),
+            Inner::Scara(c) => c.controller().pace_throttle().map_or(1.0, |t| t.scale()),
             Inner::Arm(c) => c.pace_scale(),
         }
     }
@@ -269,7 +270,7 @@ impl PassiveController {
     #[getter]
     fn state(&self) -> (f64, f64, f64, i64) {
         match &self.ctl {
-            Inner::Scara(c) => crate::convert::internal_state(c.controller().state()),
+            Inner::Scara(c) => crate::convert::internal_state(c.controller().controller().state()),
             Inner::Arm(c) => c.state(),
         }
     }
@@ -292,7 +293,7 @@ struct Overrides<'a, 'py> {
     supervision: SupervisionArgs<'a, 'py>,
     /// `pace_throttle`: `(threshold, time_constant, floor)`.
     pace_throttle: Option<SpeedScaling>,
-    /// `pace_learning`: `(target, fall, rise, slope, floor)`.
+    /// `pace_learning`: `(target, fall, rise, slope, floor[, miss])`.
     pace_learning: Option<PaceLearningSpec>,
 }
 
@@ -304,6 +305,33 @@ type SupervisionArgs<'a, 'py> = (
 );
 
 impl Overrides<'_, '_> {
+    /// `base` (a scenario's options or the defaults, for `n` joints) with the arguments
+    /// overriding it.
+    fn over(&self, mut base: PassiveOptions, n: usize) -> PyResult<PassiveOptions> {
+        if let Some(l) = self.torque_limit {
+            base.torque_limit = Some(dyn_vector(l, "torque_limit", n)?);
+        }
+        if let Some(d) = self.encoder_resolution {
+            base.encoder_resolution = Some(dyn_vector(d, "encoder_resolution", n)?);
+        }
+        if let Some(f) = self.velocity_filter {
+            base.velocity_filter = f;
+        }
+        if let Some(r) = self.reserve {
+            base.reserve = r;
+        }
+        if let Some(s) = self.supervision(n)? {
+            base.supervision = Some(s);
+        }
+        if let Some(t) = self.pace_throttle {
+            base.pace_throttle = Some(t);
+        }
+        if let Some(l) = self.pace_learning {
+            base.pace_learning = Some(l);
+        }
+        Ok(base)
+    }
+
     /// The supervision the arguments ask for (`None`: none asked), for `n` joints.
     fn supervision(&self, n: usize) -> PyResult<Option<SupervisionOptions>> {
         let (speed, acceleration, period) = self.supervision;
@@ -336,66 +364,23 @@ fn no_body() -> PyErr {
     )
 }
 
-/// An arm's passive controller: `base` with the arguments overriding it.
-fn arm(ctl: &SimArm, mut base: PassiveOptions, o: &Overrides<'_, '_>) -> PyResult<PassiveArm> {
-    let n = ctl.dof();
-    if let Some(l) = o.torque_limit {
-        base.torque_limit = Some(dyn_vector(l, "torque_limit", n)?);
-    }
-    if let Some(d) = o.encoder_resolution {
-        base.encoder_resolution = Some(dyn_vector(d, "encoder_resolution", n)?);
-    }
-    if let Some(f) = o.velocity_filter {
-        base.velocity_filter = f;
-    }
-    if let Some(r) = o.reserve {
-        base.reserve = r;
-    }
-    if let Some(s) = o.supervision(n)? {
-        base.supervision = Some(s);
-    }
-    if let Some(t) = o.pace_throttle {
-        base.pace_throttle = Some(t);
-    }
-    if let Some(l) = o.pace_learning {
-        base.pace_learning = Some(l);
-    }
-    ctl.passive(&base).map_err(sim_err)
-}
-
-/// The SCARA's passive controller `ctl` with the arguments overriding its settings.
-fn scara(
-    mut ctl: PaperPassiveController,
-    o: &Overrides<'_, '_>,
-) -> PyResult<PaperPassiveController> {
-    if let Some(l) = o.torque_limit {
-        ctl = ctl
-            .with_torque_limits(pair(l, "torque_limit")?)
-            .map_err(core_err)?;
-    }
-    if let Some(d) = o.encoder_resolution {
-        ctl = ctl
-            .with_encoder_resolution(pair(d, "encoder_resolution")?)
-            .map_err(core_err)?;
-    }
-    if let Some(f) = o.velocity_filter {
-        ctl = ctl.with_velocity_filter(f).map_err(core_err)?;
-    }
-    if let Some(r) = o.reserve {
-        ctl = ctl.with_reserve(r).map_err(core_err)?;
-    }
-    if let Some(s) = o.supervision(2)? {
-        ctl = ctl.with_supervision(s.build::<2>().map_err(sim_err)?);
-    }
-    if let Some(t) = o.pace_throttle {
-        ctl = ctl
-            .with_pace_throttle(t.throttle("pace_throttle").map_err(sim_err)?)
-            .map_err(core_err)?;
-    }
-    if let Some(l) = o.pace_learning {
-        ctl = ctl
-            .with_pace_learning(l.rule("pace_learning").map_err(sim_err)?)
-            .map_err(core_err)?;
-    }
-    Ok(ctl)
+/// `pace_learning=(target, fall, rise, slope, floor[, miss])`.
+fn learning(x: &[f64]) -> PyResult<PaceLearningSpec> {
+    let miss = match x.len() {
+        5 => 0.0,
+        6 => x[5],
+        n => {
+            return Err(PyValueError::new_err(format!(
+                "pace_learning: (target, fall, rise, slope, floor) or (target, fall, rise, slope, floor, miss), got {n} numbers"
+            )))
+        }
+    };
+    Ok(PaceLearningSpec {
+        target: x[0],
+        fall: x[1],
+        rise: x[2],
+        slope: x[3],
+        floor: x[4],
+        miss,
+    })
 }

@@ -236,7 +236,7 @@ def test_a_throttled_pace_slows_on_the_torque_margin_as_the_scenario_runs() -> N
     for k in range(len(r) - 1):
         c.step(r.q[k], r.qdot[k], 1e-3)
     assert c.pace_scale == p.pace_scale
-    with pytest.raises(pvfc.PvfcError, match="torque limits"):
+    with pytest.raises(pvfc.PvfcError, match="torque_limit"):
         pvfc.PassiveController(pvfc.Controller(s), pace_throttle=t)
     with pytest.raises(pvfc.PvfcError, match="threshold"):
         pvfc.PassiveController(s, pace_throttle=(1.0, 0.1, 0.1))
@@ -268,10 +268,63 @@ def test_a_learned_pace_is_the_runs_and_learns_from_the_torque_margin() -> None:
     assert worst == 0.0
     # After the first lap the learned pace is not the planned one.
     assert apart > 0.1
-    with pytest.raises(pvfc.PvfcError, match="torque limits"):
+    with pytest.raises(pvfc.PvfcError, match="torque_limit"):
         pvfc.PassiveController(pvfc.Controller(s), pace_learning=t)
     with pytest.raises(pvfc.PvfcError, match="pace_learning.fall"):
         pvfc.PassiveController(s, pace_learning=(1.0, 1.0, 0.1, 0.03, 0.2))
+
+
+def test_the_missed_torque_is_learned_beside_a_controller_built_alone() -> None:
+    """`pace_learning`'s sixth number `miss` (the torque the model misses, learned lap over
+    lap beside the controller, its caps the learned pace's ceilings) is what the scenario's
+    run does, to the bit, from `PassiveController(scenario)`; once laps are learned its
+    torques part from the same rule without it. On a URDF arm a `pvfc.Controller` keeps the
+    settings it was built from and learns the same as the scenario's; without a pace to plan
+    on, `miss` is a named error."""
+    bases = ROOT / "examples" / "studies" / "bases"
+    d = pvfc.Scenario.from_file(bases / "scara_circle_saturated.toml").to_dict()
+    d["duration"] = 18.0  # the caps bite from about 16 s (the first lap is not measured)
+    d["plant"]["mass_scale"] = [1.1, 1.14]
+    rule = d["controller"]["passive"]["pace_learning"]
+    rule["miss"] = 0.5
+    s = pvfc.Scenario.from_dict(d, base_dir=bases)
+    r = pvfc.simulate(s)
+    p = pvfc.PassiveController(s)
+    t = tuple(rule[k] for k in ("target", "fall", "rise", "slope", "floor"))
+    plain = pvfc.PassiveController(s, pace_learning=t)
+    worst = apart = 0.0
+    for k in range(len(r) - 1):
+        u = p.step(r.q[k], r.qdot[k], 1e-3)
+        worst = max(worst, float(np.abs(u - r.torque[k]).max()))
+        apart = max(apart, float(np.abs(plain.step(r.q[k], r.qdot[k], 1e-3) - u).max()))
+    assert worst == 0.0
+    assert apart > 0.1
+    with pytest.raises(ValueError, match="pvfc.Scenario"):
+        pvfc.PassiveController(pvfc.Controller(s), torque_limit=[15.0, 5.0], pace_learning=t + (0.5,))
+    with pytest.raises(ValueError, match="got 4 numbers"):
+        pvfc.PassiveController(s, pace_learning=t[:4])
+    with pytest.raises(pvfc.PvfcError, match="pace_learning.miss"):
+        pvfc.PassiveController(s, pace_learning=t + (1.5,))
+    # A URDF arm: the scenario's controller and a pvfc.Controller of it, stepped alike.
+    d = pvfc.Scenario.from_file(bases / "ur5_circle_saturated.toml").to_dict()
+    d["duration"] = 0.3
+    arm_rule = d["controller"]["passive"]["pace_learning"]
+    arm_rule["miss"] = 0.5
+    ur5 = pvfc.Scenario.from_dict(d, base_dir=bases)
+    r = pvfc.simulate(ur5)
+    alone = pvfc.PassiveController(
+        pvfc.Controller(ur5),
+        torque_limit=d["controller"]["passive"]["torque_limit"],
+        pace_learning=tuple(arm_rule[k] for k in ("target", "fall", "rise", "slope", "floor", "miss")),
+    )
+    q = pvfc.PassiveController(ur5)
+    for k in range(len(r) - 1):
+        assert np.array_equal(alone.step(r.q[k], r.qdot[k], 1e-3), q.step(r.q[k], r.qdot[k], 1e-3))
+    robot = pvfc.Robot.from_urdf(ROOT / "models" / "ur5" / "ur5_robot.urdf", tip="tool0")
+    ring = np.array([[0.0, -1.2 + 0.1 * np.sin(a), 1.4, -1.8, -1.57, 0.1 * np.cos(a)] for a in np.linspace(0, 2 * np.pi, 8, endpoint=False)])
+    unpaced = pvfc.Controller.arm(robot, ring, 1.0)
+    with pytest.raises(pvfc.PvfcError, match="pace_learning.miss"):
+        pvfc.PassiveController(unpaced, torque_limit=[150.0] * 3 + [28.0] * 3, pace_learning=t + (0.5,))
 
 
 def replayed(s: pvfc.Scenario, counts: Optional[float]) -> float:

@@ -71,7 +71,7 @@ fn run(s: &Scenario, seconds: usize) -> Books {
     let (dt, sub) = (1e-3, 10);
     let h = dt / sub as f64;
     let storage0 = {
-        let st = ctl.controller().state();
+        let st = ctl.controller().controller().state();
         0.5 * (st.tau_dot * st.tau_dot + st.flywheel_speed * st.flywheel_speed)
     };
     let kappa0 = arm.kinetic_energy(&Torus::new(q), &v) + storage0;

@@ -88,13 +88,23 @@ fn a_learned_pace_is_checked_before_anything_runs() {
         let e = s.validate().unwrap_err().to_string();
         assert!(e.contains("controller.passive.pace_learning.miss"), "{e}");
     }
-    // Learned beside a run's controller; one built alone refuses it by name.
+    // Learned beside the controller built alone too; without a pace it is refused by name.
     let mut s = heavy();
     let l = s.controller.passive.as_mut().unwrap();
     l.pace_learning.as_mut().unwrap().miss = 0.5;
     s.validate().expect("valid for a run");
-    let e = s.passive_controller().map(|_| ()).unwrap_err().to_string();
-    assert!(e.contains("pace_learning.miss"), "{e}");
+    let alone = s.passive_controller().expect("built").expect("passive");
+    assert!(alone.miss_learner().is_some());
+    let mut options = s
+        .controller
+        .passive
+        .clone()
+        .unwrap()
+        .options(&[true; 2])
+        .unwrap();
+    options.pace_learning.as_mut().unwrap().miss = 0.0;
+    let plain = s.passive_controller_with(&options).expect("built");
+    assert!(plain.miss_learner().is_none());
     let mut s = heavy();
     s.controller.passive.as_mut().unwrap().torque_limit.clear();
     let e = s.validate().unwrap_err().to_string();
@@ -111,11 +121,11 @@ fn a_learned_pace_is_checked_before_anything_runs() {
     );
 }
 
-/// `pace_learning.miss` is learned beside a run's controller: an arm's passive controller
-/// built alone from the scenario (Python's and C's path) refuses it by name, and without it
-/// the same options build.
+/// `pace_learning.miss` is learned beside an arm's passive controller built alone from the
+/// scenario (Python's and C's path) as beside a run's, on the pace of the settings it was
+/// built from; without a pace it is refused by name, and without the miss none is learned.
 #[test]
-fn an_arm_controller_built_alone_refuses_the_missed_torque_by_name() {
+fn an_arm_controller_built_alone_learns_the_missed_torque() {
     use pvfc_sim::scenario::ArmSystem;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/studies/bases");
     let mut s = Scenario::from_file(&dir.join("ur5_circle_saturated.toml")).expect("the base");
@@ -125,11 +135,17 @@ fn an_arm_controller_built_alone_refuses_the_missed_torque_by_name() {
     let system = ArmSystem::build(&s).expect("the system");
     let spec = s.controller.passive.clone().unwrap();
     let mut options = spec.options(&[true; 6]).expect("the options");
-    let e = system.controller.passive(&options).map(|_| ()).unwrap_err();
-    assert!(e.to_string().contains("pace_learning.miss"), "{e}");
+    let alone = system.controller.passive(&options, &system.settings);
+    assert!(alone.expect("built with it").learns_miss());
+    let mut unpaced = system.settings.clone();
+    unpaced.pace = None;
+    let e = system.controller.passive(&options, &unpaced).map(|_| ());
+    let e = e.unwrap_err().to_string();
+    assert!(
+        e.contains("pace_learning.miss") && e.contains("pace"),
+        "{e}"
+    );
     options.pace_learning.as_mut().unwrap().miss = 0.0;
-    system
-        .controller
-        .passive(&options)
-        .expect("built without it");
+    let plain = system.controller.passive(&options, &system.settings);
+    assert!(!plain.expect("built without it").learns_miss());
 }

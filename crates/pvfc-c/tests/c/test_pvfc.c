@@ -267,6 +267,18 @@ int main(int argc, char **argv) {
     CHECK_ERROR(pvfc_passive_new(ctl, &learned, &thr), PVFC_ERROR_INVALID_ARGUMENT,
                 "no pace to learn");
     CHECK(thr == NULL);
+    /* The torque the model misses, learned beside it (pace_learning_miss, in [0, 1]): it
+       plans on the controller's pace within the drives' limits, refused by name without one
+       (tests/abi.rs steps one that has it). */
+    const double drives[DOF] = {150, 150, 150, 28, 28, 28};
+    learned.torque_limit = drives;
+    learned.pace_learning_miss = 1.5;
+    CHECK_ERROR(pvfc_passive_new(ctl, &learned, &thr), PVFC_ERROR_INVALID_ARGUMENT,
+                "pace_learning.miss");
+    learned.pace_learning_miss = 0.5;
+    CHECK_ERROR(pvfc_passive_new(ctl, &learned, &thr), PVFC_ERROR_INVALID_ARGUMENT,
+                "pace_learning.miss plans against a pace");
+    CHECK(thr == NULL);
   }
 
   /* Dynamics: M symmetric, rnea(q, v, 0) = C v + g. */

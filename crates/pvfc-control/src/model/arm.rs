@@ -8,9 +8,10 @@ use crate::error::{Result, SimError};
 use crate::model::arm_field::{ArmField, FieldSpec};
 use crate::model::evaluation::Evaluation;
 pub use crate::model::joint_contour::{DynJointContour, JointContour, JointContourSpec};
+use crate::model::miss_paced::MissPaced;
 use crate::model::pace::{
-    energy_for_pace, set_pace_table, uniform_pacing, DriveFriction, PaceLearningSpec, PaceSettings,
-    SpeedScaling,
+    energy_for_pace, set_pace_table, uniform_pacing, DriveFriction, FieldMissLearner,
+    PaceLearningSpec, PaceSettings, SpeedScaling,
 };
 use crate::model::robot::{ChainModel, Robot};
 use nalgebra::SVector;
@@ -460,9 +461,10 @@ impl ArmController {
     }
 
     /// This controller in the passive digital mode ([`pvfc_core::passive`]), with its
-    /// internal states as they are now.
-    pub fn passive(&self, o: &PassiveOptions) -> Result<PassiveArm> {
-        Ok(on_arm!(self, c, N => o.build_boxed::<N>(c)?))
+    /// internal states as they are now; `settings` are those it was built from (the learner
+    /// of the torque the model misses, `pace_learning.miss`, plans on their pace).
+    pub fn passive(&self, o: &PassiveOptions, settings: &ArmSettings) -> Result<PassiveArm> {
+        Ok(on_arm!(self, c, N => o.build_boxed::<N>(c, settings)?))
     }
 }
 
@@ -551,18 +553,45 @@ impl SupervisionOptions {
 }
 
 impl PassiveOptions {
-    /// The passive controller of `c` on the heap, built in a stack frame of its own (see
-    /// [`arm_controller_boxed`]).
+    /// The share of a lap taken into the learned missed torque (`pace_learning.miss`), if it
+    /// is learned (> 0).
+    pub fn miss_weight(&self) -> Option<f64> {
+        self.pace_learning.map(|l| l.miss).filter(|w| *w > 0.0)
+    }
+
+    /// The passive controller of `c` (built from `settings`) on the heap, built in a stack
+    /// frame of its own (see [`arm_controller_boxed`]).
     #[inline(never)]
-    fn build_boxed<const N: usize>(&self, c: &ArmControllerN<N>) -> Result<PassiveArm>
+    fn build_boxed<const N: usize>(
+        &self,
+        c: &ArmControllerN<N>,
+        settings: &ArmSettings,
+    ) -> Result<PassiveArm>
     where
         PassiveArm: From<PassiveArmN<N>>,
     {
-        Ok(PassiveArm::from(self.build::<N>(c.clone())?))
+        // The rule checked first: the learner's plan is not made for a weight out of range.
+        if let Some(l) = &self.pace_learning {
+            l.rule("pace_learning")?;
+        }
+        let miss = arm_miss_learner(self.miss_weight(), c, settings)?;
+        Ok(PassiveArm::from(self.controller(c.clone(), miss)?))
     }
 
-    fn build<const N: usize>(&self, c: ArmControllerN<N>) -> Result<PassiveArmN<N>> {
-        let mut p = PassiveController::new(c)
+    /// The passive controller around `controller` with these options, and `miss` learning
+    /// beside it (given exactly when [`miss_weight`](Self::miss_weight) is: build it with
+    /// [`PaceSettings::miss_learner`]).
+    pub fn controller<G, Sys, F, const N: usize>(
+        &self,
+        controller: Controller<f64, G, Sys, F, N>,
+        miss: Option<Box<FieldMissLearner<N>>>,
+    ) -> Result<MissPaced<G, Sys, F, N>>
+    where
+        G: VectorGroup<f64, N>,
+        Sys: MechanicalSystem<f64, G, N>,
+        F: VelocityField<f64, G, N>,
+    {
+        let mut p = PassiveController::new(controller)
             .with_velocity_filter(self.velocity_filter)?
             .with_reserve(self.reserve)?;
         if let Some(l) = &self.torque_limit {
@@ -584,9 +613,6 @@ impl PassiveOptions {
         }
         if let Some(l) = &self.pace_learning {
             let rule = l.rule("pace_learning")?;
-            if l.miss > 0.0 {
-                return Err(SimError::Setting(ALONE_MISS.into()));
-            }
             if self.torque_limit.is_none() {
                 return Err(SimError::Setting(
                     "pace_learning reads the drives' limits: give torque_limit".into(),
@@ -594,16 +620,56 @@ impl PassiveOptions {
             }
             p = p.with_pace_learning(rule)?;
         }
-        Ok(p)
+        if self.miss_weight().is_some() != miss.is_some() {
+            return Err(SimError::Setting(
+                "pace_learning.miss: the learner is given exactly when the miss is learned (> 0)"
+                    .into(),
+            ));
+        }
+        Ok(MissPaced::new(p, miss))
     }
 }
 
-/// Why a controller built alone refuses `pace_learning.miss`.
-pub const ALONE_MISS: &str = "pace_learning.miss: the torque the model misses is learned beside a simulated run's controller (pvfc run, pvfc sweep); a controller built alone does not learn it yet";
+/// The learner of the torque the model misses (`pace_learning.miss` = `weight`) beside the
+/// arm controller `ctl` built from `settings`, on the plan of their pace; `None` for no
+/// weight.
+///
+/// Errors: a weight without a pace (`settings.pace`) on a closed contour, or without the
+/// pace's torque limits; those of [`PaceSettings::miss_learner`].
+pub fn arm_miss_learner<const N: usize>(
+    weight: Option<f64>,
+    ctl: &ArmControllerN<N>,
+    settings: &ArmSettings,
+) -> Result<Option<Box<FieldMissLearner<N>>>> {
+    let Some(weight) = weight else {
+        return Ok(None);
+    };
+    let (Some(pace), Some(period)) = (&settings.pace, settings.contour.period()) else {
+        return Err(SimError::Setting(MISS_WITHOUT_PACE.into()));
+    };
+    let contour = ctl.law().field().joint_contour();
+    let compensation = (
+        settings.friction_compensation.as_deref(),
+        settings.gravity_compensation,
+    );
+    match pace.miss_learner::<_, _, _, N>(
+        ctl.law().system(),
+        contour,
+        period,
+        compensation,
+        weight,
+    )? {
+        Some(learner) => Ok(Some(learner)),
+        None => Err(SimError::Setting(MISS_WITHOUT_PACE.into())),
+    }
+}
+
+/// Why `pace_learning.miss` is refused without a pace to plan against.
+pub const MISS_WITHOUT_PACE: &str = "pace_learning.miss plans against a pace: give the controller a pace (controller.pace) with torque limits on a closed contour";
 
 /// The passive digital controller of an `N`-joint arm.
 pub type PassiveArmN<const N: usize> =
-    PassiveController<f64, JointSpace<f64, N>, SerialChain<f64, N>, ArmField<N>, N>;
+    MissPaced<JointSpace<f64, N>, SerialChain<f64, N>, ArmField<N>, N>;
 
 /// What one passive step gives: the torque to hold and the period's energy account.
 #[derive(Clone, Debug, PartialEq)]
@@ -673,7 +739,7 @@ impl PassiveArm {
                     "torque, velocity: {N} entries each"
                 )));
             }
-            let kinds = c.controller().law().system().kinds();
+            let kinds = c.controller().controller().law().system().kinds();
             let q = JointSpace::new(fixed::<N>(q, "q")?, kinds);
             let v = v.map(|v| fixed::<N>(v, "v")).transpose()?;
             let u = applied.map(|u| fixed::<N>(u, "applied")).transpose()?;
@@ -691,21 +757,26 @@ impl PassiveArm {
         crate::on_joints!(PassiveArm, self, c, N => c.storage())
     }
 
+    /// Whether the torque the model misses is learned beside it (`pace_learning.miss`).
+    pub fn learns_miss(&self) -> bool {
+        crate::on_joints!(PassiveArm, self, c, N => c.miss_learner().is_some())
+    }
+
     /// Whether every sample is checked against bounds ([`SupervisionOptions`]).
     pub fn supervised(&self) -> bool {
-        crate::on_joints!(PassiveArm, self, c, N => c.supervision().is_some())
+        crate::on_joints!(PassiveArm, self, c, N => c.controller().supervision().is_some())
     }
 
     /// The scale of the field's pace the next step uses (the pace throttle's, in
     /// `[floor, 1]`; 1 without a throttle).
     pub fn pace_scale(&self) -> f64 {
-        crate::on_joints!(PassiveArm, self, c, N => c.pace_throttle().map_or(1.0, |t| t.scale()))
+        crate::on_joints!(PassiveArm, self, c, N => c.controller().pace_throttle().map_or(1.0, |t| t.scale()))
     }
 
     /// The internal states `(τ, τ̇, q̇_F, laps)`.
     pub fn state(&self) -> (f64, f64, f64, i64) {
         crate::on_joints!(PassiveArm, self, c, N => {
-            let s = c.controller().state();
+            let s = c.controller().controller().state();
             (s.tau, s.tau_dot, s.flywheel_speed, s.laps)
         })
     }

@@ -13,6 +13,7 @@ pub mod evaluation;
 pub mod feeds;
 pub mod gcode;
 pub mod joint_contour;
+pub mod miss_paced;
 pub mod pace;
 pub mod path_orientation;
 pub mod pose;

@@ -457,8 +457,8 @@ pub struct PaceLearningSpec {
     pub floor: f64,
     /// The share of each lap's measurement of the torque the model misses taken into it, in
     /// [0, 1] ([`FieldMissLearner`]: the pace planned again against it once a lap caps each
-    /// stretch's scale); 0 (the default): no such learning. Learned beside a simulated run's
-    /// controller (`pvfc run`, `pvfc sweep`); a controller built alone (Python, C) refuses it.
+    /// stretch's scale); 0 (the default): no such learning. Learned beside the passive
+    /// controller wherever it runs ([`crate::model::miss_paced::MissPaced`]).
     #[serde(default)]
     pub miss: f64,
 }

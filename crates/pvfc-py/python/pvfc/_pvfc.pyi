@@ -555,7 +555,9 @@ class PassiveController:
         max_acceleration: Optional[_ArrayLike] = None,
         period: Optional[Tuple[float, float]] = None,
         pace_throttle: Optional[Tuple[float, float, float]] = None,
-        pace_learning: Optional[Tuple[float, float, float, float, float]] = None,
+        pace_learning: Optional[
+            Union[Tuple[float, float, float, float, float], Tuple[float, float, float, float, float, float]]
+        ] = None,
     ) -> PassiveController: ...
     @property
     def dof(self) -> int: ...

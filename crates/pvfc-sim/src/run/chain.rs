@@ -6,15 +6,15 @@
 
 use crate::contact::spatial::SpatialContact;
 use crate::error::{Result, SimError};
-use crate::model::arm::{arm_controller, ArmControllerN, ArmSettings};
-use crate::model::pace::{FieldMissLearner, PathSpeed};
+use crate::model::arm::{arm_controller, arm_miss_learner, ArmControllerN};
+use crate::model::pace::PathSpeed;
 use crate::run::link::LinkDrive;
 use crate::run::loops::{self, Surroundings};
 use crate::run::path_clock::{tracker_clock, PathClock};
 use crate::run::stepper::PassiveDrive;
 use crate::run::Tracker;
 use crate::scenario::ArmSystem;
-use crate::scenario::{joint_vector, BaselineSpec, Mode, PassiveSpec, Scenario};
+use crate::scenario::{joint_vector, BaselineSpec, Mode, Scenario};
 use crate::trace::{ContactSample, ContactTrace, Trace, Work};
 use crate::with_dof;
 use nalgebra::SVector;
@@ -79,35 +79,13 @@ fn run<const N: usize>(
             None => loops::sampled(s, &plant, ctl, (q, v), &mut env, columns, progress),
             Some(spec) => {
                 let circular = chain.kinds().map(|k| k == JointKind::Circular);
-                let miss = miss_learner::<N>(spec, &ctl, &chain, &system.settings)?;
-                let drive = PassiveDrive::new(ctl, spec, circular, s)?.with_miss_learner(miss);
+                let miss = arm_miss_learner::<N>(spec.miss_weight(), &ctl, &system.settings)?;
+                let drive = PassiveDrive::new(ctl, spec, circular, s, miss)?;
                 loops::sampled(s, &plant, drive, (q, v), &mut env, columns, progress)
             }
         },
         Mode::Continuous => loops::continuous(s, ctl, (q, v), &mut env, columns, progress),
     }
-}
-
-/// The learner of the torque the model misses (`pace_learning.miss`) of `ctl`, on its pace's
-/// plan; `None` when the scenario asks for none.
-fn miss_learner<const N: usize>(
-    spec: &PassiveSpec,
-    ctl: &ArmControllerN<N>,
-    chain: &SerialChain<f64, N>,
-    settings: &ArmSettings,
-) -> Result<Option<Box<FieldMissLearner<N>>>> {
-    let Some(weight) = spec.miss_weight() else {
-        return Ok(None);
-    };
-    let (Some(pace), Some(period)) = (&settings.pace, settings.contour.period()) else {
-        return Err(PassiveSpec::miss_without_pace());
-    };
-    let contour = ctl.law().field().joint_contour();
-    let compensation = (
-        settings.friction_compensation.as_deref(),
-        settings.gravity_compensation,
-    );
-    pace.miss_learner::<_, _, _, N>(chain, contour, period, compensation, weight)
 }
 
 /// A tracker of the baseline for a URDF arm (`tracker`; the speed-scaling one's path time

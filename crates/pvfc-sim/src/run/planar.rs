@@ -124,9 +124,8 @@ fn sampled<E: Environment + ?Sized>(
     match &s.controller.passive {
         None => simulate_sampled(s, plant, env, with_contact, ctl, progress),
         Some(spec) => {
-            let miss = s.scara_miss_learner(&arm)?;
-            let drive = crate::run::stepper::PassiveDrive::new(ctl, spec, [true; 2], s)?
-                .with_miss_learner(miss);
+            let miss = s.scara_miss_learner(&arm, spec.miss_weight())?;
+            let drive = crate::run::stepper::PassiveDrive::new(ctl, spec, [true; 2], s, miss)?;
             simulate_sampled(s, plant, env, true, drive, progress)
         }
     }

@@ -5,13 +5,13 @@
 //! from each other only by their plant and surroundings, not by the controller.
 
 use crate::error::Result;
+use crate::model::miss_paced::MissPaced;
 use crate::model::pace::FieldMissLearner;
 use crate::plant::faults::FaultState;
 use crate::scenario::operator::Operator;
 use crate::scenario::{PassiveSpec, Scenario};
 use crate::trace::Row;
 use nalgebra::SVector;
-use pvfc_core::passive::PassiveController;
 use pvfc_core::prelude::*;
 
 /// What a controller gives the loop at one sample.
@@ -134,16 +134,15 @@ where
 /// The passive digital controller on a drive as `[controller.passive]` describes it, under
 /// the operator's commands of `[[operator]]`.
 pub(crate) struct PassiveDrive<G, Sys, F, const N: usize> {
-    controller: PassiveController<f64, G, Sys, F, N>,
+    /// The passive controller, and the learner of the torque the model misses beside it
+    /// (`pace_learning.miss`), if any.
+    controller: MissPaced<G, Sys, F, N>,
     spec: PassiveSpec,
     /// Which coordinates an encoder of `encoder_counts` per turn measures (revolute joints).
     circular: [bool; N],
     /// The operator's commands (`[[operator]]`), if any, and the control period's number.
     operator: Option<Operator>,
     period: u64,
-    /// The learner of the torque the model misses, whose caps bound the learned pace
-    /// (`pace_learning.miss`), if any.
-    miss: Option<Box<FieldMissLearner<N>>>,
 }
 
 impl<G, Sys, F, const N: usize> PassiveDrive<G, Sys, F, N>
@@ -153,31 +152,23 @@ where
     F: VelocityField<f64, G, N>,
 {
     /// The passive controller around `controller` with the spec's limits, encoder charge,
-    /// velocity filter and reserve; `circular` marks the revolute joints.
-    /// Under the scenario `s`'s operator's commands, if it has any (stopped until one starts
-    /// it).
+    /// velocity filter and reserve, and `miss` learning beside it; `circular` marks the
+    /// revolute joints. Under the scenario `s`'s operator's commands, if it has any (stopped
+    /// until one starts it).
     pub(crate) fn new(
         controller: Controller<f64, G, Sys, F, N>,
         spec: &PassiveSpec,
         circular: [bool; N],
         s: &Scenario,
+        miss: Option<Box<FieldMissLearner<N>>>,
     ) -> Result<Self> {
-        let c = spec.controller(controller, circular)?;
         Ok(PassiveDrive {
-            controller: c,
+            controller: spec.controller(controller, circular, miss)?,
             spec: spec.clone(),
             circular,
             operator: Operator::of(s)?,
             period: 0,
-            miss: None,
         })
-    }
-
-    /// With `miss` learning the torque the model misses beside the controller, after each
-    /// step, and capping the learned pace by it once a lap.
-    pub(crate) fn with_miss_learner(mut self, miss: Option<Box<FieldMissLearner<N>>>) -> Self {
-        self.miss = miss;
-        self
     }
 }
 
@@ -198,14 +189,19 @@ where
         self.period += 1;
         if let Some(operator) = &mut self.operator {
             if operator.due(k).is_some() {
-                if let Some(nominal) = self.controller.controller_mut().nominal_speed_mut() {
+                if let Some(nominal) = self
+                    .controller
+                    .controller_mut()
+                    .controller_mut()
+                    .nominal_speed_mut()
+                {
                     nominal.set_speed(operator.speed())?;
                 }
             }
             if !operator.running() {
                 // Stopped: the safe torque, the controller not stepped.
                 return Ok(Sample::stopped(
-                    *self.controller.controller().state(),
+                    *self.controller.controller().controller().state(),
                     self.controller.storage(),
                 ));
             }
@@ -233,14 +229,6 @@ where
         let out = self
             .controller
             .step(&measured, velocity, applied.as_ref(), dt)?;
-        if let (Some(miss), None) = (&mut self.miss, out.fault) {
-            let c = self.controller.controller_mut();
-            let tau_ddot = (c.state().tau_dot - out.state.tau_dot) / dt;
-            let (tau, rate) = (out.state.tau, out.state.tau_dot);
-            if miss.record(tau, rate, tau_ddot, &out.torque, dt) {
-                c.set_pace_caps(miss.caps());
-            }
-        }
         Ok(Sample {
             torque: out.torque,
             state: out.state,
@@ -253,7 +241,10 @@ where
     }
 
     fn nominal_speed_mut(&mut self) -> Option<&mut NominalSpeed<f64>> {
-        self.controller.controller_mut().nominal_speed_mut()
+        self.controller
+            .controller_mut()
+            .controller_mut()
+            .nominal_speed_mut()
     }
 }
 

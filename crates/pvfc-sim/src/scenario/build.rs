@@ -652,39 +652,48 @@ impl Scenario {
         self.with_add_ons(arm, field)
     }
 
-    /// The learner of the torque the model `arm` misses along the contour
-    /// (`controller.passive.pace_learning.miss`), on the plan of the scenario's pace; `None`
-    /// when the scenario asks for none.
+    /// The learner of the torque the model `arm` misses along the contour, taking `weight`
+    /// of each lap (`controller.passive.pace_learning.miss`), on the plan of the scenario's
+    /// pace; `None` for no weight.
     pub fn scara_miss_learner(
         &self,
         arm: &Scara<f64>,
+        weight: Option<f64>,
     ) -> Result<Option<Box<crate::model::pace::FieldMissLearner<2>>>> {
-        let Some(weight) = self
-            .controller
-            .passive
-            .as_ref()
-            .and_then(|p| p.miss_weight())
-        else {
+        let Some(weight) = weight else {
             return Ok(None);
         };
         let contour = self.contour()?;
         let period = Contour::<f64, Torus<f64, 2>, 2>::period(&contour);
+        let without_pace = || SimError::Setting(crate::model::arm::MISS_WITHOUT_PACE.into());
         let (Some(pace), Some(period)) = (self.drive_pace()?, period) else {
-            return Err(super::PassiveSpec::miss_without_pace());
+            return Err(without_pace());
         };
         let friction = self.controller.friction_compensation.as_deref();
-        pace.miss_learner::<_, _, _, 2>(arm, &contour, period, (friction, false), weight)
+        pace.miss_learner::<_, _, _, 2>(arm, &contour, period, (friction, false), weight)?
+            .map_or_else(|| Err(without_pace()), |l| Ok(Some(l)))
     }
 
     /// The passive digital controller of `[controller.passive]` around
-    /// [`controller`](Self::controller), if the scenario has one.
+    /// [`controller`](Self::controller), with the learner of the torque the model misses if
+    /// it asks for one, if the scenario has one.
     pub fn passive_controller(&self) -> Result<Option<PaperPassiveController>> {
         let Some(p) = &self.controller.passive else {
             return Ok(None);
         };
-        if p.miss_weight().is_some() {
-            return Err(SimError::Setting(crate::model::arm::ALONE_MISS.into()));
-        }
-        Ok(Some(p.controller(self.controller()?, [true; 2])?))
+        self.passive_controller_with(&p.options(&[true; 2])?)
+            .map(Some)
+    }
+
+    /// The passive digital controller with `options` around
+    /// [`controller`](Self::controller) (the learner of the torque the model misses planned
+    /// on the scenario's pace, if `options` ask for one).
+    pub fn passive_controller_with(
+        &self,
+        options: &crate::model::arm::PassiveOptions,
+    ) -> Result<PaperPassiveController> {
+        let arm = Scara::new(self.scara()?)?;
+        let miss = self.scara_miss_learner(&arm, options.miss_weight())?;
+        options.controller(self.controller_with(arm)?, miss)
     }
 }

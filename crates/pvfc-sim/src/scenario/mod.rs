@@ -5,8 +5,9 @@ use crate::contact::ContactSpec;
 use crate::error::{Result, SimError};
 use crate::model::arm::{PassiveOptions, SupervisionOptions};
 use crate::model::feeds::FeedProfile;
+use crate::model::miss_paced::MissPaced;
+use crate::model::pace::{FieldMissLearner, PaceSettings, PathSpeed};
 pub use crate::model::pace::{PaceLearningSpec, SpeedScaling};
-use crate::model::pace::{PaceSettings, PathSpeed};
 use crate::plant::faults::FaultEvent;
 use pvfc_core::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -44,8 +45,9 @@ pub type PaperField = SuspendedField<
 /// The controller of the planar arm's scenarios ([`Scenario::controller`]).
 pub type PaperController = Controller<f64, Torus<f64, 2>, Scara<f64>, PaperField, 2>;
 
-/// That controller in the passive digital mode (`pvfc_core::passive`).
-pub type PaperPassiveController = PassiveController<f64, Torus<f64, 2>, Scara<f64>, PaperField, 2>;
+/// That controller in the passive digital mode (`pvfc_core::passive`), with the learner of
+/// the torque its model misses beside it if asked for (`pace_learning.miss`).
+pub type PaperPassiveController = MissPaced<Torus<f64, 2>, Scara<f64>, PaperField, 2>;
 
 /// The velocity field of a rigid body's attitude (section IV-B, the satellite): a rotation at
 /// constant rate `R_d(τ) = R₀ exp(τ ω̂)`, the navigation function of SO(3) (eq. 26),
@@ -261,13 +263,6 @@ impl PassiveSpec {
         self.pace_learning.map(|l| l.miss).filter(|w| *w > 0.0)
     }
 
-    /// The error of a missed torque asked for without a pace to plan against.
-    pub(crate) fn miss_without_pace() -> SimError {
-        SimError::Setting(
-            "controller.passive.pace_learning.miss plans against a pace: give controller.pace and a closed contour".into(),
-        )
-    }
-
     /// These settings as the passive options of an arm whose joints `circular` marks: the
     /// encoder's resolution `2π/counts` on those joints, exact positions on the others.
     pub fn options(&self, circular: &[bool]) -> Result<PassiveOptions> {
@@ -331,47 +326,20 @@ impl PassiveSpec {
     }
 
     /// The passive controller around `controller` with these limits, encoder charge (on the
-    /// joints `circular` marks), velocity filter and reserve.
+    /// joints `circular` marks), velocity filter, reserve, supervision and pace, and `miss`
+    /// learning beside it (given exactly when [`miss_weight`](Self::miss_weight) is).
     pub fn controller<G, Sys, F, const N: usize>(
         &self,
         controller: Controller<f64, G, Sys, F, N>,
         circular: [bool; N],
-    ) -> Result<PassiveController<f64, G, Sys, F, N>>
+        miss: Option<Box<FieldMissLearner<N>>>,
+    ) -> Result<MissPaced<G, Sys, F, N>>
     where
         G: VectorGroup<f64, N>,
         Sys: MechanicalSystem<f64, G, N>,
         F: VelocityField<f64, G, N>,
     {
-        self.validate_for(N)?;
-        let mut c = PassiveController::new(controller)
-            .with_velocity_filter(self.velocity_filter)?
-            .with_reserve(self.reserve)?;
-        if !self.torque_limit.is_empty() {
-            c = c.with_torque_limits(joint_vector::<N>(
-                &self.torque_limit,
-                "controller.passive.torque_limit",
-            )?)?;
-        }
-        if let Some(counts) = self.encoder_counts {
-            let step = std::f64::consts::TAU / counts;
-            c = c.with_encoder_resolution(nalgebra::SVector::from_fn(|i, _| {
-                if circular[i] {
-                    step
-                } else {
-                    0.0
-                }
-            }))?;
-        }
-        if let Some(s) = &self.supervision {
-            c = c.with_supervision(s.build::<N>()?);
-        }
-        if let Some(t) = &self.pace_throttle {
-            c = c.with_pace_throttle(t.throttle("controller.passive.pace_throttle")?)?;
-        }
-        if let Some(l) = &self.pace_learning {
-            c = c.with_pace_learning(l.rule("controller.passive.pace_learning")?)?;
-        }
-        Ok(c)
+        self.options(&circular)?.controller(controller, miss)
     }
 
     /// A measured position: `q` rounded to the encoder's resolution.
