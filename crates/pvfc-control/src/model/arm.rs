@@ -11,7 +11,7 @@ pub use crate::model::joint_contour::{DynJointContour, JointContour, JointContou
 use crate::model::miss_paced::MissPaced;
 use crate::model::pace::{
     energy_for_pace, set_pace_table, uniform_pacing, DriveFriction, FieldMissLearner,
-    PaceLearningSpec, PaceSettings, SpeedScaling,
+    PaceLearningSpec, PaceSettings, SpeedScaling, MISS_WITHOUT_PACE,
 };
 use crate::model::robot::{ChainModel, Robot};
 use nalgebra::SVector;
@@ -556,7 +556,7 @@ impl PassiveOptions {
     /// The share of a lap taken into the learned missed torque (`pace_learning.miss`), if it
     /// is learned (> 0).
     pub fn miss_weight(&self) -> Option<f64> {
-        self.pace_learning.map(|l| l.miss).filter(|w| *w > 0.0)
+        self.pace_learning.and_then(|l| l.miss_weight())
     }
 
     /// The passive controller of `c` (built from `settings`) on the heap, built in a stack
@@ -652,20 +652,10 @@ pub fn arm_miss_learner<const N: usize>(
         settings.friction_compensation.as_deref(),
         settings.gravity_compensation,
     );
-    match pace.miss_learner::<_, _, _, N>(
-        ctl.law().system(),
-        contour,
-        period,
-        compensation,
-        weight,
-    )? {
-        Some(learner) => Ok(Some(learner)),
-        None => Err(SimError::Setting(MISS_WITHOUT_PACE.into())),
-    }
+    let system = ctl.law().system();
+    pace.miss_learner::<_, _, _, N>(system, contour, period, compensation, weight)
+        .map(Some)
 }
-
-/// Why `pace_learning.miss` is refused without a pace to plan against.
-pub const MISS_WITHOUT_PACE: &str = "pace_learning.miss plans against a pace: give the controller a pace (controller.pace) with torque limits on a closed contour";
 
 /// The passive digital controller of an `N`-joint arm.
 pub type PassiveArmN<const N: usize> =

@@ -32,6 +32,9 @@ pub const MISS_ROWS: usize = 4 * LEARNED_KNOTS;
 /// ([`MissLearner`]): its caps are the ceilings of the [`LearnedPace`]'s scales.
 pub type FieldMissLearner<const N: usize> = MissLearner<f64, N, LEARNED_KNOTS, MISS_ROWS>;
 
+/// Why `pace_learning.miss` is refused without a pace to plan against.
+pub const MISS_WITHOUT_PACE: &str = "pace_learning.miss plans against a pace: give the controller a pace (controller.pace) with torque limits on a closed contour";
+
 /// The self-pacing of the simulator's fields: eq. (21) with an optional pace profile, which
 /// a [`pvfc_core::pace::PaceThrottle`] may scale on line and a passive controller may learn
 /// lap over lap ([`LearnedPace`]).
@@ -234,8 +237,9 @@ impl PaceSettings {
 
     /// The learner of the torque `system`'s model misses along `contour` (period `period`),
     /// on the rows of this pace's plan (the same limits, compensations and rates asked for),
-    /// taking `weight` of each lap ([`MissLearner`]), on the heap (its rows are large); `None`
-    /// without torque limits.
+    /// taking `weight` of each lap ([`MissLearner`]), on the heap (its rows are large).
+    ///
+    /// Errors: no torque limits to plan within ([`MISS_WITHOUT_PACE`]); the plan's.
     pub fn miss_learner<G, Sys, X, const N: usize>(
         &self,
         system: &Sys,
@@ -243,21 +247,21 @@ impl PaceSettings {
         period: f64,
         (friction, gravity): (Option<&[f64]>, bool),
         weight: f64,
-    ) -> Result<Option<Box<FieldMissLearner<N>>>>
+    ) -> Result<Box<FieldMissLearner<N>>>
     where
         G: VectorGroup<f64, N>,
         Sys: MechanicalSystem<f64, G, N>,
         X: Contour<f64, G, N>,
     {
         let Some(limits) = self.limits::<N>(friction, gravity)? else {
-            return Ok(None);
+            return Err(SimError::Setting(MISS_WITHOUT_PACE.into()));
         };
         let fine = self.asked(system, contour, period)?;
         let every = PACE_GRID / MISS_ROWS;
         let asked = std::array::from_fn(|j| fine[j * every]);
         let learner = MissLearner::new(system, contour, &limits, period, asked, weight)
             .map_err(|e| SimError::Setting(format!("pace_learning.miss = {weight}: {e}")))?;
-        Ok(Some(Box::new(learner)))
+        Ok(Box::new(learner))
     }
 
     /// The rates asked for along `contour` (period `period`), without the drives' bound, as
@@ -464,6 +468,11 @@ pub struct PaceLearningSpec {
 }
 
 impl PaceLearningSpec {
+    /// The share of a lap taken into the learned missed torque, if it is learned (`miss > 0`).
+    pub fn miss_weight(&self) -> Option<f64> {
+        (self.miss > 0.0).then_some(self.miss)
+    }
+
     /// The core's rule (checked as `key`: a bound out of its range is named).
     pub fn rule(&self, key: &str) -> Result<pvfc_core::pace::PaceLearning<f64>> {
         let unit = |x: f64| x.is_finite() && x > 0.0 && x <= 1.0;

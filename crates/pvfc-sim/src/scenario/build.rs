@@ -665,13 +665,14 @@ impl Scenario {
         };
         let contour = self.contour()?;
         let period = Contour::<f64, Torus<f64, 2>, 2>::period(&contour);
-        let without_pace = || SimError::Setting(crate::model::arm::MISS_WITHOUT_PACE.into());
         let (Some(pace), Some(period)) = (self.drive_pace()?, period) else {
-            return Err(without_pace());
+            return Err(SimError::Setting(
+                crate::model::pace::MISS_WITHOUT_PACE.into(),
+            ));
         };
         let friction = self.controller.friction_compensation.as_deref();
-        pace.miss_learner::<_, _, _, 2>(arm, &contour, period, (friction, false), weight)?
-            .map_or_else(|| Err(without_pace()), |l| Ok(Some(l)))
+        pace.miss_learner::<_, _, _, 2>(arm, &contour, period, (friction, false), weight)
+            .map(Some)
     }
 
     /// The passive digital controller of `[controller.passive]` around

@@ -260,7 +260,7 @@ impl PassiveSpec {
     /// The share of a lap taken into the learned missed torque (`pace_learning.miss`), if it
     /// is learned (> 0).
     pub fn miss_weight(&self) -> Option<f64> {
-        self.pace_learning.map(|l| l.miss).filter(|w| *w > 0.0)
+        self.pace_learning.and_then(|l| l.miss_weight())
     }
 
     /// These settings as the passive options of an arm whose joints `circular` marks: the
