@@ -10,6 +10,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_INCREMENTAL=0
+# The builds below run the packaged command once and check that the C library links: no debug
+# information (this script in a fresh clone on 2 AMD EPYC cores: 185 → 170 s).
+export CARGO_PROFILE_DEV_DEBUG=0
 
 crates=(pvfc-core pvfc-workspace-hack pvfc-link pvfc-control pvfc-sim pvfc-c pvfc-cli)
 packages=()

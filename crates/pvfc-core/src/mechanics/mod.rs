@@ -198,7 +198,7 @@ pub(crate) fn acceleration_failure<'a, T: Real + 'a>(
 /// Cholesky solve chains two roots and four divisions. `None` unless `m₀₀ > 0` and
 /// `det M > 0` (Sylvester's criterion: positive definite), or for NaN. Reads `M`'s lower
 /// triangle. Its error is the condition number times a few ε, as the Cholesky solve's
-/// (held to nalgebra's Cholesky within `κ(M) · 8ε` in `tests/forward_dynamics.rs`).
+/// (held to nalgebra's Cholesky within `κ(M) · 8ε` in `tests/integration/forward_dynamics.rs`).
 #[inline]
 pub fn solve_spd2<T: Real>(m: &Matrix2<T>, b: &Vector2<T>) -> Option<Vector2<T>> {
     let (m00, m10, m11) = (m[(0, 0)], m[(1, 0)], m[(1, 1)]);

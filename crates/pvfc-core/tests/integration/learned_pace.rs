@@ -8,7 +8,7 @@ use pvfc_core::pace::{LearnedPace, PaceLearning, Paced, UniformPace};
 use pvfc_core::passive::PassiveController;
 use pvfc_core::prelude::*;
 
-mod common;
+use crate::common;
 use common::held::{held_balance, plant};
 
 const K: usize = 32;

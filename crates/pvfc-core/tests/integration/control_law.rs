@@ -3,7 +3,7 @@
 //! ½V_aᵀM_aV_a = Ē, invariance of q̇_a = βV_a, Proposition 1, and V̇ against finite
 //! differences.
 
-mod common;
+use crate::common;
 
 use common::setups::*;
 use common::{close, close_vec, f, vec, Tolerance, CASES};

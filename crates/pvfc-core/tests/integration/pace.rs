@@ -4,7 +4,7 @@
 //! independently from the model; the profile at a limit wherever it is below the rate asked
 //! for, with and without viscous friction), and the errors.
 
-mod common;
+use crate::common;
 
 use common::setups::test_pace;
 use nalgebra::Vector2;

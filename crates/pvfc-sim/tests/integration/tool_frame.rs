@@ -4,8 +4,6 @@
 //! by the joint contour (inverse kinematics to the axis) and by the task-space field, its
 //! axis on the path's and its joints periodic.
 
-mod common;
-
 use nalgebra::{Matrix3, Vector3};
 use pvfc_sim::model::cartesian::{TaskSpec, ToolFrameSpec};
 use pvfc_sim::model::path_orientation::{OrientationLaw, PathFrame};
@@ -64,7 +62,9 @@ fn the_path_frame_has_its_axes_and_its_rate() {
             continue;
         }
         checked += 1;
-        let fd = (common::small_rotation(&rl, &rp) - common::small_rotation(&rl, &rm)) / (2.0 * h);
+        let fd = (crate::common::small_rotation(&rl, &rp)
+            - crate::common::small_rotation(&rl, &rm))
+            / (2.0 * h);
         assert!(
             (fd - rate_l).norm() < 1e-6 * (1.0 + rate_l.norm()),
             "{k}: {fd} {rate_l}"

@@ -1,7 +1,7 @@
 //! Navigation functions (critical points, Hessians) and contours (derivatives, periodicity,
 //! interpolation), over random parameters.
 
-mod common;
+use crate::common;
 
 use common::{close_vec, f, vec, Tolerance, CASES};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};

@@ -1,7 +1,7 @@
 //! Obstacles through navigation functions (Remark 3): the composed function's critical points,
 //! the field's flow around obstacles, and the property suites' coverage of the barrier.
 
-mod common;
+use crate::common;
 
 use common::setups::*;
 use common::vec;

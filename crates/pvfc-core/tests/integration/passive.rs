@@ -7,7 +7,7 @@ use proptest::prelude::*;
 use pvfc_core::passive::PassiveController;
 use pvfc_core::prelude::*;
 
-mod common;
+use crate::common;
 use common::held::{kinetic, plant};
 
 type Field = SuspendedField<

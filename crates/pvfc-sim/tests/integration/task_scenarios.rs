@@ -4,8 +4,6 @@
 //! machining target), the audits with contact (continuous and the passive digital
 //! controller), and bad settings named.
 
-mod common;
-
 use nalgebra::Vector3;
 use pvfc_core::contour::Contour;
 use pvfc_sim::model::cartesian::TaskSpec;
@@ -131,7 +129,7 @@ fn corner_orientations_are_continuous_with_their_rate() {
         let (r, rate) = corners.at(s);
         let (rp, _) = corners.at(s + h);
         let (rm, _) = corners.at(s - h);
-        let step = common::small_rotation;
+        let step = crate::common::small_rotation;
         // Continuous: neighbours within the rate's turn; the rate is the central difference.
         assert!(step(&rm, &rp).norm() < 2.0 * h * rate.norm() + 1e-9);
         let fd = (step(&r, &rp) - step(&r, &rm)) / (2.0 * h);
@@ -257,7 +255,7 @@ fn the_audits_hold_with_the_task_space_field() {
         }
         s.duration = 3.0;
         // A table whose top is 3 mm above the tool ball's lowest point on the path.
-        s.contact_3d = Some(common::table_under_the_rectangle());
+        s.contact_3d = Some(crate::common::table_under_the_rectangle());
         s.validate().unwrap();
         let t = simulate(&s, &mut |_| {}).unwrap();
         let c = t.contact.as_ref().unwrap();

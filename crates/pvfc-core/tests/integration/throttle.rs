@@ -8,7 +8,7 @@ use pvfc_core::pace::{PaceThrottle, Paced, Throttled, UniformPace};
 use pvfc_core::passive::PassiveController;
 use pvfc_core::prelude::*;
 
-mod common;
+use crate::common;
 use common::held::{held_balance, plant};
 
 type Pacing = Paced<ExponentialPacing<f64>, Throttled<f64, UniformPace>>;

@@ -1,9 +1,9 @@
-//! What several test files share.
+//! What several test modules share.
 
 /// A table under the UR5's rectangle (`ur5_cartesian`, the path at z = 0.30 m): its top 3 mm
 /// above the lowest point of a tool ball of 1 cm radius, a stiff contact with friction.
 #[cfg(feature = "contact")]
-#[allow(dead_code)] // not every test file that shares this module uses it
+#[allow(dead_code)] // not every build of the tests has contact
 pub fn table_under_the_rectangle() -> pvfc_sim::contact::spatial::SpatialContactSpec {
     use pvfc_sim::contact::spatial::{SpatialContactSpec, SpatialObstacle, SpatialShape};
     SpatialContactSpec {
@@ -34,7 +34,7 @@ pub fn table_under_the_rectangle() -> pvfc_sim::contact::spatial::SpatialContact
 
 /// The small rotation from `a` to `b` (the vee of the skew part of `aᵀb`): accurate near the
 /// identity, where an angle from the trace is not.
-#[allow(dead_code)] // not every test file that shares this module uses it
+#[allow(dead_code)] // not every build of the tests has contact
 pub fn small_rotation(
     a: &nalgebra::Matrix3<f64>,
     b: &nalgebra::Matrix3<f64>,

@@ -2,7 +2,7 @@
 //! random chains (mixed revolute and prismatic joints, arbitrary frames) and random states.
 //! (Pinocchio checks the same quantities on real URDFs from Python: `test_pinocchio.py`.)
 
-mod common;
+use crate::common;
 
 use common::{close, f};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};

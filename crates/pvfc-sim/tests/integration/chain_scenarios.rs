@@ -2,8 +2,6 @@
 //! UR5 and Panda files parse and run, the frictionless continuous loop keeps κ_a, the
 //! sampled one converges, and bad settings are errors that name the field.
 
-mod common;
-
 use pvfc_sim::run::simulate;
 use pvfc_sim::scenario::{Mode, Scenario};
 use std::path::{Path, PathBuf};
@@ -279,7 +277,7 @@ fn ur5_on_a_table(mode: Mode) -> Scenario {
     }
     s.duration = 3.0;
     // A table whose top is 3 mm above the tool ball's lowest point on the path (z = 0.30).
-    s.contact_3d = Some(common::table_under_the_rectangle());
+    s.contact_3d = Some(crate::common::table_under_the_rectangle());
     s.validate().unwrap();
     s
 }

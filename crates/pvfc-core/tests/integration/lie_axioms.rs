@@ -1,6 +1,6 @@
 //! One generic axiom suite for every Lie group, run for `f32` and `f64` over random elements.
 
-mod common;
+use crate::common;
 
 use common::{close_vec, f, Tolerance, CASES};
 use nalgebra::SVector;
