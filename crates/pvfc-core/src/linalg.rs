@@ -38,8 +38,8 @@ pub fn spd_inverse<T: Real, const M: usize>(a: &SMatrix<T, M, M>) -> Option<SMat
         w[j][j] = inv_diag[j];
         for i in j + 1..M {
             let mut s = T::zero();
-            for k in j..i {
-                s += l[i][k] * w[k][j];
+            for (x, row) in l[i][j..i].iter().zip(&w[j..i]) {
+                s += *x * row[j];
             }
             w[i][j] = -s * inv_diag[i];
         }
