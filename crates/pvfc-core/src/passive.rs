@@ -231,6 +231,9 @@ pub struct PassiveController<T: Real, G, Sys, F, const D: usize> {
     rate: Option<(Tangent<T, D>, T)>,
     /// The joint whose encoder was found frozen, until its reading changes.
     frozen: Option<usize>,
+    /// How long each joint's reading had not changed at the last good reading (s): a
+    /// catch-up must be a motion the joint could have made while its encoder stood still.
+    still_for: Tangent<T, D>,
     /// The diagnostics of the last good step (reported at a fault).
     last_diagnostics: Diagnostics<T>,
     /// A rejected reading that may be the truth after a frozen encoder ([`Candidate`]).
@@ -258,6 +261,25 @@ struct Candidate<T: Real, G> {
     elapsed: T,
 }
 
+/// How long each joint's reading has not changed after a good increment `dq` over `elapsed`
+/// to the reading `q`: `still` plus `elapsed` where the joint's reading is unchanged, zero
+/// where it moved.
+fn still_for<T: Real, G: VectorGroup<T, D>, const D: usize>(
+    still: &Tangent<T, D>,
+    dq: &Tangent<T, D>,
+    elapsed: T,
+    q: &G,
+) -> Tangent<T, D> {
+    let at = q.coordinates();
+    Tangent::from_fn(|j, _| {
+        if unchanged(dq[j], at[j]) {
+            still[j] + elapsed
+        } else {
+            T::zero()
+        }
+    })
+}
+
 impl<T, G, Sys, F, const D: usize> PassiveController<T, G, Sys, F, D>
 where
     T: Real,
@@ -282,6 +304,7 @@ where
             supervision: None,
             rate: None,
             frozen: None,
+            still_for: Tangent::zeros(),
             candidate: None,
             throttle: None,
             learning: None,
@@ -474,7 +497,9 @@ where
     /// An encoder frozen while its joint is too slow for the acceleration bound to tell is
     /// not seen: the controller gives energy its storage does not pay for, until the encoder
     /// reads again. Its reading then jumps, and the jump is rejected; if the joint at fault
-    /// had not moved since the reading before, the rejected reading is kept, and if the next
+    /// had not moved since the reading before, and the jump is a motion it could have made at
+    /// its speed bound while its reading stood still (so that two samples of a spike are not
+    /// taken for a catch-up), the rejected reading is kept, and if the next
     /// reading continues from it and not from the last good one, it was the truth: it
     /// becomes the last good reading, and the storage is charged the work the coupling
     /// torque held before the jump did across it, as the balance would have (a credit is not
@@ -498,7 +523,7 @@ where
             if let Some(c) = self.confirmed_catch_up(&sup, q, dt) {
                 undo = Some((
                     self.storage,
-                    self.rate,
+                    (self.rate, self.still_for),
                     self.frozen,
                     self.candidate,
                     self.held,
@@ -507,6 +532,7 @@ where
                 self.storage -= c.work;
                 self.rate = None;
                 self.frozen = None;
+                self.still_for = Tangent::zeros();
                 self.candidate = None;
                 if let Some(h) = self.held.as_mut() {
                     h.q = c.q;
@@ -514,7 +540,7 @@ where
                 }
             }
         }
-        let Some((storage, rate, frozen, candidate, held)) = undo else {
+        let Some((storage, (rate, still_for), frozen, candidate, held)) = undo else {
             // Nothing settled: the output goes straight to the caller (no copy of it).
             return self.step_settled(q, v, applied, dt, caught_up);
         };
@@ -522,11 +548,11 @@ where
         if out.is_err() {
             (
                 self.storage,
-                self.rate,
+                (self.rate, self.still_for),
                 self.frozen,
                 self.candidate,
                 self.held,
-            ) = (storage, rate, frozen, candidate, held);
+            ) = (storage, (rate, still_for), frozen, candidate, held);
         }
         out
     }
@@ -684,6 +710,9 @@ where
         self.storage = storage;
         self.velocity_estimate = velocity_estimate;
         if self.supervision.is_some() {
+            if let Some((dq, e)) = &increment {
+                self.still_for = still_for(&self.still_for, dq, *e, q);
+            }
             self.rate = increment.map(|(dq, e)| (dq / e, e));
             self.frozen = None;
             self.candidate = None;
@@ -820,6 +849,7 @@ where
         let mut velocity_estimate = self.velocity_estimate;
         let mut rate = self.rate;
         let mut candidate = self.candidate;
+        let mut good_increment = None;
         let held = match &self.held {
             Some(held) => {
                 let u = applied.copied().unwrap_or(held.command);
@@ -827,14 +857,21 @@ where
                 storage += held.virtual_add_on;
                 // A reading rejected where the joint had not moved since the last good one
                 // may be a frozen encoder's catch-up: kept until the next reading tells.
+                // And the jump must be a motion the joint could have made, at its speed bound,
+                // while its reading stood still: two samples of a spike are not a catch-up.
                 let at = held.q.coordinates();
                 let still = |j: usize| self.rate.is_some_and(|(w, e)| unchanged(w[j] * e, at[j]));
+                let jump = held.q.inverse().compose(q).log();
+                let reachable = |j: usize| {
+                    let hidden = self.still_for[j] + held.elapsed + period;
+                    let count = self.resolution.map_or(T::zero(), |r| r[j]);
+                    jump[j].abs() <= sup.max_speed()[j] * hidden + count
+                };
                 match (fault, candidate.as_mut()) {
                     (_, Some(c)) => c.elapsed += period,
                     (Fault::Speed { joint } | Fault::Acceleration { joint }, None)
-                        if !good_positions && still(joint) =>
+                        if !good_positions && still(joint) && reachable(joint) =>
                     {
-                        let jump = held.q.inverse().compose(q).log();
                         candidate = Some(Candidate {
                             q: *q,
                             // Never a credit: if the reading was a spike that lasted, the
@@ -853,6 +890,7 @@ where
                     storage = storage - to_robot - quantisation;
                     velocity_estimate = self.filtered_velocity(&dq, elapsed);
                     rate = Some((dq / elapsed, elapsed));
+                    good_increment = Some((dq, elapsed));
                     Some((*q, T::zero(), previous))
                 } else {
                     // The add-ons' share too: their work is not reported for this period.
@@ -881,6 +919,9 @@ where
         self.storage = storage;
         self.velocity_estimate = velocity_estimate;
         self.rate = rate;
+        if let Some((dq, e)) = &good_increment {
+            self.still_for = still_for(&self.still_for, dq, *e, q);
+        }
         self.candidate = if good_positions { None } else { candidate };
         if let Fault::Frozen { joint } = fault {
             self.frozen = Some(joint);

@@ -451,6 +451,44 @@ fn an_undetected_freeze_is_paid_for_when_the_encoder_reads_again() {
     );
 }
 
+/// A spike of two samples on a joint whose reading stands still is not a frozen encoder's
+/// catch-up: a jump the joint could not have made at its speed bound (10 rad/s) while its
+/// reading stood still (3 ms here: 0.03 rad against 0.3) is rejected at both samples, and the
+/// true reading after it is taken at once. (Taken for a catch-up, the spike would become the
+/// controller's position, and the truth after it would be rejected for 30 ms.)
+#[test]
+fn a_spike_of_two_samples_is_not_a_catch_up() {
+    let start = slowest_sample_of_joint_0();
+    let mut ctl = supervised(20.0);
+    let run = run(&mut ctl, start + 60, |k| {
+        if (start..start + 3).contains(&k) {
+            Some(Glitch::Freeze(0))
+        } else if (start + 3..start + 5).contains(&k) {
+            Some(Glitch::Spike(0, 0.3))
+        } else {
+            None
+        }
+    });
+    assert!(
+        run[start..start + 3].iter().all(|(f, _)| f.is_none()),
+        "the freeze was detected: the reading did not stand still unseen"
+    );
+    for k in start + 3..start + 5 {
+        assert!(
+            matches!(run[k].0, Some(Fault::Speed { joint: 0 })),
+            "sample {k}: {:?}",
+            run[k].0
+        );
+    }
+    for (k, (fault, created)) in run.iter().enumerate().skip(start + 5) {
+        assert_eq!(
+            *fault, None,
+            "sample {k}: the true reading after the spike was rejected"
+        );
+        assert!(*created <= 1e-9, "{created:e} J created at sample {k}");
+    }
+}
+
 #[test]
 fn a_frozen_encoder_is_latched_until_it_moves() {
     let mut ctl = supervised(20.0);
