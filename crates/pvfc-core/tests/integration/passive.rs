@@ -473,11 +473,10 @@ fn a_spike_of_two_samples_is_not_a_catch_up() {
         run[start..start + 3].iter().all(|(f, _)| f.is_none()),
         "the freeze was detected: the reading did not stand still unseen"
     );
-    for k in start + 3..start + 5 {
+    for (k, (fault, _)) in run.iter().enumerate().take(start + 5).skip(start + 3) {
         assert!(
-            matches!(run[k].0, Some(Fault::Speed { joint: 0 })),
-            "sample {k}: {:?}",
-            run[k].0
+            matches!(fault, Some(Fault::Speed { joint: 0 })),
+            "sample {k}: {fault:?}"
         );
     }
     for (k, (fault, created)) in run.iter().enumerate().skip(start + 5) {
