@@ -861,17 +861,18 @@ where
                 // while its reading stood still: two samples of a spike are not a catch-up.
                 let at = held.q.coordinates();
                 let still = |j: usize| self.rate.is_some_and(|(w, e)| unchanged(w[j] * e, at[j]));
-                let jump = held.q.inverse().compose(q).log();
+                let jump = || held.q.inverse().compose(q).log();
                 let reachable = |j: usize| {
                     let hidden = self.still_for[j] + held.elapsed + period;
                     let count = self.resolution.map_or(T::zero(), |r| r[j]);
-                    jump[j].abs() <= sup.max_speed()[j] * hidden + count
+                    jump()[j].abs() <= sup.max_speed()[j] * hidden + count
                 };
                 match (fault, candidate.as_mut()) {
                     (_, Some(c)) => c.elapsed += period,
                     (Fault::Speed { joint } | Fault::Acceleration { joint }, None)
                         if !good_positions && still(joint) && reachable(joint) =>
                     {
+                        let jump = jump();
                         candidate = Some(Candidate {
                             q: *q,
                             // Never a credit: if the reading was a spike that lasted, the
