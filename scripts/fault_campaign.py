@@ -2,14 +2,16 @@
 """The fault campaign's verdict from a `pvfc sweep` table of examples/studies/faults_*.toml.
 
   usage: fault_campaign.py TABLE.csv --bound JOULES [--allow-error TEXT] [--require-recovery]
+                           [--require-no-creation]
 
 Prints, as a Markdown table: the runs, the runs that failed (and why), the most energy the
 controller created over any stretch of a run (and in how many runs it passed `--bound`, the
 encoders' rounding bound), the most it still owed at the end of a run, the recovery times
 (median, 95th percentile, max) and the events never recovered from. Fails (exit 1) if a run
 owes more than the bound at its end, if a run failed with an error that does not contain
-`--allow-error` (none allowed without it), and with `--require-recovery` if an event was
-never recovered from."""
+`--allow-error` (none allowed without it), with `--require-recovery` if an event was never
+recovered from, and with `--require-no-creation` if a run created more than the bound over
+some stretch."""
 
 import argparse
 import csv
@@ -23,6 +25,7 @@ def main() -> int:
     p.add_argument("--bound", type=float, required=True)
     p.add_argument("--allow-error", default=None)
     p.add_argument("--require-recovery", action="store_true")
+    p.add_argument("--require-no-creation", action="store_true")
     a = p.parse_args()
     rows = list(csv.DictReader(open(a.table, newline="")))
     done = [r for r in rows if not r.get("error")]
@@ -53,6 +56,8 @@ def main() -> int:
     bad = []
     if max(owed) > a.bound:
         bad.append(f"a run owes {max(owed):.3g} J at its end (bound {a.bound:.3g} J)")
+    if a.require_no_creation and max(created) > a.bound:
+        bad.append(f"a run created {max(created):.3g} J over a stretch (bound {a.bound:.3g} J)")
     if a.require_recovery and sum(never) > 0:
         bad.append(f"{int(sum(never))} events never recovered from")
     unexpected = [r["error"] for r in failed if not (a.allow_error and a.allow_error in r["error"])]

@@ -258,6 +258,9 @@ typedef struct pvfc_energy_account {
   enum pvfc_fault fault;
   // The joint (0-based) the fault names, or -1.
   int32_t fault_joint;
+  // What the storage set aside this step for the work the readings that stand still may
+  // hide (negative when it came back; with supervision only).
+  double set_aside;
 } pvfc_energy_account;
 
 // One joint of a serial arm given as numbers, and the link it moves (URDF's conventions:

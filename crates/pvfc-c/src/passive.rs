@@ -150,6 +150,9 @@ pub struct pvfc_energy_account {
     pub fault: pvfc_fault,
     /// The joint (0-based) the fault names, or -1.
     pub fault_joint: i32,
+    /// What the storage set aside this step for the work the readings that stand still may
+    /// hide (negative when it came back; with supervision only).
+    pub set_aside: f64,
 }
 
 /// The passive digital controller (opaque): passive by construction at its samples.
@@ -287,6 +290,7 @@ pub unsafe extern "C" fn pvfc_passive_step(
                 unseen: e.unseen,
                 fault: fault.into(),
                 fault_joint: fault.and_then(|f| f.joint()).map_or(-1, |j| j as i32),
+                set_aside: e.set_aside,
             };
         }
         match fault {

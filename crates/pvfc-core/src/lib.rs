@@ -97,7 +97,9 @@ pub mod prelude {
         TorusNavigation,
     };
     pub use crate::pacing::{ConstantGains, ExponentialPacing, SelfPacing};
-    pub use crate::passive::{EnergyAccount, PassiveController, PassiveStepOutput};
+    pub use crate::passive::{
+        EnergyAccount, PassiveController, PassiveStepOutput, SetAsideAccount,
+    };
     pub use crate::supervision::{Fault, Supervision};
     pub use crate::Real;
 }

@@ -91,7 +91,9 @@ pub struct EnergyAccount<T: Real> {
     /// catch-up is confirmed at this step ([`PassiveController::step`]), the work of the
     /// torque held before it across the jump is in it too.
     pub to_robot: T,
-    /// The add-ons' energy over the last period, `aᵀΔq + E` (J).
+    /// The add-ons' energy over the last period, `aᵀΔq + E` (J), and with supervision what
+    /// is held aside as theirs for the readings that stand still (their share of
+    /// [`PassiveController::set_aside`]: reported, not paid from the storage).
     pub add_ons: T,
     /// What the hold's error would have created or destroyed over the last period had the
     /// internal states simply been integrated (J): the storage's level minus the integrated
@@ -110,6 +112,29 @@ pub struct EnergyAccount<T: Real> {
     /// add-ons' share is in it: their energy over that period is not reported in
     /// [`add_ons`](Self::add_ons).
     pub unseen: T,
+    /// What the storage set aside this step for the coupling's work the readings that stand
+    /// still may hide (J; negative when what was set aside came back: with supervision only,
+    /// see [`PassiveController::set_aside`]; the add-ons' share is in
+    /// [`add_ons`](Self::add_ons)).
+    pub set_aside: T,
+}
+
+/// The energy a [`PassiveController`] holds aside for the motion its still readings may
+/// hide, per joint, the coupling's and the add-ons' shares together
+/// ([`PassiveController::set_aside`]). A joint's stretch opens when its reading stands still
+/// and closes when the readings have shown where it went. Over the stretch, the part of
+/// `energy` the hidden motion has not used, `energy − (W − accounted)`
+/// for the drive's true work `W` over the stretch's periods (those over which `time` grew),
+/// is still the controller's: an audit that knows the truth counts it beside the storage.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SetAsideAccount<T: Real, const D: usize> {
+    /// What is set aside (J).
+    pub energy: Tangent<T, D>,
+    /// What the balances accounted (paid, or reported as the add-ons') of the stretch's
+    /// periods (J).
+    pub accounted: Tangent<T, D>,
+    /// The time of the stretch's periods (s; zero: no stretch open).
+    pub time: Tangent<T, D>,
 }
 
 /// What one step of a [`PassiveController`] returns.
@@ -186,11 +211,252 @@ impl<T: Real, G: VectorGroup<T, D>, const D: usize> Held<T, G, D> {
             }
             _ => T::zero(),
         };
+        let to_robot = (u - self.add_on).dot(&dq);
         Balance {
-            to_robot: (u - self.add_on).dot(&dq),
+            // After a gap (readings rejected, each period charged the most its torque can
+            // have done unseen), never a credit: the robot may have given energy back over
+            // the gap, which the charges have already paid for at their bound.
+            to_robot: if self.elapsed > T::zero() {
+                to_robot.max(T::zero())
+            } else {
+                to_robot
+            },
             add_ons: self.add_on.dot(&dq) + self.virtual_add_on,
             quantisation,
             dq,
+        }
+    }
+}
+
+/// What is held aside for one share of the torque (the coupling's, paid from the storage,
+/// or the add-ons', reported as theirs) over each joint's stretch ([`SetAside`]): the
+/// energy; the speed bound's reach `Σ |u_k| v̄ h_k`; over the stretch's periods, the torque's
+/// integral, its steps weighted by the span's time at them (`Σ|Δu_k| t_k`, `Σ|Δu_k| t_k²`)
+/// and its last value; and what the balances accounted of the stretch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Escrow<T: Real, const D: usize> {
+    energy: Tangent<T, D>,
+    reach: Tangent<T, D>,
+    integral: Tangent<T, D>,
+    steps: [Tangent<T, D>; 2],
+    last: Tangent<T, D>,
+    accounted: Tangent<T, D>,
+}
+
+impl<T: Real, const D: usize> Escrow<T, D> {
+    fn zero() -> Self {
+        Escrow {
+            energy: Tangent::zeros(),
+            reach: Tangent::zeros(),
+            integral: Tangent::zeros(),
+            steps: [Tangent::zeros(); 2],
+            last: Tangent::zeros(),
+            accounted: Tangent::zeros(),
+        }
+    }
+
+    /// A step `du` of joint `j`'s torque at the span's time `t`.
+    fn step_of(&mut self, j: usize, du: T, t: T) {
+        self.steps[0][j] += du * t;
+        self.steps[1][j] += du * t * t;
+    }
+
+    /// Joint `j`'s torque `u` held over `elapsed` of the stretch's periods from the span's
+    /// time `t` (`first`: the stretch's first period), `v̄` its speed bound.
+    fn hold(&mut self, j: usize, (u, elapsed, t, first): (T, T, T, bool), max_speed: T) {
+        if !first {
+            self.step_of(j, (u - self.last[j]).abs(), t);
+        }
+        self.last[j] = u;
+        self.integral[j] += u * elapsed;
+        self.reach[j] += u.abs() * max_speed * elapsed;
+    }
+
+    /// The torque steps to zero at the span's time `t` (periods whose work is charged apart).
+    fn skip(&mut self, j: usize, t: T) {
+        self.step_of(j, self.last[j].abs(), t);
+        self.last[j] = T::zero();
+    }
+
+    /// The bound on the work `W` of this share over joint `j`'s stretch, the least of two:
+    /// `Σ |u_k| v̄ h_k` (the speed bound alone); and over the span `T` with the joint's true
+    /// motion `d` (the readings' `moved` within `count`), the work along the chord
+    /// `d t / T`, `(∫u dt / T) d`, plus the work along the path's departure `e` from it
+    /// (zero at both ends), `−Σ Δu_k e(t_k)` by parts, where `|e(t)| ≤ c t (T − t)` with
+    /// `c = ā/2` (the acceleration bound) or `4 v̄ / T` (the speed bound): at most
+    /// `c (T Σ|Δu_k| t_k − Σ|Δu_k| t_k²)`.
+    fn bound(&self, j: usize, (span, moved, count): (T, T, T), sup: &Supervision<T, D>) -> T {
+        let mean = self.integral[j] / span;
+        let mut c = cast::<T>(4.0) * sup.max_speed()[j] / span;
+        if let Some(a) = sup.max_acceleration() {
+            c = c.min(a[j] * cast::<T>(0.5));
+        }
+        let departure = c * (span * self.steps[0][j] - self.steps[1][j]);
+        let chord = mean * moved + mean.abs() * count + departure.max(T::zero());
+        chord.min(self.reach[j])
+    }
+
+    /// Closes joint `j`'s stretch: what was held aside comes back, less what the bound asks
+    /// beyond what the balances accounted. Returns what came back (J; negative: a charge).
+    fn close(&mut self, j: usize, bound: T) -> T {
+        let back = self.energy[j] - (bound - self.accounted[j]).max(T::zero());
+        self.energy[j] = T::zero();
+        self.reach[j] = T::zero();
+        self.integral[j] = T::zero();
+        self.steps[0][j] = T::zero();
+        self.steps[1][j] = T::zero();
+        self.last[j] = T::zero();
+        self.accounted[j] = T::zero();
+        back
+    }
+}
+
+/// The energy held aside for the work a reading that stands still may hide (with
+/// supervision): an encoder frozen while its joint is too slow for the acceleration bound to
+/// tell looks like a joint at rest. Per joint, over the stretch since its reading stood
+/// still: the coupling's share, paid from the storage, and the add-ons' share, reported as
+/// theirs ([`Escrow`]); the time of the stretch's periods (those whose work the readings did
+/// not show) and the whole span (rejected readings included); the readings' motion over it;
+/// and how long the readings must still move cleanly before they are trusted with it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct SetAside<T: Real, const D: usize> {
+    coupling: Escrow<T, D>,
+    add_ons: Escrow<T, D>,
+    time: Tangent<T, D>,
+    span: Tangent<T, D>,
+    moved: Tangent<T, D>,
+    distrust: Tangent<T, D>,
+    /// The last increment stood still: the next move ends the hidden motion.
+    fresh: [bool; D],
+}
+
+impl<T: Real, const D: usize> SetAside<T, D> {
+    fn zero() -> Self {
+        SetAside {
+            coupling: Escrow::zero(),
+            add_ons: Escrow::zero(),
+            time: Tangent::zeros(),
+            span: Tangent::zeros(),
+            moved: Tangent::zeros(),
+            distrust: Tangent::zeros(),
+            fresh: [false; D],
+        }
+    }
+
+    /// A stretch of joint `j` meets periods whose work is charged apart (rejected readings,
+    /// or a catch-up's jump): `elapsed` of the span with no torque of its own, and the
+    /// readings' motion `dq` over it, not trusted until they have moved cleanly as long as
+    /// the span.
+    fn skip(&mut self, j: usize, dq: T, elapsed: T) {
+        self.coupling.skip(j, self.span[j]);
+        self.add_ons.skip(j, self.span[j]);
+        self.span[j] += elapsed;
+        self.moved[j] += dq;
+        self.distrust[j] = self.span[j];
+        self.fresh[j] = false;
+    }
+
+    /// Closes joint `j`'s stretch (`count`: its encoder's resolution). Returns what came
+    /// back to the storage and to the add-ons (J; negative: a charge).
+    fn close(&mut self, j: usize, sup: &Supervision<T, D>, count: T) -> (T, T) {
+        let at = (self.span[j], self.moved[j], count);
+        let coupling = self.coupling.bound(j, at, sup);
+        let add_ons = self.add_ons.bound(j, at, sup);
+        let back = (
+            self.coupling.close(j, coupling),
+            self.add_ons.close(j, add_ons),
+        );
+        self.time[j] = T::zero();
+        self.span[j] = T::zero();
+        self.moved[j] = T::zero();
+        self.distrust[j] = T::zero();
+        self.fresh[j] = false;
+        back
+    }
+
+    /// After a good increment `dq` over `elapsed` to the reading `q`, with the coupling's
+    /// torque `c` and the add-ons' `a` held over it. Returns the net held aside from the
+    /// storage and reported as the add-ons' (J; negative: given back):
+    /// - where a joint's reading stood still, the most each share can have done unseen at
+    ///   the speed bound, `|c_j| v̄_j elapsed` and `|a_j| v̄_j elapsed`, is held aside;
+    /// - where it moved after standing still, the stretch closes if the increment is
+    ///   `clean` (one period after a good reading): what was held aside comes back, less
+    ///   what the bound on each share's work over the stretch ([`Escrow::bound`]) asks
+    ///   beyond what the balances accounted of it (`c_j dq_j` paid, `a_j dq_j` reported).
+    ///   After rejected readings (or a catch-up) the stretch stays open until the readings
+    ///   have moved cleanly for as long as its span: a spike taken for a reading is not
+    ///   trusted with the stretch's motion, and what the readings moved adds up, so that a
+    ///   spike's way out and back cancel.
+    fn settle<G: VectorGroup<T, D>>(
+        &mut self,
+        (dq, elapsed, clean): (&Tangent<T, D>, T, bool),
+        (c, a): (&Tangent<T, D>, &Tangent<T, D>),
+        q: &G,
+        sup: &Supervision<T, D>,
+        resolution: Option<&Tangent<T, D>>,
+    ) -> (T, T) {
+        let at = q.coordinates();
+        let (mut from_storage, mut reported) = (T::zero(), T::zero());
+        for j in 0..D {
+            let still = unchanged(dq[j], at[j]);
+            if self.span[j] == T::zero() && !still {
+                continue;
+            }
+            if still || (clean && self.fresh[j]) {
+                // A period of the hidden motion (or the move that ends it).
+                let v = sup.max_speed()[j];
+                let held = |u: T| (u, elapsed, self.span[j], self.span[j] == T::zero());
+                self.coupling.hold(j, held(c[j]), v);
+                self.add_ons.hold(j, held(a[j]), v);
+                self.time[j] += elapsed;
+                self.span[j] += elapsed;
+                self.fresh[j] = still;
+                if still {
+                    let (rc, ra) = (c[j].abs() * v * elapsed, a[j].abs() * v * elapsed);
+                    self.coupling.energy[j] += rc;
+                    self.add_ons.energy[j] += ra;
+                    from_storage += rc;
+                    reported += ra;
+                    continue;
+                }
+                self.moved[j] += dq[j];
+                self.coupling.accounted[j] += c[j] * dq[j];
+                self.add_ons.accounted[j] += a[j] * dq[j];
+            } else if !clean {
+                self.skip(j, dq[j], elapsed);
+                continue;
+            } else {
+                self.distrust[j] -= elapsed;
+            }
+            if self.distrust[j] <= T::zero() {
+                let count = resolution.map_or(T::zero(), |r| r[j]);
+                let (bc, ba) = self.close(j, sup, count);
+                from_storage -= bc;
+                reported -= ba;
+            }
+        }
+        (from_storage, reported)
+    }
+
+    /// At a frozen encoder's confirmed catch-up from the last good reading over `jump`,
+    /// `t_fault` s of rejected readings between (charged as unseen work): every open stretch
+    /// takes the jump as the readings' motion, and stays open until the readings have moved
+    /// cleanly for as long as its span (a spike taken for a catch-up is then undone by the
+    /// jump back before anything comes back).
+    fn caught_up(&mut self, jump: &Tangent<T, D>, t_fault: T) {
+        for j in 0..D {
+            if self.span[j] > T::zero() {
+                self.skip(j, jump[j], t_fault);
+            }
+        }
+    }
+
+    /// The account for an audit ([`SetAsideAccount`]).
+    fn account(&self) -> SetAsideAccount<T, D> {
+        SetAsideAccount {
+            energy: self.coupling.energy + self.add_ons.energy,
+            accounted: self.coupling.accounted + self.add_ons.accounted,
+            time: self.time,
         }
     }
 }
@@ -234,6 +500,8 @@ pub struct PassiveController<T: Real, G, Sys, F, const D: usize> {
     /// How long each joint's reading had not changed at the last good reading (s): a
     /// catch-up must be a motion the joint could have made while its encoder stood still.
     still_for: Tangent<T, D>,
+    /// What the storage holds aside for the motion a still reading may hide.
+    set_aside: SetAside<T, D>,
     /// The diagnostics of the last good step (reported at a fault).
     last_diagnostics: Diagnostics<T>,
     /// A rejected reading that may be the truth after a frozen encoder ([`Candidate`]).
@@ -305,6 +573,7 @@ where
             rate: None,
             frozen: None,
             still_for: Tangent::zeros(),
+            set_aside: SetAside::zero(),
             candidate: None,
             throttle: None,
             learning: None,
@@ -466,6 +735,14 @@ where
         self.storage
     }
 
+    /// What the storage holds aside, per joint, for the work the joint's reading may hide
+    /// while it stands still (with supervision only, zero otherwise: see
+    /// [`step`](Self::step)), and what an audit needs to count the part of it the hidden
+    /// motion has not used as the controller's energy ([`SetAsideAccount`]).
+    pub fn set_aside(&self) -> SetAsideAccount<T, D> {
+        self.set_aside.account()
+    }
+
     /// One control step at the measured positions `q` (and velocities `v`, if measured),
     /// with `applied` the torque the drive applied over the last period (after its own
     /// saturation; `None`: the command this controller sent). Returns the next torque to
@@ -495,16 +772,26 @@ where
     /// the periods of zero torque between are balanced exactly.
     ///
     /// An encoder frozen while its joint is too slow for the acceleration bound to tell is
-    /// not seen: the controller gives energy its storage does not pay for, until the encoder
-    /// reads again. Its reading then jumps, and the jump is rejected; if the joint at fault
+    /// not seen: the joint looks at rest. So over every period a joint's reading stands
+    /// still, the most its torque can have done unseen, `|u_j| v̄_j h`, is held aside
+    /// ([`set_aside`](Self::set_aside)): the coupling's share from the storage (reported as
+    /// [`set_aside`](EnergyAccount::set_aside)), the add-ons' share reported as theirs (in
+    /// [`add_ons`](EnergyAccount::add_ons)); the motion a still reading hides is paid for
+    /// before it is given. When the reading moves again, what was held aside comes back,
+    /// less what each share's work over the stretch may have been beyond the balance's: over
+    /// a stretch `T` long, its work along the straight path plus `(ā/2) Σ|Δu_k| t_k (T − t_k)`
+    /// for its changes `Δu_k` at times `t_k` (`4 v̄ / T` in place of `ā/2` without an
+    /// acceleration bound), and never more than `Σ |u_k| v̄ h_k`, however the joint moved.
+    /// A frozen encoder's reading then jumps, and the jump is rejected;
+    /// if the joint at fault
     /// had not moved since the reading before, and the jump is a motion it could have made at
     /// its speed bound while its reading stood still (so that two samples of a spike are not
     /// taken for a catch-up), the rejected reading is kept, and if the next
     /// reading continues from it and not from the last good one, it was the truth: it
     /// becomes the last good reading, and the storage is charged the work the coupling
     /// torque held before the jump did across it, as the balance would have (a credit is not
-    /// taken). The debt is settled (up to
-    /// the torque's changes while the encoder was frozen, as for an encoder's rounding).
+    /// taken); the jump joins the stretch's motion, and what was set aside comes back at the
+    /// next clean increment, less the same bound.
     /// If the step then fails, nothing changes, the catch-up's settlement included: the
     /// candidate stays for the next reading to confirm.
     pub fn step(
@@ -523,11 +810,18 @@ where
             if let Some(c) = self.confirmed_catch_up(&sup, q, dt) {
                 undo = Some((
                     self.storage,
-                    (self.rate, self.still_for),
+                    (self.rate, self.still_for, self.set_aside),
                     self.frozen,
                     self.candidate,
                     self.held,
                 ));
+                let (jump, t_fault) = self
+                    .held
+                    .as_ref()
+                    .map_or((Tangent::zeros(), T::zero()), |h| {
+                        (h.q.inverse().compose(&c.q).log(), h.elapsed - c.elapsed)
+                    });
+                self.set_aside.caught_up(&jump, t_fault);
                 caught_up = c.work;
                 self.storage -= c.work;
                 self.rate = None;
@@ -540,7 +834,7 @@ where
                 }
             }
         }
-        let Some((storage, (rate, still_for), frozen, candidate, held)) = undo else {
+        let Some((storage, (rate, still_for, set_aside), frozen, candidate, held)) = undo else {
             // Nothing settled: the output goes straight to the caller (no copy of it).
             return self.step_settled(q, v, applied, dt, caught_up);
         };
@@ -548,11 +842,17 @@ where
         if out.is_err() {
             (
                 self.storage,
-                (self.rate, self.still_for),
+                (self.rate, self.still_for, self.set_aside),
                 self.frozen,
                 self.candidate,
                 self.held,
-            ) = (storage, (rate, still_for), frozen, candidate, held);
+            ) = (
+                storage,
+                (rate, still_for, set_aside),
+                frozen,
+                candidate,
+                held,
+            );
         }
         out
     }
@@ -604,6 +904,24 @@ where
                 velocity_estimate = self.filtered_velocity(&dq, elapsed);
             }
             increment = Some((dq, elapsed));
+        }
+        // 1b. With supervision, the work a still reading may hide: set aside, or given back.
+        let mut aside = self.set_aside;
+        let mut set_aside = T::zero();
+        if let (Some(sup), Some(held), Some((dq, elapsed))) =
+            (&self.supervision, &self.held, &increment)
+        {
+            let u = applied.copied().unwrap_or(held.command);
+            let reported;
+            (set_aside, reported) = aside.settle(
+                (dq, *elapsed, held.elapsed == T::zero()),
+                (&(u - held.add_on), &held.add_on),
+                q,
+                sup,
+                self.resolution.as_ref(),
+            );
+            storage -= set_aside;
+            add_ons += reported;
         }
         // 2. The internal velocities put back onto the storage's level set.
         let integrated = virtual_energy(&self.controller, &state);
@@ -714,6 +1032,7 @@ where
                 self.still_for = still_for(&self.still_for, dq, *e, q);
             }
             self.rate = increment.map(|(dq, e)| (dq / e, e));
+            self.set_aside = aside;
             self.frozen = None;
             self.candidate = None;
             self.last_diagnostics = diagnostics;
@@ -746,6 +1065,7 @@ where
                 saturated,
                 quantisation,
                 unseen: T::zero(),
+                set_aside,
             },
             fault: None,
             pace_scale: pace.map_or(T::one(), |(s, _)| s),
@@ -850,6 +1170,8 @@ where
         let mut rate = self.rate;
         let mut candidate = self.candidate;
         let mut good_increment = None;
+        let mut aside = self.set_aside;
+        let mut set_aside = T::zero();
         let held = match &self.held {
             Some(held) => {
                 let u = applied.copied().unwrap_or(held.command);
@@ -889,6 +1211,16 @@ where
                     let elapsed = held.elapsed + period;
                     (to_robot, add_ons, quantisation) = (b.to_robot, b.add_ons, b.quantisation);
                     storage = storage - to_robot - quantisation;
+                    let reported;
+                    (set_aside, reported) = aside.settle(
+                        (&dq, elapsed, held.elapsed == T::zero()),
+                        (&(u - held.add_on), &held.add_on),
+                        q,
+                        sup,
+                        self.resolution.as_ref(),
+                    );
+                    storage -= set_aside;
+                    add_ons += reported;
                     velocity_estimate = self.filtered_velocity(&dq, elapsed);
                     rate = Some((dq / elapsed, elapsed));
                     good_increment = Some((dq, elapsed));
@@ -920,6 +1252,7 @@ where
         self.storage = storage;
         self.velocity_estimate = velocity_estimate;
         self.rate = rate;
+        self.set_aside = aside;
         if let Some((dq, e)) = &good_increment {
             self.still_for = still_for(&self.still_for, dq, *e, q);
         }
@@ -952,6 +1285,7 @@ where
                 saturated: false,
                 quantisation,
                 unseen,
+                set_aside,
             },
             fault: Some(fault),
             pace_scale: self.throttle.as_ref().map_or(T::one(), |t| t.scale()),

@@ -201,8 +201,8 @@ impl PassiveController {
     }
 
     /// The last step's energy account: storage, to_robot, add_ons, correction, scale,
-    /// saturated, quantisation, unseen (J, except scale and saturated); `None` before the
-    /// first step.
+    /// saturated, quantisation, unseen, set_aside (J, except scale and saturated); `None`
+    /// before the first step.
     #[getter]
     fn energy<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         let Some(e) = self.last else {
@@ -217,6 +217,7 @@ impl PassiveController {
         d.set_item("saturated", e.saturated)?;
         d.set_item("quantisation", e.quantisation)?;
         d.set_item("unseen", e.unseen)?;
+        d.set_item("set_aside", e.set_aside)?;
         Ok(Some(d))
     }
 

@@ -277,6 +277,8 @@ enum Glitch {
     Late,
     /// The drive clamps the torque to this (N·m; and says so).
     Limit(f64),
+    /// The reading of joint `j` is NaN while the drive keeps the torque it had.
+    NotANumberDropped(usize),
 }
 
 /// The loop of `steps` periods of 1 ms (unless a glitch says otherwise) from the contour's
@@ -288,10 +290,38 @@ fn run(
     steps: usize,
     glitch: impl Fn(usize) -> Option<Glitch>,
 ) -> Vec<(Option<Fault>, f64)> {
+    run_with_hidden_work(ctl, steps, glitch).0
+}
+
+/// What a run's set-aside energy did (J), and the robot's true speed at its end.
+#[derive(Clone, Copy, Debug, Default)]
+struct SetAsideBooks {
+    /// The most work the drive did on a joint while its reading stood still (what a
+    /// frozen encoder hid, paid from what the storage set aside).
+    most_hidden: f64,
+    /// The most the storage held aside at a sample.
+    most_held: f64,
+    /// What the storage kept of it in the end (the sum of the steps' net set-aside).
+    kept: f64,
+    /// The joints' true speeds at the last sample (rad/s).
+    final_speed: Vector2<f64>,
+}
+
+/// [`run`], and what its set-aside energy did.
+fn run_with_hidden_work(
+    ctl: &mut Passive,
+    steps: usize,
+    glitch: impl Fn(usize) -> Option<Glitch>,
+) -> (Vec<(Option<Fault>, f64)>, SetAsideBooks) {
     let h = 1e-3;
+    let mut books_of = SetAsideBooks::default();
     let (mut q, mut v) = (Torus::new(Vector2::new(0.0, 0.0)), Vector2::zeros());
     let (mut dt, mut applied, mut last_command) = (h, Vector2::zeros(), Vector2::zeros());
-    let (mut work, mut add_ons, mut s0) = (0.0, 0.0, None);
+    let (mut work, mut add_ons, mut b0) = (0.0, 0.0, None);
+    // The drive's true work on each joint over the last period, and over the stretch
+    // its reading has stood still (what the set-aside energy has paid for so far).
+    let (mut last_work, mut hidden) = (Vector2::<f64>::zeros(), Vector2::<f64>::zeros());
+    let mut stretch_time = Vector2::<f64>::zeros();
     let mut out = Vec::new();
     let mut frozen = None;
     for k in 0..steps {
@@ -299,7 +329,7 @@ fn run(
         let mut reading = *q.angles();
         match g {
             Some(Glitch::Spike(j, size)) => reading[j] += size,
-            Some(Glitch::NotANumber(j)) => reading[j] = f64::NAN,
+            Some(Glitch::NotANumber(j) | Glitch::NotANumberDropped(j)) => reading[j] = f64::NAN,
             Some(Glitch::Freeze(j)) => reading[j] = *frozen.get_or_insert(reading[j]),
             _ => {}
         }
@@ -308,12 +338,32 @@ fn run(
         }
         let report = (k > 0).then_some(&applied);
         let step = ctl.step(&Torus::new(reading), None, report, dt).unwrap();
-        let s = *s0.get_or_insert(step.energy.storage);
+        // The controller's books: its storage and what is set aside that the motion since
+        // the reading stood still has not used beyond what the balances accounted.
+        let aside = ctl.set_aside();
+        let mut books = step.energy.storage;
+        for j in 0..2 {
+            // The stretch's periods are those over which its time grew.
+            hidden[j] = if aside.time[j] == 0.0 {
+                0.0
+            } else if aside.time[j] > stretch_time[j] {
+                hidden[j] + last_work[j]
+            } else {
+                hidden[j]
+            };
+            stretch_time[j] = aside.time[j];
+            books += (aside.energy[j] - (hidden[j] - aside.accounted[j])).max(0.0);
+            books_of.most_hidden = books_of.most_hidden.max(hidden[j]);
+        }
+        books_of.most_held = books_of.most_held.max(aside.energy.sum());
+        books_of.final_speed = v;
+        books_of.kept += step.energy.set_aside;
+        let b = *b0.get_or_insert(books);
         add_ons += step.energy.add_ons;
-        out.push((step.fault, work - add_ons - (s - step.energy.storage)));
+        out.push((step.fault, work - add_ons - (b - books)));
         // The drive.
         applied = match g {
-            Some(Glitch::Dropped) => applied,
+            Some(Glitch::Dropped | Glitch::NotANumberDropped(_)) => applied,
             Some(Glitch::Late) => last_command,
             Some(Glitch::Limit(l)) => step.torque.map(|t| t.clamp(-l, l)),
             _ => step.torque,
@@ -324,10 +374,23 @@ fn run(
             _ => h,
         };
         let (q1, v1) = plant(q, v, applied, period, 10);
-        work += applied.dot(&(q1.angles() - q.angles()));
+        let dq = q1.angles() - q.angles();
+        last_work = applied.component_mul(&dq);
+        work += applied.dot(&dq);
         (q, v, dt) = (q1, v1, period);
     }
-    out
+    (out, books_of)
+}
+
+/// The most a run's books rose over any stretch: `max_{s ≤ t} (c_t − c_s)` of the energy
+/// created `c` ([`run`]).
+fn created_over_any_stretch(run: &[(Option<Fault>, f64)]) -> f64 {
+    let (mut low, mut most) = (f64::INFINITY, 0.0f64);
+    for (_, c) in run {
+        low = low.min(*c);
+        most = most.max(c - low);
+    }
+    most
 }
 
 #[test]
@@ -389,6 +452,11 @@ fn a_fault_step_returns_the_safe_torque_and_charges_the_unseen_work() {
     q = Torus::new(q.angles() + Vector2::new(5e-3, 0.0));
     let late = ctl.step(&q, None, None, 5e-3).unwrap();
     assert_eq!(late.fault, Some(Fault::Period));
+    // Joint 1's reading stood still over the period: the most its torque can have done
+    // unseen, at its speed bound (10 rad/s), is set aside.
+    let aside = (next.torque[1] - next.add_on[1]).abs() * 10.0 * 5e-3;
+    assert!(aside > 0.0);
+    assert!((late.energy.set_aside - aside).abs() <= 1e-15 * aside.max(1.0));
     assert_eq!(late.energy.unseen, 0.0);
     assert!((late.energy.to_robot - next.torque.dot(&Vector2::new(5e-3, 0.0))).abs() < 1e-15);
     for dt in [f64::NAN, 0.0, -1.0, f64::INFINITY, 1e-4] {
@@ -417,38 +485,92 @@ fn slowest_sample_of_joint_0() -> usize {
 }
 
 /// A joint's encoder freezes while the joint is too slow for the acceleration bound to tell
-/// (no fault is reported): the controller pushes a joint it believes still, and gives energy
-/// its storage does not pay. When the encoder reads again, the jump is rejected, the next
-/// reading confirms it, and the work of the torque across it is charged: the debt is settled.
+/// (no fault is reported): the controller pushes a joint it believes still. Over each period
+/// its reading stands still, the storage sets aside the most the torque can have done unseen
+/// (`|c| v̄ h`), so no energy is created at any sample; when the encoder reads again, the
+/// jump is rejected, the next reading confirms it, and the books are settled.
 #[test]
-fn an_undetected_freeze_is_paid_for_when_the_encoder_reads_again() {
+fn an_undetected_freeze_creates_nothing_and_is_settled_when_the_encoder_reads_again() {
     // The freeze starts where joint 0 is slowest between 0.3 and 0.9 s.
     let start = slowest_sample_of_joint_0();
     let mut ctl = supervised(20.0);
-    let run = run(&mut ctl, start + 200, |k| {
+    let (run, books) = run_with_hidden_work(&mut ctl, start + 200, |k| {
         (k >= start && k < start + 40).then_some(Glitch::Freeze(0))
     });
-    let debt = run[start..start + 40]
-        .iter()
-        .map(|(_, c)| *c)
-        .fold(f64::MIN, f64::max);
-    assert!(
-        debt > 1e-6,
-        "the freeze created nothing ({debt:e} J): not a test of the debt"
-    );
+    let stretch = created_over_any_stretch(&run);
+    assert!(stretch <= 1e-9, "{stretch:e} J created over a stretch");
+    for (k, (_, created)) in run.iter().enumerate() {
+        assert!(*created <= 1e-9, "{created:e} J created at sample {k}");
+    }
     assert!(
         run[start..start + 40].iter().all(|(f, _)| f.is_none()),
         "the freeze was detected: not a test of an undetected one"
+    );
+    // Not a test of nothing: the frozen joint moved under its torque unseen, and that work
+    // (the debt of a controller without the set-aside) was paid from what was set aside.
+    assert!(
+        books.most_hidden > 1e-6,
+        "the freeze hid no work ({:e} J): not a test of the set-aside",
+        books.most_hidden
+    );
+    // And what was set aside came back, less the bound on the stretch's work: here 2.8 of
+    // the 7.6 J held are kept for 1.3 J of hidden work (the bound knows the stretch's
+    // motion and torques, not how the joint moved between).
+    assert!(
+        books.kept <= 0.7 * books.most_held,
+        "{books:?}: too little came back"
     );
     assert!(
         run[start + 40..].iter().any(|(f, _)| f.is_some()),
         "the catch-up was not seen"
     );
     let (_, settled) = run[run.len() - 1];
-    assert!(
-        settled <= 1e-9,
-        "{settled:e} J still owed (the debt was {debt:e} J)"
-    );
+    assert!(settled <= 1e-9, "{settled:e} J still owed");
+}
+
+/// The readings are lost (NaN) while the drive keeps its torque: each period is charged the
+/// most that torque can have done unseen, and when the readings come back, the balance over
+/// the gap is not taken in credit (the robot may have given energy back meanwhile: the
+/// charges already paid more than the gap's work, and a credit after them would show as
+/// energy created since the gap began).
+#[test]
+fn a_gap_in_the_readings_is_not_settled_in_credit() {
+    let mut worst: f64 = 0.0;
+    for start in [300, 420, 555, 610, 777, 901] {
+        let mut ctl = supervised(20.0);
+        let run = run(&mut ctl, start + 100, |k| {
+            (k >= start && k < start + 20).then_some(Glitch::NotANumberDropped(1))
+        });
+        assert!(run[start..start + 20].iter().all(|(f, _)| f.is_some()));
+        worst = worst.max(created_over_any_stretch(&run));
+    }
+    assert!(worst <= 1e-9, "{worst:e} J created over a stretch");
+}
+
+/// A spike right after an undetected freeze, long enough to be taken for the frozen
+/// encoder's catch-up (17 samples of −0.3 rad; the property test below found the kind), is
+/// not trusted with the stretch's motion: what was set aside for the freeze comes back only
+/// after the readings have moved cleanly for as long as the stretch lasted, by which time
+/// the jump back has undone the spike. (Trusted at once, 90 mJ came back that the hidden
+/// motion had used.)
+#[test]
+fn a_spike_taken_for_a_catch_up_gives_nothing_back() {
+    let mut ctl = supervised(5.0);
+    let (run, books) = run_with_hidden_work(&mut ctl, 700, |k| {
+        if (433..462).contains(&k) {
+            Some(Glitch::Freeze(1))
+        } else if (462..479).contains(&k) {
+            Some(Glitch::Spike(1, -0.3))
+        } else {
+            None
+        }
+    });
+    assert!(books.most_hidden > 1e-3, "{books:?}: nothing hidden");
+    let stretch = created_over_any_stretch(&run);
+    assert!(stretch <= 1e-9, "{stretch:e} J created over a stretch");
+    for (k, (_, created)) in run.iter().enumerate() {
+        assert!(*created <= 1e-9, "{created:e} J created at sample {k}");
+    }
 }
 
 /// A spike of two samples on a joint whose reading stands still is not a frozen encoder's
@@ -512,14 +634,15 @@ fn a_frozen_encoder_is_latched_until_it_moves() {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
 
-    /// Random glitches of every kind the controller detects or the drive reports, over 1.2 s
-    /// of the SCARA's loop: at every sample the energy the controller created (the drive's
-    /// true work less the add-ons' reported energy and what the storage gave) is at most
-    /// rounding, and the loop ends with no fault.
+    /// Random glitches of every kind the controller detects or the drive reports, and frozen
+    /// encoders (seen or not), over 1.2 s of the SCARA's loop: the energy the controller
+    /// created (the drive's true work less the add-ons' reported energy and what its books
+    /// gave) is at most rounding at every sample and over every stretch, and the loop ends
+    /// with no fault (unless a joint is truly beyond its speed bound).
     #[test]
     fn faults_create_no_energy(
         events in prop::collection::vec(
-            (50usize..1000, 0usize..7, 1usize..30, 0usize..2, 0.05f64..1.0, any::<bool>()),
+            (50usize..1000, 0usize..8, 1usize..30, 0usize..2, 0.05f64..1.0, any::<bool>()),
             1..12,
         ),
         limit in 5.0f64..30.0,
@@ -534,16 +657,29 @@ proptest! {
                     3 => Glitch::Period(4e-3 + 4e-3 * size.abs()),
                     4 => Glitch::Dropped,
                     5 => Glitch::Late,
+                    6 => Glitch::Freeze(j),
                     _ => Glitch::Limit(limit * size.abs()),
                 }
             })
         };
         let mut ctl = supervised(limit);
-        let run = run(&mut ctl, 1200, glitch);
+        let (run, books) = run_with_hidden_work(&mut ctl, 1200, glitch);
         for (k, (_, created)) in run.iter().enumerate() {
             prop_assert!(*created <= 1e-9, "{created:e} J created at sample {k}");
         }
-        prop_assert!(run[1199].0.is_none());
+        let stretch = created_over_any_stretch(&run);
+        prop_assert!(stretch <= 1e-9, "{stretch:e} J created over a stretch");
+        // The loop ends with no fault, unless the drive's faults drove a joint beyond its
+        // speed bound (10 rad/s): the supervision then rightly reports it, and zero torque on
+        // this frictionless plant never slows it (a dropped command holding 12 N·m for 10 ms
+        // does it to the light second link).
+        let beyond = books.final_speed.iter().any(|v| v.abs() > 10.0);
+        prop_assert!(
+            run[1199].0.is_none() || beyond,
+            "the loop ends at fault {:?} with the joints at {:?} rad/s",
+            run[1199].0,
+            books.final_speed
+        );
     }
 }
 

@@ -15,7 +15,7 @@ use crate::plant::faults::{impact_torque, FaultState};
 use crate::plant::friction::JointFriction;
 use crate::run::integrate::{ClosedLoop, Derivative};
 use crate::run::path_clock::PathClock;
-use crate::run::stepper::Stepper;
+use crate::run::stepper::{Sample, Stepper};
 use crate::scenario::{BaselineSpec, Scenario};
 use crate::trace::{ContactTrace, Row, Trace, Work};
 use nalgebra::SVector;
@@ -141,6 +141,7 @@ where
     let faulty_clock = faults.timing();
     let end = n as f64 * dt;
     let (mut t, mut since) = (0.0, dt);
+    let mut hidden = HiddenWork::<N>::default();
     for k in 0.. {
         let c0 = env.contact(t, &q, &v)?;
         schedule(s, ctl.nominal_speed_mut(), E::normal_force(&c0))?;
@@ -152,7 +153,7 @@ where
             (coordinates.as_slice(), v.as_slice()),
             &out,
             period,
-            plant.kinetic_energy(&q, &v),
+            plant.kinetic_energy(&q, &v) + hidden.unused(&out),
             friction.torque(&v).dot(&v),
         ));
         if let Some(ct) = contact.as_mut() {
@@ -168,6 +169,7 @@ where
         } else {
             (out.torque, dt)
         };
+        let before = q;
         (q, v) = hold(
             s,
             plant,
@@ -178,6 +180,7 @@ where
             &E::torque(&c0),
             &mut work,
         )?;
+        hidden.held(&u, &before.inverse().compose(&q).log());
         (t, since) = if faulty_clock {
             (t + p, p)
         } else {
@@ -190,6 +193,57 @@ where
     trace.contact = contact;
     progress(1.0);
     Ok(trace)
+}
+
+/// The books of a passive controller's set-aside energy (`PassiveController::set_aside`):
+/// per joint, the drive's true work over the periods of the stretch since its reading stood
+/// still (those over which the stretch's time grew). The unused rest of what is set aside,
+/// `Σ_j max(s_j − (W_j − a_j), 0)` with `a_j` what the balances accounted, is still the
+/// controller's energy: the audit counts it in `κ_a` beside the storage, so that energy set
+/// aside and given back is not counted as created, and work beyond what was set aside is.
+#[derive(Clone, Copy, Debug)]
+struct HiddenWork<const N: usize> {
+    /// The true work over each joint's stretch (J).
+    stretch: SVector<f64, N>,
+    /// The stretch's time at the last sample (s).
+    time: SVector<f64, N>,
+    /// The drive's true work on each joint over the last period held (J).
+    last: SVector<f64, N>,
+}
+
+impl<const N: usize> Default for HiddenWork<N> {
+    fn default() -> Self {
+        HiddenWork {
+            stretch: SVector::zeros(),
+            time: SVector::zeros(),
+            last: SVector::zeros(),
+        }
+    }
+}
+
+impl<const N: usize> HiddenWork<N> {
+    /// After the sample `out`: the last period's work joins the stretch of each joint whose
+    /// stretch's time grew, and a joint with no stretch open starts afresh. Returns the
+    /// set-aside energy not yet used (J).
+    fn unused(&mut self, out: &Sample<N>) -> f64 {
+        let a = &out.set_aside;
+        let mut unused = 0.0;
+        for j in 0..N {
+            if a.time[j] == 0.0 {
+                self.stretch[j] = 0.0;
+            } else if a.time[j] > self.time[j] {
+                self.stretch[j] += self.last[j];
+            }
+            self.time[j] = a.time[j];
+            unused += (a.energy[j] - (self.stretch[j] - a.accounted[j])).max(0.0);
+        }
+        unused
+    }
+
+    /// The torque `u` held over a period in which the joints moved by `dq`.
+    fn held(&mut self, u: &SVector<f64, N>, dq: &SVector<f64, N>) {
+        self.last = u.component_mul(dq);
+    }
 }
 
 /// The trackers' loop: at each sample the tracker's command and the navigation function's

@@ -34,6 +34,18 @@ pub(crate) struct Sample<const N: usize> {
     pub add_ons_next: f64,
     /// The fault the supervision found ([`pvfc_core::supervision::Fault::code`]; 0: none).
     pub fault: u8,
+    /// What the passive controller holds aside for the work its still readings may hide
+    /// ([`PassiveController::set_aside`]; zero for the others).
+    pub set_aside: SetAsideAccount<f64, N>,
+}
+
+/// The set-aside account of a controller that sets nothing aside.
+fn no_set_aside<const N: usize>() -> SetAsideAccount<f64, N> {
+    SetAsideAccount {
+        energy: SVector::zeros(),
+        accounted: SVector::zeros(),
+        time: SVector::zeros(),
+    }
 }
 
 impl<const N: usize> Sample<N> {
@@ -58,6 +70,7 @@ impl<const N: usize> Sample<N> {
             add_ons_ended: 0.0,
             add_ons_next: 0.0,
             fault: 0,
+            set_aside: no_set_aside(),
         }
     }
 }
@@ -123,6 +136,7 @@ where
             add_ons_next: (a.robot.dot(v) + a.tau * pre.tau_dot + a.flywheel * pre.flywheel_speed)
                 * dt,
             fault: 0,
+            set_aside: no_set_aside(),
         })
     }
 
@@ -237,6 +251,7 @@ where
             add_ons_ended: out.energy.add_ons,
             add_ons_next: 0.0,
             fault: out.fault.map_or(0, |f| f.code()),
+            set_aside: self.controller.controller().set_aside(),
         })
     }
 
