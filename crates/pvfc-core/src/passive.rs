@@ -262,14 +262,17 @@ impl<T: Real, const D: usize> Escrow<T, D> {
     }
 
     /// Joint `j`'s torque `u` held over `elapsed` of the stretch's periods from the span's
-    /// time `t` (`first`: the stretch's first period), `v̄` its speed bound.
-    fn hold(&mut self, j: usize, (u, elapsed, t, first): (T, T, T, bool), max_speed: T) {
+    /// time `t` (`first`: the stretch's first period), `v̄` its speed bound. Returns the
+    /// most it can have done over them, `|u| v̄ elapsed`.
+    fn hold(&mut self, j: usize, (u, elapsed, t, first): (T, T, T, bool), max_speed: T) -> T {
         if !first {
             self.step_of(j, (u - self.last[j]).abs(), t);
         }
         self.last[j] = u;
         self.integral[j] += u * elapsed;
-        self.reach[j] += u.abs() * max_speed * elapsed;
+        let most = u.abs() * max_speed * elapsed;
+        self.reach[j] += most;
+        most
     }
 
     /// The torque steps to zero at the span's time `t` (periods whose work is charged apart).
@@ -406,13 +409,12 @@ impl<T: Real, const D: usize> SetAside<T, D> {
                 // A period of the hidden motion (or the move that ends it).
                 let v = sup.max_speed()[j];
                 let held = |u: T| (u, elapsed, self.span[j], self.span[j] == T::zero());
-                self.coupling.hold(j, held(c[j]), v);
-                self.add_ons.hold(j, held(a[j]), v);
+                let rc = self.coupling.hold(j, held(c[j]), v);
+                let ra = self.add_ons.hold(j, held(a[j]), v);
                 self.time[j] += elapsed;
                 self.span[j] += elapsed;
                 self.fresh[j] = still;
                 if still {
-                    let (rc, ra) = (c[j].abs() * v * elapsed, a[j].abs() * v * elapsed);
                     self.coupling.energy[j] += rc;
                     self.add_ons.energy[j] += ra;
                     from_storage += rc;
@@ -906,11 +908,13 @@ where
             increment = Some((dq, elapsed));
         }
         // 1b. With supervision, the work a still reading may hide: set aside, or given back.
-        let mut aside = self.set_aside;
+        // (A copy to commit only with supervision: a step without it copies nothing.)
+        let mut settled = None;
         let mut set_aside = T::zero();
         if let (Some(sup), Some(held), Some((dq, elapsed))) =
             (&self.supervision, &self.held, &increment)
         {
+            let mut aside = self.set_aside;
             let u = applied.copied().unwrap_or(held.command);
             let reported;
             (set_aside, reported) = aside.settle(
@@ -922,6 +926,7 @@ where
             );
             storage -= set_aside;
             add_ons += reported;
+            settled = Some(aside);
         }
         // 2. The internal velocities put back onto the storage's level set.
         let integrated = virtual_energy(&self.controller, &state);
@@ -1032,7 +1037,9 @@ where
                 self.still_for = still_for(&self.still_for, dq, *e, q);
             }
             self.rate = increment.map(|(dq, e)| (dq / e, e));
-            self.set_aside = aside;
+            if let Some(aside) = settled {
+                self.set_aside = aside;
+            }
             self.frozen = None;
             self.candidate = None;
             self.last_diagnostics = diagnostics;
