@@ -48,6 +48,7 @@ fn settings(waypoints: Vec<Vec<f64>>, n: usize) -> ArmSettings {
         nominal_speed: None,
         nominal_speed_integral: 0.0,
         tau0: 0.0,
+        field_energy_bound: None,
         obstacles: None,
         pace: None,
     }

@@ -199,6 +199,7 @@ pub unsafe extern "C" fn pvfc_controller_new(
                 .then_some((s.nominal_speed_c, s.nominal_speed_r)),
             nominal_speed_integral: s.nominal_speed_integral,
             tau0: s.tau0,
+            field_energy_bound: None,
             obstacles: None,
             pace,
         };

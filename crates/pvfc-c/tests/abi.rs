@@ -433,6 +433,7 @@ fn rust_side(
         nominal_speed: None,
         nominal_speed_integral: 0.0,
         tau0: 0.0,
+        field_energy_bound: None,
         obstacles: None,
         pace,
     };

@@ -107,6 +107,10 @@ pub struct CouplingOutput<T: Real, G, const D: usize> {
     pub energy_level: T,
     /// `Pᵀq̇_a = ⟨⟨V_a, q̇_a⟩⟩_a`, the momentum along the field: `2Ēβ` on the field.
     pub momentum_along_field: T,
+    /// The factor `k ∈ (0, 1]` the suspended field was scaled by to stay within the law's
+    /// bound on its kinetic energy ([`PvfcLaw::with_field_energy_bound`]); 1 within it or
+    /// without a bound.
+    pub field_scale: T,
     /// The field sample (error, `U`, `λ₁`, `λ₂`, ...).
     pub field: FieldSample<T, G, D>,
 }
@@ -183,6 +187,9 @@ pub struct PvfcLaw<T: Real, G, Sys, F, const D: usize> {
     /// The field and the model are on chains with the same kinematics: computed once per
     /// step for both.
     share_kinematics: bool,
+    /// The most kinetic energy `κ̄` the suspended field may have (J): beyond it the field is
+    /// scaled onto it ([`with_field_energy_bound`](Self::with_field_energy_bound)).
+    field_cap: Option<T>,
     _g: PhantomData<G>,
 }
 
@@ -215,8 +222,41 @@ where
             flywheel,
             gamma,
             share_kinematics,
+            field_cap: None,
             _g: PhantomData,
         })
+    }
+
+    /// Bounds the suspended field's kinetic energy `κ̄ = ½V̄ᵀM̄V̄` at `share × Ē`
+    /// (`0 < share < 1`): where the field would carry more (far from the contour, where the
+    /// navigation function's pull grows, or on an arm thrown off it by a fault) it is scaled
+    /// by `k = √(share Ē / κ̄)` onto that level, and its rate `w` with it (including the change
+    /// of `k` along the motion). The flywheel keeps `(1 − share) Ē`, so eq. (6) holds at every
+    /// state and the law never fails with `EnergyTooLow`; the coupling stays workless (its
+    /// matrices are skew-symmetric whatever the field). Within the bound nothing changes, to
+    /// the bit. The factor is reported as [`CouplingOutput::field_scale`].
+    pub fn with_field_energy_bound(mut self, share: T) -> Result<Self> {
+        if !share.is_finite() {
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                "PvfcLaw::with_field_energy_bound: the share of Ē",
+            ));
+        }
+        if !(share > T::zero() && share < T::one()) {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "PvfcLaw::with_field_energy_bound: the share of Ē must be in (0, 1)",
+            )
+            .with_value(nalgebra::try_convert::<T, f64>(share).unwrap_or(f64::NAN)));
+        }
+        self.field_cap = Some(share * self.flywheel.energy);
+        Ok(self)
+    }
+
+    /// The bound on the suspended field's kinetic energy, as a share of `Ē`, if any
+    /// ([`with_field_energy_bound`](Self::with_field_energy_bound)).
+    pub fn field_energy_bound(&self) -> Option<T> {
+        self.field_cap.map(|c| c / self.flywheel.energy)
     }
 
     /// The plant model.
@@ -341,17 +381,36 @@ where
         if let Some(g) = gravity {
             *g = products.gravity;
         }
-        let mv = products.field_momentum;
-        let field_energy = (mv.dot(&fs.velocity) + fs.velocity_tau * fs.velocity_tau) * half;
+        let mut mv = products.field_momentum;
+        let mut velocity = fs.velocity;
+        let mut velocity_tau = fs.velocity_tau;
+        let mut w_robot = products.w;
+        let mut w_tau = fs.rate_tau;
+        let mut field_energy = (mv.dot(&velocity) + velocity_tau * velocity_tau) * half;
+        let mut field_scale = T::one();
+        if let Some(cap) = self.field_cap {
+            if field_energy > cap {
+                // The field bounded on the level `κ̄ = cap` (docs/src/reference/control-law.md
+                // §4): `V̄' = kV̄` with `k = √(cap/κ̄)`, and its rate `w' = k (w − (κ̄̇/2κ̄) M̄V̄)`,
+                // `κ̄̇ = V̄ᵀw` (`M̄V̄̇ + C̄V̄` along the motion, `V̄ᵀC̄V̄ = ½V̄ᵀṀ̄V̄`), so that
+                // `V̄'ᵀw' = 0`: the bounded field's energy is constant, and `w_F = 0`.
+                field_scale = (cap / field_energy).sqrt_fast();
+                let rate = (velocity.dot(&w_robot) + velocity_tau * w_tau) * half / field_energy;
+                w_robot = (w_robot - mv * rate) * field_scale;
+                w_tau = (w_tau - velocity_tau * rate) * field_scale;
+                mv *= field_scale;
+                velocity *= field_scale;
+                velocity_tau *= field_scale;
+                field_energy = cap;
+            }
+        }
         let vf = self.flywheel.field_speed(field_energy)?;
         let mf = self.flywheel.inertia;
         let e_bar = self.flywheel.energy;
 
-        let w_robot = products.w;
-        let w_tau = fs.rate_tau;
-        let w_f = -(fs.velocity.dot(&w_robot) + fs.velocity_tau * w_tau) / vf;
+        let w_f = -(velocity.dot(&w_robot) + velocity_tau * w_tau) / vf;
         let w = AugmentedVector::new(w_robot, w_tau, w_f);
-        let big_p = AugmentedVector::new(mv, fs.velocity_tau, mf * vf);
+        let big_p = AugmentedVector::new(mv, velocity_tau, mf * vf);
         let qa = s.velocity();
         let p = AugmentedVector::new(products.momentum, s.tau_dot, mf * s.flywheel_speed);
 
@@ -364,7 +423,7 @@ where
         let kinetic_energy = kappa2 * half;
         Ok(CouplingOutput {
             torque,
-            field_velocity: AugmentedVector::new(fs.velocity, fs.velocity_tau, vf),
+            field_velocity: AugmentedVector::new(velocity, velocity_tau, vf),
             desired_momentum: big_p,
             momentum: p,
             w,
@@ -372,6 +431,7 @@ where
             beta: (kappa2 * self.flywheel.inv_two_energy).sqrt_fast(),
             energy_level: e_bar,
             momentum_along_field: p_dot_q,
+            field_scale,
             field: fs,
         })
     }

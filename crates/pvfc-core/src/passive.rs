@@ -15,7 +15,8 @@
 //! only. [`PassiveController`] keeps a storage `S` and updates it by that balance:
 //! `S_{k+1} = S_k − (u_k − a_k)ᵀ (q_{k+1} − q_k) + E_k`, where `u_k` is the torque the drive
 //! actually applied (after saturation), `a_k` the add-ons' part of it (friction and gravity
-//! compensation, nominal speed) and `E_k` the energy the nominal-speed add-on put into the
+//! compensation, nominal speed: their command, or where the drive did not apply the command,
+//! their torque first, up to what it applied) and `E_k` the energy the nominal-speed add-on put into the
 //! virtual coordinates. The add-ons' energy, `a_kᵀΔq_k + E_k`, is reported, as the
 //! continuous audit reports it. Then the internal velocities `(τ̇, q̇_F)`, integrated as
 //! [`Controller::step`] does, are put back onto the storage's level set
@@ -108,7 +109,8 @@ pub struct EnergyAccount<T: Real> {
     /// `½ Σ_i δ_i |u_{k,i} − u_{k−1,i}|` (J; 0 without a resolution).
     pub quantisation: T,
     /// What the storage was charged at a fault for the work the last torque may have done
-    /// unseen over the period that ended, `Σ_i |u_i| v̄_i h` (J; 0 without a fault). The
+    /// unseen over the period that ended, at most `Σ_i |u_i| v̄_i h` (J; 0 without a fault;
+    /// [`PassiveController::step`] gives the bound). The
     /// add-ons' share is in it: their energy over that period is not reported in
     /// [`add_ons`](Self::add_ons).
     pub unseen: T,
@@ -211,7 +213,11 @@ impl<T: Real, G: VectorGroup<T, D>, const D: usize> Held<T, G, D> {
             }
             _ => T::zero(),
         };
-        let to_robot = (u - self.add_on).dot(&dq);
+        let add_on = match applied {
+            Some(u) => self.delivered_add_on(u),
+            None => self.add_on,
+        };
+        let to_robot = (u - add_on).dot(&dq);
         Balance {
             // After a gap (readings rejected, each period charged the most its torque can
             // have done unseen), never a credit: the robot may have given energy back over
@@ -221,10 +227,33 @@ impl<T: Real, G: VectorGroup<T, D>, const D: usize> Held<T, G, D> {
             } else {
                 to_robot
             },
-            add_ons: self.add_on.dot(&dq) + self.virtual_add_on,
+            add_ons: add_on.dot(&dq) + self.virtual_add_on,
             quantisation,
             dq,
         }
+    }
+
+    /// The add-ons' share of the torque `u` the drive applied: their command where the drive
+    /// applied the command, and where it did not (it clamped the torque below its limits, or
+    /// kept an older one), the add-ons' torque first, up to what was applied: per joint the
+    /// part of `a_j` within `u_j` on the same side, `sign(a_j) min(|a_j|, |u_j|)`, or nothing.
+    /// The coupling's share is the rest, so the storage does not pay for an add-on's torque
+    /// the drive never gave (gravity compensation under a lowered limit, say).
+    fn delivered_add_on(&self, u: &Tangent<T, D>) -> Tangent<T, D> {
+        Tangent::from_fn(|j, _| {
+            let (a, x) = (self.add_on[j], u[j]);
+            if x == self.command[j] {
+                a
+            } else if a * x > T::zero() {
+                if a.abs() <= x.abs() {
+                    a
+                } else {
+                    x
+                }
+            } else {
+                T::zero()
+            }
+        })
     }
 }
 
@@ -763,9 +792,13 @@ where
     /// - if the positions are good (the period is at fault, the reading within its bounds),
     ///   the last period's balance is made as usual;
     /// - if they are not, the work the last torque did over the period is unseen: the
-    ///   storage is charged its bound, `Σ_i |u_i| v̄_i h` (reported as
-    ///   [`unseen`](EnergyAccount::unseen)), so that no fault can make the controller give
-    ///   more than it has; the last good positions are kept;
+    ///   storage is charged its bound (reported as [`unseen`](EnergyAccount::unseen)), so
+    ///   that no fault can make the controller give more than it has: per joint, with an
+    ///   acceleration bound and a joint whose reading was moving, from the last good
+    ///   increment's speed `w_i` (measured over `e_w`),
+    ///   `u_i w_i h + |u_i| (ā_i h (e_w/2 + s + h/2) + δ_i h/e_w)` for a period beginning `s`
+    ///   after the last good reading, at most `|u_i| v̄_i h` and at least zero; otherwise
+    ///   `|u_i| v̄_i h`. The last good positions are kept;
     /// - the internal states are not advanced (the internal velocities are put on the
     ///   storage's level), and nothing is integrated from the faulty sample.
     ///
@@ -916,10 +949,11 @@ where
         {
             let mut aside = self.set_aside;
             let u = applied.copied().unwrap_or(held.command);
+            let add_on = held.delivered_add_on(&u);
             let reported;
             (set_aside, reported) = aside.settle(
                 (dq, *elapsed, held.elapsed == T::zero()),
-                (&(u - held.add_on), &held.add_on),
+                (&(u - add_on), &add_on),
                 q,
                 sup,
                 self.resolution.as_ref(),
@@ -1206,7 +1240,7 @@ where
                             q: *q,
                             // Never a credit: if the reading was a spike that lasted, the
                             // work across it and back would not cancel (the torques differ).
-                            work: (u - held.add_on).dot(&jump).max(T::zero()),
+                            work: (u - held.delivered_add_on(&u)).dot(&jump).max(T::zero()),
                             elapsed: T::zero(),
                         });
                     }
@@ -1219,9 +1253,10 @@ where
                     (to_robot, add_ons, quantisation) = (b.to_robot, b.add_ons, b.quantisation);
                     storage = storage - to_robot - quantisation;
                     let reported;
+                    let add_on = held.delivered_add_on(&u);
                     (set_aside, reported) = aside.settle(
                         (&dq, elapsed, held.elapsed == T::zero()),
-                        (&(u - held.add_on), &held.add_on),
+                        (&(u - add_on), &add_on),
                         q,
                         sup,
                         self.resolution.as_ref(),
@@ -1234,7 +1269,16 @@ where
                     Some((*q, T::zero(), previous))
                 } else {
                     // The add-ons' share too: their work is not reported for this period.
-                    unseen = sup.unseen_work(&u, period);
+                    // From the last good increment's speed where it is known (the joint's
+                    // reading had not stood still), else from the speed bound.
+                    let still_since = |j: usize| self.still_for[j] > T::zero() || still(j);
+                    unseen = sup.unseen_work_after(
+                        (&u, period),
+                        held.elapsed,
+                        self.rate.as_ref(),
+                        self.resolution.as_ref(),
+                        still_since,
+                    );
                     add_ons = held.virtual_add_on;
                     storage -= unseen;
                     Some((held.q, held.elapsed + period, previous))

@@ -238,6 +238,41 @@ impl<T: Real, const D: usize> Supervision<T, D> {
             .fold(T::zero(), |acc, (c, v)| acc + c.abs() * *v)
             * dt
     }
+
+    /// The most the held torque `u` can have done over a period `dt` whose reading is
+    /// unusable, beginning `since` after the last good reading, when the last good
+    /// increment's speed `w_i` (measured over `e_w`) is known: the period's mean speed is
+    /// within `ā_i (e_w/2 + since + dt/2)` of the increment's (the distance between the two
+    /// intervals' midpoints, times the acceleration bound), and `w_i` within `δ_i/e_w` of the
+    /// true mean, so joint by joint the work is at most
+    /// `u_i w_i dt + |u_i| (ā_i dt (e_w/2 + since + dt/2) + δ_i dt/e_w)`, and at most
+    /// `|u_i| v̄_i dt` ([`unseen_work`](Self::unseen_work)): the lesser, and not below zero
+    /// (J). Without an acceleration bound or a rate, and for a joint whose reading stood
+    /// still (`still`: its speed is not known), the speed bound's.
+    pub(crate) fn unseen_work_after(
+        &self,
+        (torque, dt): (&Tangent<T, D>, T),
+        since: T,
+        rate: Option<&(Tangent<T, D>, T)>,
+        delta: Option<&Tangent<T, D>>,
+        still: impl Fn(usize) -> bool,
+    ) -> T {
+        let (Some(a), Some((w, ew))) = (&self.max_acceleration, rate) else {
+            return self.unseen_work(torque, dt);
+        };
+        let half = cast::<T>(0.5);
+        let reach = (*ew * half + since + dt * half) * dt;
+        (0..D).fold(T::zero(), |acc, i| {
+            let u = torque[i];
+            let worst = u.abs() * self.max_speed[i] * dt;
+            if still(i) {
+                return acc + worst;
+            }
+            let count = delta.map_or(T::zero(), |d| d[i]) * dt / *ew;
+            let estimate = u * w[i] * dt + u.abs() * (a[i] * reach + count);
+            acc + estimate.min(worst).max(T::zero())
+        })
+    }
 }
 
 #[cfg(test)]
@@ -325,6 +360,46 @@ mod tests {
             assert_eq!(f.code() as usize, i + 1);
         }
         assert_eq!(Fault::Frozen { joint: 3 }.joint(), Some(3));
+    }
+
+    #[test]
+    fn a_faulted_period_after_a_known_speed_is_charged_near_its_work() {
+        let s = sup()
+            .with_max_acceleration(Vector2::new(100.0, 100.0))
+            .unwrap();
+        let u = Vector2::new(-4.0, 1.0);
+        let rate = (Vector2::new(-1.0, 0.5), 1e-3);
+        let h = 1e-3;
+        // Right after the last good reading: u·w h plus |u| ā h (e_w/2 + h/2) per joint.
+        let w = s.unseen_work_after((&u, h), 0.0, Some(&rate), None, |_| false);
+        let expected = (4.0 * 1.0 + 4.0 * 100.0 * 1e-3) * h + (0.5 + 100.0 * 1e-3) * h;
+        assert!((w - expected).abs() < 1e-15, "{w} {expected}");
+        assert!(w < 0.5 * s.unseen_work(&u, h));
+        // Every true motion within the bounds does no more work than the charge: the speed at
+        // the period's start anywhere the increment's mean allows (within `ā e_w/2` of it),
+        // then the most acceleration along the torque; the worst is reached.
+        let mut worst: f64 = 0.0;
+        for side in [-1.0, -0.5, 0.0, 0.5, 1.0] {
+            let mut work = 0.0;
+            for j in 0..2 {
+                let v0 = rate.0[j] + side * u[j].signum() * 100.0 * 0.5e-3;
+                work += u[j] * (v0 * h + 0.5 * 100.0 * u[j].signum() * h * h);
+            }
+            assert!(work <= w + 1e-15, "{work} > {w}");
+            worst = worst.max(work);
+        }
+        assert!((worst - w).abs() < 1e-15, "{worst} {w}");
+        // Later, the reach grows; a still joint, or no rate, takes the speed bound's.
+        assert!(s.unseen_work_after((&u, h), 5e-3, Some(&rate), None, |_| false) > w);
+        let still = s.unseen_work_after((&u, h), 0.0, Some(&rate), None, |j| j == 0);
+        assert!((still - (4.0 * 2.0 * h + (0.5 + 100.0 * 1e-3) * h)).abs() < 1e-15);
+        assert_eq!(
+            s.unseen_work_after((&u, h), 0.0, None, None, |_| false),
+            s.unseen_work(&u, h)
+        );
+        // Never below zero: a torque against the motion is not a credit.
+        let against = s.unseen_work_after((&-u, h), 0.0, Some(&rate), None, |_| false);
+        assert_eq!(against, 0.0);
     }
 
     #[test]

@@ -58,6 +58,7 @@ impl ControllerSettings {
             nominal_speed: self.nominal_speed,
             nominal_speed_integral: self.nominal_speed_integral,
             tau0: self.tau0,
+            field_energy_bound: None,
             obstacles: None,
             pace: None,
         }

@@ -61,6 +61,11 @@ pub struct ArmSettings {
     pub nominal_speed_integral: f64,
     /// The contour parameter to start at.
     pub tau0: f64,
+    /// The bound on the field's kinetic energy as a share of `Ē` (in (0, 1);
+    /// [`PvfcLaw::with_field_energy_bound`]): beyond it the field is scaled onto it, so that the
+    /// law is defined at every state. `None`: no bound (`EnergyTooLow` where the field would
+    /// carry more than `Ē`).
+    pub field_energy_bound: Option<f64>,
     /// Obstacles the joint-space field keeps the arm away from (Remark 3).
     pub obstacles: Option<crate::obstacles::ObstacleSpec>,
     /// The drive-limited pace: the field slows along the contour to the fastest pace the
@@ -90,6 +95,7 @@ impl ArmSettings {
             nominal_speed: None,
             nominal_speed_integral: 0.0,
             tau0: 0.0,
+            field_energy_bound: None,
             obstacles: None,
             pace: None,
         }
@@ -251,7 +257,14 @@ pub fn arm_controller<const N: usize>(
         }
     };
     let flywheel = Flywheel::new(s.flywheel_inertia, energy)?;
-    let law = PvfcLaw::new(chain, field, flywheel, s.gamma_at(energy)?)?;
+    let mut law = PvfcLaw::new(chain, field, flywheel, s.gamma_at(energy)?)?;
+    if let Some(share) = s.field_energy_bound {
+        law = law.with_field_energy_bound(share).map_err(|e| {
+            setting(format!(
+                "field_energy_bound = {share}: a share of the energy level in (0, 1) ({e})"
+            ))
+        })?;
+    }
     let mut ctl = Controller::new(law).starting_at_rest(s.tau0);
     if s.gravity_compensation {
         ctl = ctl.with_gravity_compensation();

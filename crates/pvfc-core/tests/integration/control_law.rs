@@ -173,10 +173,11 @@ where
     if !(-tol..=1.0 + tol).contains(&mu) {
         return Err(format!("μ = {mu} outside [0, 1]"));
     }
-    // The augmented field carries the field's V_I, and the self-pacing gains.
+    // The augmented field carries the field's V_I (scaled by the law's bound on the field's
+    // energy, if it has one), and the self-pacing gains.
     close(
         f(out.field_velocity.tau),
-        f(out.field.velocity_tau),
+        f(out.field.velocity_tau * out.field_scale),
         tol,
         1.0,
         "V_a's τ entry = V_I",
@@ -561,6 +562,20 @@ law_suite!(
     proposition_1,
     true
 );
+// The field bounded in energy (the bound bites at most of these states): every coupling
+// property, the invariance of q̇_a = βV_a with the bounded field's rate against finite
+// differences, and the bound itself.
+law_suite!(
+    scara_bounded_field,
+    scara_bounded,
+    Torus<f64, 2>,
+    Torus<f32, 2>,
+    2,
+    4,
+    PI,
+    anywhere,
+    bounded_field
+);
 law_suite!(scara_spline_left, scara_spline, Torus<f64, 2>, Torus<f32, 2>, 2, 4, PI);
 law_suite!(
     rigid_body_spin_right,
@@ -590,6 +605,81 @@ law_suite!(
     6,
     2.5
 );
+
+/// A field bounded in energy (`PvfcLaw::with_field_energy_bound`): its kinetic energy
+/// `½V̄ᵀM̄V̄` at most the bound, on it wherever the field was scaled, and the flywheel's part
+/// `(1 − share)Ē`; unscaled, the law's output equals the unbounded law's to the bit. (Its
+/// rate, with the scale's own rate, is checked by the invariance of `q̇_a = βV_a` above,
+/// against finite differences of the bounded field.)
+fn bounded_field<T, G>(law: &ScaraLissajous<T>, s: &AugmentedState<T, G, 2>) -> Result<(), String>
+where
+    T: Real + Tolerance,
+    G: LieGroup<T, 2>,
+    ScaraLissajous<T>: BoundedFieldLaw<T, G>,
+{
+    law.check_bound(s)
+}
+
+/// The bounded law's check, on the SCARA's torus (the suite's group).
+trait BoundedFieldLaw<T: Real, G> {
+    fn check_bound(&self, s: &AugmentedState<T, G, 2>) -> Result<(), String>;
+}
+
+impl<T: Real + Tolerance> BoundedFieldLaw<T, Torus<T, 2>> for ScaraLissajous<T> {
+    fn check_bound(&self, s: &AugmentedState<T, Torus<T, 2>, 2>) -> Result<(), String> {
+        let share = self.field_energy_bound().ok_or("no bound")?;
+        let e_bar = self.flywheel().energy();
+        let out = self.evaluate(s).map_err(|e| e.to_string())?;
+        let va = out.field_velocity;
+        let p = out.desired_momentum;
+        let kappa = f(p.robot.dot(&va.robot) + va.tau * va.tau) * 0.5;
+        let cap = f(share * e_bar);
+        let tol = T::ROUNDING * 100.0;
+        if kappa > cap * (1.0 + tol) {
+            return Err(format!("½V̄ᵀM̄V̄ = {kappa} above the bound {cap}"));
+        }
+        let scale = f(out.field_scale);
+        if !(scale > 0.0 && scale <= 1.0) {
+            return Err(format!("field scale {scale}"));
+        }
+        let unbounded = PvfcLaw::new(
+            *self.system(),
+            *self.field(),
+            *self.flywheel(),
+            self.gamma(),
+        )
+        .map_err(|e| e.to_string())?;
+        match unbounded.evaluate(s) {
+            Ok(free) if scale == 1.0 => {
+                if free.torque != out.torque || free.field_velocity != va {
+                    return Err(
+                        "within the bound the output differs from the unbounded law's".into(),
+                    );
+                }
+            }
+            // The unbounded field may be beyond Ē itself (EnergyTooLow): then it was scaled.
+            _ => {
+                close(kappa, cap, tol, cap, "½V̄ᵀM̄V̄ on the bound")?;
+                let fly = f(self.flywheel().inertia() * va.flywheel * va.flywheel) * 0.5;
+                close(
+                    fly,
+                    f(e_bar) - cap,
+                    tol,
+                    f(e_bar),
+                    "the flywheel's (1 − share)Ē",
+                )?;
+                close(
+                    f(out.w.flywheel),
+                    0.0,
+                    tol,
+                    1.0 + f(out.w.norm()),
+                    "w_F on the bound",
+                )?;
+            }
+        }
+        Ok(())
+    }
+}
 
 /// Around obstacles the field is not eq. (30)'s: its own properties are the derivatives
 /// (above) and the composition's, tested in `obstacles.rs`.

@@ -433,8 +433,25 @@ fn a_fault_step_returns_the_safe_torque_and_charges_the_unseen_work() {
     let f = ctl.step(&nan, None, None, 1e-3).unwrap();
     assert_eq!(f.fault, Some(Fault::NonFinite));
     assert_eq!(f.torque, Vector2::zeros());
-    let bound = (last.torque[0].abs() + last.torque[1].abs()) * 10.0 * 1e-3;
-    assert!((f.energy.unseen - bound).abs() <= 1e-15 * bound.max(1.0));
+    // The charge: from the last increment's speed w = (1, −0.5) rad/s, each joint's
+    // `u w h + |u| ā h (e_w/2 + h/2)` (ā = 2,000 rad/s²), never more than the speed bound's
+    // `|u| v̄ h` (v̄ = 10 rad/s) nor below zero.
+    let (h, w) = (1e-3, Vector2::new(1.0, -0.5));
+    let bound: f64 = (0..2)
+        .map(|j| {
+            let u = last.torque[j];
+            (u * w[j] * h + u.abs() * 2000.0 * h * (0.5 * h + 0.5 * h))
+                .min(u.abs() * 10.0 * h)
+                .max(0.0)
+        })
+        .sum();
+    assert!(
+        (f.energy.unseen - bound).abs() <= 1e-12 * bound.max(1e-3),
+        "{} {bound}",
+        f.energy.unseen
+    );
+    let speed_bound = (last.torque[0].abs() + last.torque[1].abs()) * 10.0 * h;
+    assert!(bound < 0.5 * speed_bound, "{bound} {speed_bound}");
     assert!(f.energy.storage <= before.storage() - bound + 1e-12);
     assert_eq!(
         f.state.tau,
@@ -728,4 +745,50 @@ fn a_failed_step_at_a_catch_up_changes_nothing() {
     assert_eq!(ctl, before, "a failed step changed the controller");
     // The same reading then settles the catch-up as it would have.
     assert_eq!(ctl.step(&reading, None, Some(&applied), h).unwrap(), ok);
+}
+
+/// A drive that gives less than the add-ons' torque (a lowered limit, a kept older command):
+/// the add-ons' torque counts first, up to what was applied, and the coupling's storage pays
+/// only for the rest; where the drive applied the command, the books are the command's.
+#[test]
+fn an_add_on_torque_the_drive_did_not_give_is_not_paid_from_the_storage() {
+    let with_friction = || {
+        PassiveController::new(
+            controller(50.0, 1.0)
+                .starting_at_rest(0.0)
+                .with_friction_compensation(
+                    FrictionCompensation::new(Vector2::new(2.0, 2.0)).unwrap(),
+                ),
+        )
+    };
+    let mut ctl: Passive = with_friction();
+    let mut q = Torus::new(Vector2::new(0.0, 0.0));
+    let mut last = ctl.step(&q, None, None, 1e-3).unwrap();
+    for _ in 0..40 {
+        q = Torus::new(q.angles() + Vector2::new(1e-3, -5e-4));
+        last = ctl.step(&q, None, None, 1e-3).unwrap();
+    }
+    let (a, command) = (last.add_on, last.torque);
+    assert!(
+        a.iter().all(|x| x.abs() > 1.0),
+        "friction compensation at work: {a}"
+    );
+    let dq = Vector2::new(1e-3, -5e-4);
+    let next = Torus::new(q.angles() + dq);
+    // The drive applied half the add-ons' torque on each joint: all of it is theirs.
+    let mut short = ctl;
+    let half = a * 0.5;
+    let out = short.step(&next, None, Some(&half), 1e-3).unwrap();
+    assert_eq!(out.energy.to_robot, 0.0);
+    assert!((out.energy.add_ons - half.dot(&dq)).abs() < 1e-15);
+    // Against the add-ons' side on joint 0: nothing of it is theirs there.
+    let mut against = ctl;
+    let other = Vector2::new(-a[0], a[1] * 0.5);
+    let out = against.step(&next, None, Some(&other), 1e-3).unwrap();
+    assert!((out.energy.to_robot - other[0] * dq[0]).abs() < 1e-15);
+    // The command applied: the coupling's share is the command less the add-ons'.
+    let mut full = ctl;
+    let out = full.step(&next, None, Some(&command), 1e-3).unwrap();
+    assert!((out.energy.to_robot - (command - a).dot(&dq)).abs() < 1e-15);
+    assert!((out.energy.add_ons - a.dot(&dq)).abs() < 1e-15);
 }

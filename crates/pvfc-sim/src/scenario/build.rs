@@ -108,6 +108,13 @@ impl Scenario {
         if !(self.controller.rate.is_finite() && self.controller.rate > 0.0) {
             return bad("controller.rate must be finite and > 0");
         }
+        if let Some(share) = self.controller.field_energy_bound {
+            if !(share > 0.0 && share < 1.0) {
+                return Err(SimError::Setting(format!(
+                    "controller.field_energy_bound = {share}: a share of the energy level in (0, 1)"
+                )));
+            }
+        }
         // Every number that sizes work or memory is checked before anything is allocated.
         run_size(
             self.duration,
@@ -355,6 +362,7 @@ impl Scenario {
             nominal_speed: c.nominal_speed.map(|n| (n.c, n.r)),
             nominal_speed_integral: c.nominal_speed.map_or(0.0, |n| n.integral),
             tau0: self.initial.tau,
+            field_energy_bound: c.field_energy_bound,
             obstacles: self.obstacles.clone(),
             pace: self.drive_pace()?,
         })
@@ -545,7 +553,14 @@ impl Scenario {
     {
         let c = &self.controller;
         let flywheel = Flywheel::new(c.flywheel_inertia, c.energy)?;
-        let law = PvfcLaw::new(system, field, flywheel, self.coupling_gain()?)?;
+        let mut law = PvfcLaw::new(system, field, flywheel, self.coupling_gain()?)?;
+        if let Some(share) = c.field_energy_bound {
+            law = law.with_field_energy_bound(share).map_err(|e| {
+                SimError::Setting(format!(
+                    "controller.field_energy_bound = {share}: a share of the energy level in (0, 1) ({e})"
+                ))
+            })?;
+        }
         let mut ctl = Controller::new(law).with_state(self.initial_internal(&flywheel));
         if let Some(f) = &c.friction_compensation {
             let f = joint_vector::<N>(f, "controller.friction_compensation")?;

@@ -124,6 +124,13 @@ pub struct ControllerSpec {
     /// Nominal-speed control of eq. (36), if any.
     #[serde(default)]
     pub nominal_speed: Option<NominalSpeedSpec>,
+    /// The bound on the suspended field's kinetic energy as a share of `Ē`, in (0, 1): where
+    /// the field would carry more (an arm thrown far off its contour by a fault) it is scaled
+    /// onto that level, and the law is defined at every state
+    /// (`pvfc_core::coupling::PvfcLaw::with_field_energy_bound`). Absent: no bound, and such a
+    /// state ends the run with "energy level too low".
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field_energy_bound: Option<f64>,
     /// The passive digital controller (`[controller.passive]`, sampled mode): the energy it
     /// gives the arm accounted at the samples (`pvfc_core::passive`), with optional torque
     /// limits, encoder quantisation and position-only measurement.
@@ -372,6 +379,7 @@ impl Default for ControllerSpec {
             friction_band: None,
             gravity_compensation: None,
             nominal_speed: None,
+            field_energy_bound: None,
             passive: None,
             pace: None,
         }

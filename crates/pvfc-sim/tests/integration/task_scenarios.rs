@@ -344,6 +344,27 @@ fn a_saturated_field_starts_far_from_the_path() {
     );
     assert!(stiff.potential[n] < 1e-3 * stiff.potential[0]);
     assert!(peak(&soft) < 0.5 * peak(&plain));
+    // The field bounded at 90 % of Ē instead (`controller.field_energy_bound`): the same stiff
+    // field from the same start runs, scaled onto the bound while far, and reaches the path.
+    let mut bounded = with(None, 10.0);
+    bounded.controller.field_energy_bound = Some(0.9);
+    let b = simulate(&bounded, &mut |_| {}).unwrap();
+    let m = b.len() - 1;
+    println!(
+        "k = 10 bounded at 0.9 Ē: U {:.2e} → {:.2e}, peak torque {:.0} N·m",
+        b.potential[0],
+        b.potential[m],
+        peak(&b)
+    );
+    assert!(b.potential[m] < 1e-3 * b.potential[0]);
+    for share in [0.0, 1.0, f64::NAN] {
+        let mut bad = with(None, 10.0);
+        bad.controller.field_energy_bound = Some(share);
+        let e = bad.validate().unwrap_err().to_string();
+        assert!(e.contains("controller.field_energy_bound"), "{e}");
+        let e = simulate(&bad, &mut |_| {}).unwrap_err().to_string();
+        assert!(e.contains("field_energy_bound"), "{e}");
+    }
     // Bad distances are named.
     let mut bad = with(Some(-0.01), 4.0);
     bad.duration = 0.1;

@@ -180,6 +180,7 @@ fn the_adaptive_sampling_puts_the_ur5_contour_within_its_tolerance() {
         nominal_speed: None,
         nominal_speed_integral: 0.0,
         tau0: 0.0,
+        field_energy_bound: None,
         obstacles: None,
         pace: None,
     };

@@ -444,3 +444,11 @@ pub fn scara_ball_world<T: Real>(kappa: f64) -> ObstacleSet<T, 2> {
     }
     set
 }
+
+/// The paper's setting with the field's kinetic energy bounded at 2 % of `Ē` (1 J): scaled
+/// onto the bound at most random states (`PvfcLaw::with_field_energy_bound`).
+pub fn scara_bounded<T: Real>(p: Params) -> ScaraLissajous<T> {
+    scara_lissajous(p)
+        .with_field_energy_bound(cast(0.02))
+        .unwrap()
+}
