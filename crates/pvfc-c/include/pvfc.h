@@ -159,6 +159,11 @@ typedef struct pvfc_settings {
   // The gain `k_i` (1/s, ≥ 0) of the nominal speed's integral of its error, which takes `β`
   // to `r` against friction (0: the paper's proportional law).
   double nominal_speed_integral;
+  // The bound on the field's kinetic energy as a share of `Ē`, in (0, 1) (0: no bound):
+  // where the field would carry more (an arm far off its contour) it is scaled onto it, so
+  // that the law is defined at every state instead of failing with
+  // `PVFC_ERROR_ENERGY_TOO_LOW`.
+  double field_energy_bound;
 } pvfc_settings;
 
 // The numbers of one control step besides the torque.
@@ -415,7 +420,7 @@ void pvfc_contour_destroy(struct pvfc_contour *contour);
 // The default settings: no self-pacing, `Ē = 10`, `M_F = 1`, `γ = 1`, gravity
 // compensation on, no friction compensation, no nominal-speed control, `τ₀ = 0`, the
 // contour's own pace (no speed asked for, no torque limits; headroom 0.8 if limits are
-// given), `γ` given directly (no coupling rate).
+// given), `γ` given directly (no coupling rate), no bound on the field's energy.
 struct pvfc_settings pvfc_settings_default(void);
 
 // Makes a controller of `robot` that follows `contour` (a Cartesian path's inverse

@@ -56,12 +56,17 @@ pub struct pvfc_settings {
     /// The gain `k_i` (1/s, ≥ 0) of the nominal speed's integral of its error, which takes `β`
     /// to `r` against friction (0: the paper's proportional law).
     pub nominal_speed_integral: f64,
+    /// The bound on the field's kinetic energy as a share of `Ē`, in (0, 1) (0: no bound):
+    /// where the field would carry more (an arm far off its contour) it is scaled onto it, so
+    /// that the law is defined at every state instead of failing with
+    /// `PVFC_ERROR_ENERGY_TOO_LOW`.
+    pub field_energy_bound: f64,
 }
 
 /// The default settings: no self-pacing, `Ē = 10`, `M_F = 1`, `γ = 1`, gravity
 /// compensation on, no friction compensation, no nominal-speed control, `τ₀ = 0`, the
 /// contour's own pace (no speed asked for, no torque limits; headroom 0.8 if limits are
-/// given), `γ` given directly (no coupling rate).
+/// given), `γ` given directly (no coupling rate), no bound on the field's energy.
 #[no_mangle]
 pub extern "C" fn pvfc_settings_default() -> pvfc_settings {
     pvfc_settings {
@@ -83,6 +88,7 @@ pub extern "C" fn pvfc_settings_default() -> pvfc_settings {
         pace_headroom: 0.8,
         coupling_rate: 0.0,
         nominal_speed_integral: 0.0,
+        field_energy_bound: 0.0,
     }
 }
 
@@ -199,7 +205,7 @@ pub unsafe extern "C" fn pvfc_controller_new(
                 .then_some((s.nominal_speed_c, s.nominal_speed_r)),
             nominal_speed_integral: s.nominal_speed_integral,
             tau0: s.tau0,
-            field_energy_bound: None,
+            field_energy_bound: (s.field_energy_bound != 0.0).then_some(s.field_energy_bound),
             obstacles: None,
             pace,
         };

@@ -193,7 +193,8 @@ impl Controller {
     /// add-ons (gravity and friction compensation, nominal speed). The keyword arguments
     /// after `h` are `pvfc.ControllerSettings`'s (`self_pacing`, `energy`,
     /// `flywheel_inertia`, `gamma`, `coupling_rate`, `gravity_compensation`, `friction_compensation`,
-    /// `friction_band`, `nominal_speed`, `tau0`).
+    /// `friction_band`, `nominal_speed`, `nominal_speed_integral`, `tau0`,
+    /// `field_energy_bound`).
     #[staticmethod]
     #[pyo3(signature = (robot, waypoints, spacing, *, h=None, **settings))]
     fn arm(

@@ -12,8 +12,10 @@ use pyo3::prelude::*;
 /// `Ē` is sized from the pace with `energy=0`), and the add-ons: gravity
 /// compensation, friction compensation (eq. 35, one Coulomb level per joint, with a velocity
 /// band), nominal speed `(c, r)` (eq. 36) with the gain of its integral (`nominal_speed_integral`,
-/// 1/s; 0: none), and the contour parameter to start at. Checked when
-/// composed with a robot.
+/// 1/s; 0: none), the contour parameter to start at, and a bound on the field's kinetic
+/// energy as a share of `Ē` (`field_energy_bound`, in (0, 1); None: no bound): where the field
+/// would carry more (an arm far off its contour) it is scaled onto it, and the law is defined
+/// at every state. Checked when composed with a robot.
 #[pyclass(module = "pvfc", frozen, from_py_object)]
 #[derive(Clone)]
 pub(crate) struct ControllerSettings {
@@ -38,6 +40,8 @@ pub(crate) struct ControllerSettings {
     pub(crate) nominal_speed_integral: f64,
     #[pyo3(get)]
     pub(crate) tau0: f64,
+    #[pyo3(get)]
+    pub(crate) field_energy_bound: Option<f64>,
 }
 
 impl ControllerSettings {
@@ -58,7 +62,7 @@ impl ControllerSettings {
             nominal_speed: self.nominal_speed,
             nominal_speed_integral: self.nominal_speed_integral,
             tau0: self.tau0,
-            field_energy_bound: None,
+            field_energy_bound: self.field_energy_bound,
             obstacles: None,
             pace: None,
         }
@@ -79,6 +83,7 @@ impl Default for ControllerSettings {
             nominal_speed: None,
             nominal_speed_integral: 0.0,
             tau0: 0.0,
+            field_energy_bound: None,
         }
     }
 }
@@ -88,7 +93,7 @@ impl ControllerSettings {
     #[new]
     #[pyo3(signature = (*, self_pacing=0.0, energy=10.0, flywheel_inertia=1.0, gamma=1.0,
         coupling_rate=None, gravity_compensation=true, friction_compensation=None, friction_band=0.0,
-        nominal_speed=None, nominal_speed_integral=0.0, tau0=0.0))]
+        nominal_speed=None, nominal_speed_integral=0.0, tau0=0.0, field_energy_bound=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         self_pacing: f64,
@@ -102,6 +107,7 @@ impl ControllerSettings {
         nominal_speed: Option<(f64, f64)>,
         nominal_speed_integral: f64,
         tau0: f64,
+        field_energy_bound: Option<f64>,
     ) -> PyResult<Self> {
         Ok(ControllerSettings {
             self_pacing,
@@ -117,6 +123,7 @@ impl ControllerSettings {
             nominal_speed,
             nominal_speed_integral,
             tau0,
+            field_energy_bound,
         })
     }
 

@@ -124,6 +124,15 @@ def test_bad_inputs_raise_documented_errors(tmp_path: pathlib.Path) -> None:
         pvfc.Controller.arm(robot, UR5_WAYPOINTS, 1.0, energy=1e-6).evaluate(
             np.zeros(6), np.zeros(6), 0.0, 0.0, 1e-3
         )
+    # The same state with the field bounded at half of Ē: scaled onto it, not refused.
+    bounded = pvfc.Controller.arm(robot, UR5_WAYPOINTS, 1.0, energy=1e-6, field_energy_bound=0.5)
+    out = bounded.evaluate(np.zeros(6), np.zeros(6), 0.0, 0.0, 1e-3)
+    v, p = out["field_velocity"], out["desired_momentum"]
+    assert np.all(np.isfinite(out["torque"]))
+    assert 0.5 * (p[:6] @ v[:6] + v[6] ** 2) == pytest.approx(0.5e-6, rel=1e-9)
+    assert 0.5 * v[7] ** 2 == pytest.approx(0.5e-6, rel=1e-9)  # the flywheel keeps the rest
+    with pytest.raises(Exception, match="field_energy_bound"):
+        pvfc.Controller.arm(robot, UR5_WAYPOINTS, 1.0, field_energy_bound=1.5)
     floating = UR5.read_text().replace('name="shoulder_pan_joint" type="revolute"', 'name="shoulder_pan_joint" type="floating"')
     f = tmp_path / "floating.urdf"
     f.write_text(floating)

@@ -161,6 +161,27 @@ int main(int argc, char **argv) {
     CHECK(pvfc_controller_new_waypoints(robot, waypoints, 3, DOF, 1.5, h, DOF, &integral,
                                         &with_integral) == PVFC_OK);
     pvfc_controller_destroy(with_integral);
+    /* An energy level below the field's: refused at the step; with the field bounded at half
+       of it, the step is made; a share outside (0, 1) is refused, naming it. */
+    pvfc_settings low = pvfc_settings_default();
+    low.energy = 1e-6;
+    pvfc_controller *starved = NULL;
+    CHECK(pvfc_controller_new_waypoints(robot, waypoints, 3, DOF, 1.5, h, DOF, &low, &starved) ==
+          PVFC_OK);
+    double far[DOF] = {0, 0, 0, 0, 0, 0}, still[DOF] = {0, 0, 0, 0, 0, 0}, t[DOF];
+    CHECK(pvfc_controller_step(starved, far, still, DOF, 1e-3, t, DOF, NULL) ==
+          PVFC_ERROR_ENERGY_TOO_LOW);
+    pvfc_controller_destroy(starved);
+    low.field_energy_bound = 0.5;
+    pvfc_controller *bounded = NULL;
+    CHECK(pvfc_controller_new_waypoints(robot, waypoints, 3, DOF, 1.5, h, DOF, &low, &bounded) ==
+          PVFC_OK);
+    CHECK(pvfc_controller_step(bounded, far, still, DOF, 1e-3, t, DOF, NULL) == PVFC_OK);
+    for (int i = 0; i < DOF; i++) CHECK(isfinite(t[i]));
+    pvfc_controller_destroy(bounded);
+    low.field_energy_bound = 1.5;
+    CHECK_ERROR(pvfc_controller_new_waypoints(robot, waypoints, 3, DOF, 1.5, h, DOF, &low, &bad),
+                PVFC_ERROR_INVALID_ARGUMENT, "field_energy_bound");
   }
 
   /* The passive digital controller with torque limits. */

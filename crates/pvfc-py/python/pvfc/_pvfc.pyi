@@ -298,6 +298,7 @@ class ControllerSettings:
         nominal_speed: Optional[Tuple[float, float]] = None,
         nominal_speed_integral: float = 0.0,
         tau0: float = 0.0,
+        field_energy_bound: Optional[float] = None,
     ) -> ControllerSettings: ...
     @property
     def self_pacing(self) -> float: ...
@@ -321,6 +322,8 @@ class ControllerSettings:
     def nominal_speed_integral(self) -> float: ...
     @property
     def tau0(self) -> float: ...
+    @property
+    def field_energy_bound(self) -> Optional[float]: ...
 
 @final
 class So3Navigation:
@@ -454,7 +457,9 @@ class Controller:
         friction_compensation: Optional[_ArrayLike] = None,
         friction_band: float = 0.0,
         nominal_speed: Optional[Tuple[float, float]] = None,
+        nominal_speed_integral: float = 0.0,
         tau0: float = 0.0,
+        field_energy_bound: Optional[float] = None,
     ) -> Controller: ...
     @staticmethod
     def compose(
