@@ -270,6 +270,12 @@ where
         self.law.learn_pace(tau, share, dt, rule)
     }
 
+    /// Bounds the suspended field's kinetic energy at `share × Ē` (between steps;
+    /// [`PvfcLaw::set_field_energy_bound`]). On an error nothing changes.
+    pub fn set_field_energy_bound(&mut self, share: T) -> Result<()> {
+        self.law.set_field_energy_bound(share)
+    }
+
     /// Sets the ceilings of the field's learned pace (a [`crate::pace::MissLearner`]'s caps;
     /// [`PvfcLaw::set_pace_caps`]); `true` when the field took them.
     pub fn set_pace_caps(&mut self, caps: &[T]) -> bool {

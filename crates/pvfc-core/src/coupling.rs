@@ -108,7 +108,7 @@ pub struct CouplingOutput<T: Real, G, const D: usize> {
     /// `Pᵀq̇_a = ⟨⟨V_a, q̇_a⟩⟩_a`, the momentum along the field: `2Ēβ` on the field.
     pub momentum_along_field: T,
     /// The factor `k ∈ (0, 1]` the suspended field was scaled by to stay within the law's
-    /// bound on its kinetic energy ([`PvfcLaw::with_field_energy_bound`]); 1 within it or
+    /// bound on its kinetic energy ([`PvfcLaw::set_field_energy_bound`]); 1 within it or
     /// without a bound.
     pub field_scale: T,
     /// The field sample (error, `U`, `λ₁`, `λ₂`, ...).
@@ -188,7 +188,7 @@ pub struct PvfcLaw<T: Real, G, Sys, F, const D: usize> {
     /// step for both.
     share_kinematics: bool,
     /// The most kinetic energy `κ̄` the suspended field may have (J): beyond it the field is
-    /// scaled onto it ([`with_field_energy_bound`](Self::with_field_energy_bound)).
+    /// scaled onto it ([`set_field_energy_bound`](Self::set_field_energy_bound)).
     field_cap: Option<T>,
     _g: PhantomData<G>,
 }
@@ -234,27 +234,29 @@ where
     /// of `k` along the motion). The flywheel keeps `(1 − share) Ē`, so eq. (6) holds at every
     /// state and the law never fails with `EnergyTooLow`; the coupling stays workless (its
     /// matrices are skew-symmetric whatever the field). Within the bound nothing changes, to
-    /// the bit. The factor is reported as [`CouplingOutput::field_scale`].
-    pub fn with_field_energy_bound(mut self, share: T) -> Result<Self> {
+    /// the bit. The factor is reported as [`CouplingOutput::field_scale`]. On an error nothing
+    /// changes. (A setter rather than a builder: an arm's law is large, and each move of it is
+    /// a copy on the stack of an unoptimised build.)
+    pub fn set_field_energy_bound(&mut self, share: T) -> Result<()> {
         if !share.is_finite() {
             return Err(Error::new(
                 ErrorKind::NonFinite,
-                "PvfcLaw::with_field_energy_bound: the share of Ē",
+                "PvfcLaw::set_field_energy_bound: the share of Ē",
             ));
         }
         if !(share > T::zero() && share < T::one()) {
             return Err(Error::new(
                 ErrorKind::InvalidParameter,
-                "PvfcLaw::with_field_energy_bound: the share of Ē must be in (0, 1)",
+                "PvfcLaw::set_field_energy_bound: the share of Ē must be in (0, 1)",
             )
             .with_value(nalgebra::try_convert::<T, f64>(share).unwrap_or(f64::NAN)));
         }
         self.field_cap = Some(share * self.flywheel.energy);
-        Ok(self)
+        Ok(())
     }
 
     /// The bound on the suspended field's kinetic energy, as a share of `Ē`, if any
-    /// ([`with_field_energy_bound`](Self::with_field_energy_bound)).
+    /// ([`set_field_energy_bound`](Self::set_field_energy_bound)).
     pub fn field_energy_bound(&self) -> Option<T> {
         self.field_cap.map(|c| c / self.flywheel.energy)
     }

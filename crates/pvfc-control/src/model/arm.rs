@@ -62,7 +62,7 @@ pub struct ArmSettings {
     /// The contour parameter to start at.
     pub tau0: f64,
     /// The bound on the field's kinetic energy as a share of `Ē` (in (0, 1);
-    /// [`PvfcLaw::with_field_energy_bound`]): beyond it the field is scaled onto it, so that the
+    /// [`PvfcLaw::set_field_energy_bound`]): beyond it the field is scaled onto it, so that the
     /// law is defined at every state. `None`: no bound (`EnergyTooLow` where the field would
     /// carry more than `Ē`).
     pub field_energy_bound: Option<f64>,
@@ -257,14 +257,7 @@ pub fn arm_controller<const N: usize>(
         }
     };
     let flywheel = Flywheel::new(s.flywheel_inertia, energy)?;
-    let mut law = PvfcLaw::new(chain, field, flywheel, s.gamma_at(energy)?)?;
-    if let Some(share) = s.field_energy_bound {
-        law = law.with_field_energy_bound(share).map_err(|e| {
-            setting(format!(
-                "field_energy_bound = {share}: a share of the energy level in (0, 1) ({e})"
-            ))
-        })?;
-    }
+    let law = PvfcLaw::new(chain, field, flywheel, s.gamma_at(energy)?)?;
     let mut ctl = Controller::new(law).starting_at_rest(s.tau0);
     if s.gravity_compensation {
         ctl = ctl.with_gravity_compensation();
@@ -278,6 +271,15 @@ pub fn arm_controller<const N: usize>(
     if let Some((c, r)) = s.nominal_speed {
         ctl = ctl
             .with_nominal_speed(NominalSpeed::new(c, r)?.with_integral(s.nominal_speed_integral)?);
+    }
+    // (On the controller, in place: an arm's law is large, and moving it through a builder
+    // is a copy on the stack of an unoptimised build.)
+    if let Some(share) = s.field_energy_bound {
+        ctl.set_field_energy_bound(share).map_err(|e| {
+            setting(format!(
+                "field_energy_bound = {share}: a share of the energy level in (0, 1) ({e})"
+            ))
+        })?;
     }
     first_step_is_finite(&ctl, s)?;
     Ok(ctl)

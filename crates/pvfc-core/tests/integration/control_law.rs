@@ -606,7 +606,7 @@ law_suite!(
     2.5
 );
 
-/// A field bounded in energy (`PvfcLaw::with_field_energy_bound`): its kinetic energy
+/// A field bounded in energy (`PvfcLaw::set_field_energy_bound`): its kinetic energy
 /// `½V̄ᵀM̄V̄` at most the bound, on it wherever the field was scaled, and the flywheel's part
 /// `(1 − share)Ē`; unscaled, the law's output equals the unbounded law's to the bit. (Its
 /// rate, with the scale's own rate, is checked by the invariance of `q̇_a = βV_a` above,

@@ -553,14 +553,7 @@ impl Scenario {
     {
         let c = &self.controller;
         let flywheel = Flywheel::new(c.flywheel_inertia, c.energy)?;
-        let mut law = PvfcLaw::new(system, field, flywheel, self.coupling_gain()?)?;
-        if let Some(share) = c.field_energy_bound {
-            law = law.with_field_energy_bound(share).map_err(|e| {
-                SimError::Setting(format!(
-                    "controller.field_energy_bound = {share}: a share of the energy level in (0, 1) ({e})"
-                ))
-            })?;
-        }
+        let law = PvfcLaw::new(system, field, flywheel, self.coupling_gain()?)?;
         let mut ctl = Controller::new(law).with_state(self.initial_internal(&flywheel));
         if let Some(f) = &c.friction_compensation {
             let f = joint_vector::<N>(f, "controller.friction_compensation")?;
@@ -572,6 +565,13 @@ impl Scenario {
         }
         if let Some(n) = c.nominal_speed {
             ctl = ctl.with_nominal_speed(NominalSpeed::new(n.c, n.r)?.with_integral(n.integral)?);
+        }
+        if let Some(share) = c.field_energy_bound {
+            ctl.set_field_energy_bound(share).map_err(|e| {
+                SimError::Setting(format!(
+                    "controller.field_energy_bound = {share}: a share of the energy level in (0, 1) ({e})"
+                ))
+            })?;
         }
         Ok(ctl)
     }

@@ -127,7 +127,7 @@ pub struct ControllerSpec {
     /// The bound on the suspended field's kinetic energy as a share of `Ē`, in (0, 1): where
     /// the field would carry more (an arm thrown far off its contour by a fault) it is scaled
     /// onto that level, and the law is defined at every state
-    /// (`pvfc_core::coupling::PvfcLaw::with_field_energy_bound`). Absent: no bound, and such a
+    /// (`pvfc_core::coupling::PvfcLaw::set_field_energy_bound`). Absent: no bound, and such a
     /// state ends the run with "energy level too low".
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub field_energy_bound: Option<f64>,

@@ -446,9 +446,9 @@ pub fn scara_ball_world<T: Real>(kappa: f64) -> ObstacleSet<T, 2> {
 }
 
 /// The paper's setting with the field's kinetic energy bounded at 2 % of `Ē` (1 J): scaled
-/// onto the bound at most random states (`PvfcLaw::with_field_energy_bound`).
+/// onto the bound at most random states (`PvfcLaw::set_field_energy_bound`).
 pub fn scara_bounded<T: Real>(p: Params) -> ScaraLissajous<T> {
-    scara_lissajous(p)
-        .with_field_energy_bound(cast(0.02))
-        .unwrap()
+    let mut law = scara_lissajous(p);
+    law.set_field_energy_bound(cast(0.02)).unwrap();
+    law
 }
