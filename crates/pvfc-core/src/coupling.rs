@@ -238,20 +238,7 @@ where
     /// changes. (A setter rather than a builder: an arm's law is large, and each move of it is
     /// a copy on the stack of an unoptimised build.)
     pub fn set_field_energy_bound(&mut self, share: T) -> Result<()> {
-        if !share.is_finite() {
-            return Err(Error::new(
-                ErrorKind::NonFinite,
-                "PvfcLaw::set_field_energy_bound: the share of Ē",
-            ));
-        }
-        if !(share > T::zero() && share < T::one()) {
-            return Err(Error::new(
-                ErrorKind::InvalidParameter,
-                "PvfcLaw::set_field_energy_bound: the share of Ē must be in (0, 1)",
-            )
-            .with_value(nalgebra::try_convert::<T, f64>(share).unwrap_or(f64::NAN)));
-        }
-        self.field_cap = Some(share * self.flywheel.energy);
+        self.field_cap = Some(field_energy_share(share)? * self.flywheel.energy);
         Ok(())
     }
 
@@ -608,6 +595,25 @@ impl<T: Real, const D: usize> FrictionCompensation<T, D> {
         }
         t
     }
+}
+
+/// Checks a share of `Ē` for [`PvfcLaw::set_field_energy_bound`]: finite and in (0, 1).
+/// (The one check: a scenario's reader calls it too, to name its key before anything is built.)
+pub fn field_energy_share<T: Real>(share: T) -> Result<T> {
+    if !share.is_finite() {
+        return Err(Error::new(
+            ErrorKind::NonFinite,
+            "PvfcLaw::set_field_energy_bound: the share of Ē",
+        ));
+    }
+    if !(share > T::zero() && share < T::one()) {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            "PvfcLaw::set_field_energy_bound: the share of Ē must be in (0, 1)",
+        )
+        .with_value(nalgebra::try_convert::<T, f64>(share).unwrap_or(f64::NAN)));
+    }
+    Ok(share)
 }
 
 #[cfg(test)]

@@ -109,7 +109,8 @@ pub struct EnergyAccount<T: Real> {
     /// `½ Σ_i δ_i |u_{k,i} − u_{k−1,i}|` (J; 0 without a resolution).
     pub quantisation: T,
     /// What the storage was charged at a fault for the work the last torque may have done
-    /// unseen over the period that ended, at most `Σ_i |u_i| v̄_i h` (J; 0 without a fault;
+    /// unseen over the period that ended: from the last good increment's speed where it is
+    /// known, and never more than `Σ_i |u_i| v̄_i h` (J; 0 without a fault;
     /// [`PassiveController::step`] gives the bound). The
     /// add-ons' share is in it: their energy over that period is not reported in
     /// [`add_ons`](Self::add_ons).
@@ -189,6 +190,10 @@ struct Balance<T: Real, const D: usize> {
     add_ons: T,
     /// `½ Σ δ_i |u_k − u_{k−1}|`: the encoders' charge (0 without a resolution).
     quantisation: T,
+    /// The coupling's share `u − a` of the torque applied over the period.
+    coupling: Tangent<T, D>,
+    /// The add-ons' share `a` of it ([`Held::delivered_add_on`]).
+    add_on: Tangent<T, D>,
 }
 
 impl<T: Real, G: VectorGroup<T, D>, const D: usize> Held<T, G, D> {
@@ -217,7 +222,8 @@ impl<T: Real, G: VectorGroup<T, D>, const D: usize> Held<T, G, D> {
             Some(u) => self.delivered_add_on(u),
             None => self.add_on,
         };
-        let to_robot = (u - add_on).dot(&dq);
+        let coupling = u - add_on;
+        let to_robot = coupling.dot(&dq);
         Balance {
             // After a gap (readings rejected, each period charged the most its torque can
             // have done unseen), never a credit: the robot may have given energy back over
@@ -230,6 +236,8 @@ impl<T: Real, G: VectorGroup<T, D>, const D: usize> Held<T, G, D> {
             add_ons: add_on.dot(&dq) + self.virtual_add_on,
             quantisation,
             dq,
+            coupling,
+            add_on,
         }
     }
 
@@ -930,30 +938,27 @@ where
         let mut increment = None;
         if let Some(held) = &self.held {
             let b = held.balance(q, applied, self.resolution.as_ref());
-            let dq = b.dq;
             // The time since `held.q` was read (longer than `dt` after faulted periods).
             let elapsed = held.elapsed + dt;
             (to_robot, add_ons, quantisation) = (b.to_robot, b.add_ons, b.quantisation);
             storage = storage - to_robot + held.virtual_add_on - quantisation;
             if v.is_none() {
-                velocity_estimate = self.filtered_velocity(&dq, elapsed);
+                velocity_estimate = self.filtered_velocity(&b.dq, elapsed);
             }
-            increment = Some((dq, elapsed));
+            increment = Some((b, elapsed));
         }
         // 1b. With supervision, the work a still reading may hide: set aside, or given back.
         // (A copy to commit only with supervision: a step without it copies nothing.)
         let mut settled = None;
         let mut set_aside = T::zero();
-        if let (Some(sup), Some(held), Some((dq, elapsed))) =
+        if let (Some(sup), Some(held), Some((b, elapsed))) =
             (&self.supervision, &self.held, &increment)
         {
             let mut aside = self.set_aside;
-            let u = applied.copied().unwrap_or(held.command);
-            let add_on = held.delivered_add_on(&u);
             let reported;
             (set_aside, reported) = aside.settle(
-                (dq, *elapsed, held.elapsed == T::zero()),
-                (&(u - add_on), &add_on),
+                (&b.dq, *elapsed, held.elapsed == T::zero()),
+                (&b.coupling, &b.add_on),
                 q,
                 sup,
                 self.resolution.as_ref(),
@@ -1067,10 +1072,10 @@ where
         self.storage = storage;
         self.velocity_estimate = velocity_estimate;
         if self.supervision.is_some() {
-            if let Some((dq, e)) = &increment {
-                self.still_for = still_for(&self.still_for, dq, *e, q);
+            if let Some((b, e)) = &increment {
+                self.still_for = still_for(&self.still_for, &b.dq, *e, q);
             }
-            self.rate = increment.map(|(dq, e)| (dq / e, e));
+            self.rate = increment.map(|(b, e)| (b.dq / e, e));
             if let Some(aside) = settled {
                 self.set_aside = aside;
             }
@@ -1253,10 +1258,9 @@ where
                     (to_robot, add_ons, quantisation) = (b.to_robot, b.add_ons, b.quantisation);
                     storage = storage - to_robot - quantisation;
                     let reported;
-                    let add_on = held.delivered_add_on(&u);
                     (set_aside, reported) = aside.settle(
                         (&dq, elapsed, held.elapsed == T::zero()),
-                        (&(u - add_on), &add_on),
+                        (&b.coupling, &b.add_on),
                         q,
                         sup,
                         self.resolution.as_ref(),

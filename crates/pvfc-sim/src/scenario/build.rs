@@ -109,11 +109,11 @@ impl Scenario {
             return bad("controller.rate must be finite and > 0");
         }
         if let Some(share) = self.controller.field_energy_bound {
-            if !(share > 0.0 && share < 1.0) {
-                return Err(SimError::Setting(format!(
-                    "controller.field_energy_bound = {share}: a share of the energy level in (0, 1)"
-                )));
-            }
+            pvfc_core::coupling::field_energy_share(share).map_err(|e| {
+                SimError::Setting(format!(
+                    "controller.field_energy_bound = {share}: a share of the energy level in (0, 1) ({e})"
+                ))
+            })?;
         }
         // Every number that sizes work or memory is checked before anything is allocated.
         run_size(
@@ -567,11 +567,8 @@ impl Scenario {
             ctl = ctl.with_nominal_speed(NominalSpeed::new(n.c, n.r)?.with_integral(n.integral)?);
         }
         if let Some(share) = c.field_energy_bound {
-            ctl.set_field_energy_bound(share).map_err(|e| {
-                SimError::Setting(format!(
-                    "controller.field_energy_bound = {share}: a share of the energy level in (0, 1) ({e})"
-                ))
-            })?;
+            // (Checked by name in `validate`.)
+            ctl.set_field_energy_bound(share)?;
         }
         Ok(ctl)
     }

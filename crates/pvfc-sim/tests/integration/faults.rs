@@ -137,3 +137,16 @@ fn faults_need_the_passive_controller_and_round_trip() {
     let e = bad.validate().unwrap_err().to_string();
     assert!(e.contains("faults[2].joint"), "{e}");
 }
+
+#[test]
+fn the_field_energy_bound_is_read_and_checked_by_name() {
+    let s = scenario("ur5_faults.toml");
+    assert_eq!(s.controller.field_energy_bound, Some(0.2));
+    assert!(s.to_toml().unwrap().contains("field_energy_bound = 0.2"));
+    for share in [0.0, 1.0, 1.5, -0.1, f64::NAN, f64::INFINITY] {
+        let mut bad = s.clone();
+        bad.controller.field_energy_bound = Some(share);
+        let e = bad.validate().unwrap_err().to_string();
+        assert!(e.contains("controller.field_energy_bound"), "{share}: {e}");
+    }
+}
