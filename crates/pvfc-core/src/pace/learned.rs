@@ -11,7 +11,13 @@
 //! - over a limit (`ē_k > 0`): `s_k ← s_k · max(1 − fall, 1/√(1 + ē_k))`: the pace asked
 //!   `1 + ē_k` of what the drive gives, and where inertia dominates the torque of a pace scaled
 //!   by `s` grows as `s²`;
-//! - under the target (`û_k < u₀`): `s_k ← s_k · min(1 + rise, √(u₀ / û_k))`;
+//! - under the target (`û_k < u₀`): `s_k ← s_k · min(1 + rise, √(u₀ / û_k))`, and for each
+//!   neighbour `j = k ± 1` no higher than `max(s_j, s_k) · min(1 + rise, √(u₀ / û_j))` (`û_j`
+//!   from its last visit), never lower than `s_k`: the pace's gradient between two knots
+//!   costs torque on both their stretches (`τ̈` has a term `σ² s ds/dτ`), so a knot rising
+//!   above a slower neighbour does so by that neighbour's margin too (without it, fast
+//!   stretches climbing beside a slow one drive the stretch between into the limit lap after
+//!   lap: `docs/design/drive-limited-pace.md`, stop 72);
 //! - in between it holds;
 //!
 //! within `[floor, 1]`, and no higher than a neighbour's scale plus `slope`; a knot that fell
@@ -97,6 +103,8 @@ pub struct LearnedPace<T: Real, P, const K: usize> {
     peaks: [T; K],
     excess: [T; K],
     time: [T; K],
+    /// Per knot, the peak share its last visit saw (0 before one).
+    last_peaks: [T; K],
     /// The stretch `[τ_a, τ_{a+1})` of the last `τ` learned from (`K`: none yet).
     current: usize,
     /// Until learning begins: where the start from rest is.
@@ -219,6 +227,7 @@ impl<T: Real, P, const K: usize> LearnedPace<T, P, K> {
             peaks: [T::zero(); K],
             excess: [T::zero(); K],
             time: [T::zero(); K],
+            last_peaks: [T::zero(); K],
             current: K,
             start: Start::new(),
         }
@@ -277,17 +286,30 @@ impl<T: Real, P, const K: usize> LearnedPace<T, P, K> {
         self.peaks[k] = T::zero();
         self.excess[k] = T::zero();
         self.time[k] = T::zero();
+        self.last_peaks[k] = peak;
+        // A knot's rise is bounded by its neighbours' margins too: the pace's gradient
+        // between two knots costs torque on both stretches.
+        let up = T::one() + rule.rise;
+        let margin = |p: T| {
+            if p > T::zero() {
+                (rule.target / p).sqrt().min(up)
+            } else {
+                up
+            }
+        };
         let factor = if excess > T::zero() {
             (T::one() / (T::one() + excess))
                 .sqrt()
                 .max(T::one() - rule.fall)
         } else if peak < rule.target {
-            let up = T::one() + rule.rise;
-            if peak > T::zero() {
-                (rule.target / peak).sqrt().min(up)
-            } else {
-                up
-            }
+            // Up to a neighbour's level the gradient between them shrinks; above it, the
+            // neighbour's margin bounds the rise.
+            let s = self.scales[k];
+            let by = |j: usize| self.scales[j].max(s) * margin(self.last_peaks[j]) / s;
+            margin(peak)
+                .min(by((k + K - 1) % K))
+                .min(by((k + 1) % K))
+                .max(T::one())
         } else {
             T::one()
         };
@@ -450,6 +472,45 @@ mod tests {
         assert!(p.scales()[5] < 1.0, "rose faster than 10 % a lap");
         laps(&mut p, 4, |_| 0.5);
         assert!(p.scales().iter().all(|&s| s == 1.0), "{:?}", p.scales());
+    }
+
+    #[test]
+    fn a_knot_rises_no_faster_than_its_neighbours_margins_allow() {
+        // The pace's gradient between two knots costs torque on both stretches: a knot beside
+        // one near the target rises by that one's margin, not by its own.
+        let mut p = LearnedPace::<f64, _, K>::periodic(UniformPace, 1.0).unwrap();
+        let nearest = |x: f64| ((x * K as f64).round() as usize) % K;
+        laps(&mut p, 3, |x| {
+            if (7..=9).contains(&nearest(x)) {
+                1.5
+            } else {
+                0.3
+            }
+        });
+        assert!(
+            p.scales()[7] < 0.9 && p.scales()[9] < 0.9,
+            "{:?}",
+            p.scales()
+        );
+        // Knot 8 just under the target (0.9): √(0.9/0.895) a lap; its neighbours see 0.3.
+        // (The first lap still remembers the 1.5 of the laps before.)
+        let share = |x: f64| if nearest(x) == 8 { 0.895 } else { 0.3 };
+        laps(&mut p, 1, share);
+        let before = *p.scales();
+        laps(&mut p, 1, share);
+        let after = *p.scales();
+        let margin = (0.9f64 / 0.895).sqrt();
+        for k in [7, 8, 9] {
+            assert!(
+                after[k] <= before[k] * margin + 1e-12,
+                "knot {k}: {before:?} -> {after:?}"
+            );
+            assert!(
+                after[k] > before[k],
+                "knot {k} did not rise: {before:?} -> {after:?}"
+            );
+        }
+        // (By its own margin alone knot 7 would rise 10 %, to 0.600: the slope allows 0.646.)
     }
 
     #[test]
