@@ -7,7 +7,8 @@
 Prints, as a Markdown table: the runs, the runs that failed (and why), the most energy the
 controller created over any stretch of a run (and in how many runs it passed `--bound`, the
 encoders' rounding bound), the most it still owed at the end of a run, the recovery times
-(median, 95th percentile, max) and the events never recovered from. Fails (exit 1) if a run
+(median, 95th percentile, max), after each kind of fault where the table keeps it
+(`recovery_KIND`), and the events never recovered from. Fails (exit 1) if a run
 owes more than the bound at its end, if a run failed with an error that does not contain
 `--allow-error` (none allowed without it), with `--require-recovery` if an event was never
 recovered from, and with `--require-no-creation` if a run created more than the bound over
@@ -47,6 +48,12 @@ def main() -> int:
     print(f"| energy owed at the end, max | {max(owed):.3g} J |")
     print(f"| recovery time, median / 95 % / max | {statistics.median(recovery):.3g} / {q95:.3g} / {max(recovery):.3g} s |")
     print(f"| events never recovered from | {int(sum(never))} |")
+    # After each kind of fault (the `recovery_KIND` columns, where the study keeps them).
+    for kind in [c[len("recovery_"):] for c in (rows[0].keys() if rows else []) if c.startswith("recovery_") and c != "recovery_time"]:
+        after = sorted(column(f"recovery_{kind}"))
+        if after:
+            p95 = after[int(0.95 * (len(after) - 1))]
+            print(f"| recovery after `{kind}`, median / 95 % / max ({len(after)} runs) | {statistics.median(after):.3g} / {p95:.3g} / {max(after):.3g} s |")
     reasons: dict[str, int] = {}
     for r in failed:
         reason = r["error"].split(":")[1].strip() if ":" in r["error"] else r["error"]

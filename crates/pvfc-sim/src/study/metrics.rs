@@ -4,6 +4,7 @@
 
 use crate::error::{Result, SimError};
 use crate::model::robot::Robot;
+use crate::plant::faults::FaultKind;
 use crate::scenario::RobotSpec;
 use crate::scenario::Scenario;
 use crate::trace::path_budget::{path_budget, PathBudget};
@@ -131,27 +132,58 @@ fn audit(run: &RunView) -> Option<f64> {
     plain.then(|| metrics::energy_audit(run.trace))
 }
 
-/// The slowest recovery from the run's `[[faults]]` (s) and how many events `U` never
-/// recovered from ([`metrics::recovery_time`]: back below ten times its level of the half
-/// second before, held 0.2 s), over the events that end at least a second before the run;
-/// `None` without faults.
-fn recoveries(run: &RunView) -> Option<(f64, usize)> {
+/// The slowest recovery from the run's `[[faults]]` events (of `kind` only, if given) (s) and
+/// how many events `U` never recovered from ([`metrics::recovery_time`]: back below ten times
+/// its level of the half second before, held 0.2 s), over the events that end at least a
+/// second before the run; `None` without such events.
+fn recoveries(run: &RunView, kind: Option<FaultKind>) -> Option<(f64, usize)> {
     let s = run.scenario;
     if s.faults.is_empty() {
         return None;
     }
     let period = 1.0 / s.controller.rate;
-    let mut slowest = 0.0f64;
-    let mut never = 0;
     let end = run.trace.t.last().copied().unwrap_or(0.0);
     // An event that ends less than a second before the run does cannot be judged.
-    for e in s.faults.iter().filter(|e| e.at + e.duration + 1.0 <= end) {
+    let mut judged = s
+        .faults
+        .iter()
+        .filter(|e| kind.is_none_or(|k| e.kind == k))
+        .filter(|e| e.at + e.duration + 1.0 <= end)
+        .peekable();
+    if kind.is_some() && judged.peek().is_none() {
+        return None;
+    }
+    let mut slowest = 0.0f64;
+    let mut never = 0;
+    for e in judged {
         match metrics::recovery_time(run.trace, e.at, e.duration, period, 0.2) {
             Some(r) => slowest = slowest.max(r),
             None => never += 1,
         }
     }
     Some((slowest, never))
+}
+
+/// The slowest recovery after the run's events of `kind`, if every one of them was recovered
+/// from (one that was not is counted by `unrecovered`).
+fn recovery_of(run: &RunView, kind: FaultKind) -> Option<f64> {
+    recoveries(run, Some(kind)).and_then(|(t, never)| (never == 0).then_some(t))
+}
+
+/// The metric of the slowest recovery after one kind of fault event.
+macro_rules! recovery_after {
+    ($name:literal, $kind:ident, $what:literal) => {
+        Metric {
+            name: $name,
+            unit: "s",
+            doc: concat!(
+                "The slowest return after the run's ",
+                $what,
+                " events, as recovery_time (absent without one, or if one was never recovered from)."
+            ),
+            eval: |r| recovery_of(r, FaultKind::$kind),
+        }
+    };
 }
 
 /// The share of the last complete pass's samples at which a joint's torque is at its limit:
@@ -380,14 +412,23 @@ pub const METRICS: &[Metric] = &[
         name: "recovery_time",
         unit: "s",
         doc: "The slowest return after a [[faults]] event: from the event's end until U stays at most ten times its level of the half second before it, for 0.2 s (absent without faults).",
-        eval: |r| recoveries(r).map(|(t, _)| t),
+        eval: |r| recoveries(r, None).map(|(t, _)| t),
     },
     Metric {
         name: "unrecovered",
         unit: "",
         doc: "The [[faults]] events U did not return from within the run (absent without faults).",
-        eval: |r| recoveries(r).map(|(_, n)| n as f64),
+        eval: |r| recoveries(r, None).map(|(_, n)| n as f64),
     },
+    recovery_after!("recovery_encoder_spike", EncoderSpike, "`encoder_spike`"),
+    recovery_after!("recovery_encoder_freeze", EncoderFreeze, "`encoder_freeze`"),
+    recovery_after!("recovery_non_finite", NonFinite, "`non_finite`"),
+    recovery_after!("recovery_jitter", Jitter, "`jitter`"),
+    recovery_after!("recovery_missed_period", MissedPeriod, "`missed_period`"),
+    recovery_after!("recovery_dropped_command", DroppedCommand, "`dropped_command`"),
+    recovery_after!("recovery_late_command", LateCommand, "`late_command`"),
+    recovery_after!("recovery_torque_limit", TorqueLimit, "`torque_limit`"),
+    recovery_after!("recovery_impact", Impact, "`impact`"),
 ];
 
 /// The metric called `name`.

@@ -150,3 +150,39 @@ fn the_field_energy_bound_is_read_and_checked_by_name() {
         assert!(e.contains("controller.field_energy_bound"), "{share}: {e}");
     }
 }
+
+#[test]
+fn the_campaign_keeps_the_recovery_after_each_kind_of_fault() {
+    use pvfc_sim::study::metrics::{metric, RunView};
+    use pvfc_sim::trace::metrics::recovery_time;
+    let s = scenario("scara_faults.toml");
+    let tr = simulate(&s, &mut |_| {}).unwrap();
+    let view = RunView::new(&s, &tr, None);
+    let slowest = metric("recovery_time").unwrap().of(&view).unwrap();
+    let mut kinds = Vec::new();
+    for e in &s.faults {
+        let name = format!(
+            "recovery_{}",
+            toml::Value::try_from(e.kind).unwrap().as_str().unwrap()
+        );
+        let per_kind = metric(&name).unwrap().of(&view);
+        // The scenario has one event of each kind: its own recovery, if it ends a second
+        // before the run does (else it cannot be judged).
+        if e.at + e.duration + 1.0 > s.duration {
+            assert_eq!(per_kind, None, "{name}");
+            continue;
+        }
+        let own = recovery_time(&tr, e.at, e.duration, 1.0 / s.controller.rate, 0.2);
+        assert_eq!(per_kind, own, "{name}");
+        assert!(per_kind.unwrap() <= slowest, "{name}");
+        kinds.push(per_kind.unwrap());
+    }
+    assert!(kinds.len() >= 8, "{kinds:?}");
+    assert_eq!(kinds.iter().cloned().fold(0.0, f64::max), slowest);
+    // A run without faults has none.
+    let mut clean = s.clone();
+    clean.faults.clear();
+    let tr = simulate(&clean, &mut |_| {}).unwrap();
+    let view = RunView::new(&clean, &tr, None);
+    assert_eq!(metric("recovery_impact").unwrap().of(&view), None);
+}
