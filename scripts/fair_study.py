@@ -78,7 +78,9 @@ SETTINGS: Dict[str, dict] = {
     "scara_circle": {**SCARA, "base": "scara_circle_saturated.toml"},
     "scara_lissajous": {**SCARA, "base": "scara_lissajous_saturated.toml"},
     "ur5_rectangle": {**UR5, "base": "ur5_rectangle_saturated.toml"},
-    "ur5_circle": {**UR5, "base": "ur5_circle_saturated.toml"},
+    # Open (issue 51): on the study's plants (seed 51) PVFC's largest distance is 0.90× the
+    # unsaturated one, but on another draw (--seed 52) one plant creeps into a limit: 4.6×.
+    "ur5_circle": {**UR5, "base": "ur5_circle_saturated.toml", "open": ["largest distance within 2×"]},
     "panda_circle": {**PANDA, "base": "panda_circle_saturated.toml"},
 }
 THRESHOLDS = [0.3, 0.5, 0.7, 0.9, 0.95]
