@@ -170,18 +170,19 @@ fn recovery_of(run: &RunView, kind: FaultKind) -> Option<f64> {
     recoveries(run, Some(kind)).and_then(|(t, never)| (never == 0).then_some(t))
 }
 
-/// The metric of the slowest recovery after one kind of fault event.
+/// The metric `recovery_KIND` of the slowest recovery after one kind of fault event (`$kind`:
+/// the kind as a scenario spells it, `$variant`: its [`FaultKind`]).
 macro_rules! recovery_after {
-    ($name:literal, $kind:ident, $what:literal) => {
+    ($kind:ident, $variant:ident) => {
         Metric {
-            name: $name,
+            name: concat!("recovery_", stringify!($kind)),
             unit: "s",
             doc: concat!(
-                "The slowest return after the run's ",
-                $what,
-                " events, as recovery_time (absent without one, or if one was never recovered from)."
+                "The slowest return after the run's `",
+                stringify!($kind),
+                "` events, as recovery_time (absent without one, or if one was never recovered from)."
             ),
-            eval: |r| recovery_of(r, FaultKind::$kind),
+            eval: |r| recovery_of(r, FaultKind::$variant),
         }
     };
 }
@@ -420,15 +421,15 @@ pub const METRICS: &[Metric] = &[
         doc: "The [[faults]] events U did not return from within the run (absent without faults).",
         eval: |r| recoveries(r, None).map(|(_, n)| n as f64),
     },
-    recovery_after!("recovery_encoder_spike", EncoderSpike, "`encoder_spike`"),
-    recovery_after!("recovery_encoder_freeze", EncoderFreeze, "`encoder_freeze`"),
-    recovery_after!("recovery_non_finite", NonFinite, "`non_finite`"),
-    recovery_after!("recovery_jitter", Jitter, "`jitter`"),
-    recovery_after!("recovery_missed_period", MissedPeriod, "`missed_period`"),
-    recovery_after!("recovery_dropped_command", DroppedCommand, "`dropped_command`"),
-    recovery_after!("recovery_late_command", LateCommand, "`late_command`"),
-    recovery_after!("recovery_torque_limit", TorqueLimit, "`torque_limit`"),
-    recovery_after!("recovery_impact", Impact, "`impact`"),
+    recovery_after!(encoder_spike, EncoderSpike),
+    recovery_after!(encoder_freeze, EncoderFreeze),
+    recovery_after!(non_finite, NonFinite),
+    recovery_after!(jitter, Jitter),
+    recovery_after!(missed_period, MissedPeriod),
+    recovery_after!(dropped_command, DroppedCommand),
+    recovery_after!(late_command, LateCommand),
+    recovery_after!(torque_limit, TorqueLimit),
+    recovery_after!(impact, Impact),
 ];
 
 /// The metric called `name`.
